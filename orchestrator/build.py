@@ -1,0 +1,352 @@
+"""`build-fmus`: build FMI 2.0 co-simulation FMUs from pythonfmu slaves.
+
+Each FMU is self-contained. The model code a slave imports (``openemss.models.X``)
+and the helper modules beside it are copied into the FMU's resources under a
+package name made of the slave's name and a hash of every file it contains
+(``emss_<slave>_<hash>_lib``); the slave module itself is renamed the same way.
+pythonfmu runs every Python FMU in the host's interpreter and appends the
+resources folder to ``sys.path``, so a plain name such as ``models`` or
+``linear_step`` would resolve to whichever copy was imported first, possibly an
+installed openEMSS of another version, or another FMU's helper. Unique names
+cannot collide.
+
+Also added to the FMU: ``requirements.txt`` (the slave's ``REQUIREMENTS`` list, for
+``pythonfmu deploy``), ``openemss_build.json`` (source hash, for staleness), and
+the ``ModelStructure/InitialUnknowns`` that pythonfmu leaves out (without them
+``fmpy validate`` rejects the FMU).
+"""
+from __future__ import annotations
+
+import argparse
+import ast
+import hashlib
+import json
+import shutil
+import subprocess
+import sys
+import tempfile
+import zipfile
+from dataclasses import dataclass
+from pathlib import Path
+
+from lxml import etree
+
+from .errors import BuildError, EmssError
+
+PACKAGE_ROOT = Path(__file__).resolve().parent.parent  # folder holding orchestrator/, models/, fmus/
+MODELS_DIR = PACKAGE_ROOT / "models"
+DEFAULT_SOURCE_DIR = PACKAGE_ROOT / "fmus"
+BUILD_INFO = "openemss_build.json"
+
+
+@dataclass(frozen=True)
+class SlaveSource:
+    """A pythonfmu slave script and what it needs inside its FMU."""
+
+    script: Path
+    siblings: tuple[Path, ...]  # helper modules beside the script
+    model_packages: tuple[str, ...]  # sub-packages of openemss.models
+    requirements: tuple[str, ...]
+
+    @property
+    def name(self) -> str:
+        return self.script.stem
+
+
+def _imports(tree: ast.Module) -> list[str]:
+    names: list[str] = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            names.extend(a.name for a in node.names)
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            names.append(node.module)
+    return names
+
+
+def _is_slave(tree: ast.Module) -> bool:
+    for node in tree.body:
+        if isinstance(node, ast.ClassDef):
+            for base in node.bases:
+                if (isinstance(base, ast.Name) and base.id == "Fmi2Slave") or \
+                        (isinstance(base, ast.Attribute) and base.attr == "Fmi2Slave"):
+                    return True
+    return False
+
+
+def _requirements(tree: ast.Module, script: Path) -> tuple[str, ...]:
+    for node in tree.body:
+        if isinstance(node, ast.Assign) and any(isinstance(t, ast.Name) and t.id == "REQUIREMENTS"
+                                                for t in node.targets):
+            try:
+                value = ast.literal_eval(node.value)
+            except ValueError:
+                raise BuildError(f"{script}:{node.lineno}: REQUIREMENTS must be a literal list of "
+                                 "requirement strings") from None
+            return tuple(str(v) for v in value)
+    return ()
+
+
+def analyse(script: Path) -> SlaveSource:
+    """Find the sibling modules and model packages a slave script needs."""
+    script = Path(script).resolve()
+    tree = ast.parse(script.read_text(encoding="utf-8"), filename=str(script))
+    siblings: list[Path] = []
+    packages: set[str] = set()
+    todo = [(script, tree)]
+    seen = {script}
+    while todo:
+        path, t = todo.pop()
+        for name in _imports(t):
+            top = name.split(".")[0]
+            if name.startswith("openemss."):
+                parts = name.split(".")
+                if parts[1] != "models":
+                    raise BuildError(f"{path}: imports '{name}'; an FMU may depend only on openemss.models")
+                if len(parts) > 2:
+                    packages.add(parts[2])
+                continue
+            sibling = script.parent / f"{top}.py"
+            if sibling.is_file() and sibling not in seen:
+                seen.add(sibling)
+                siblings.append(sibling)
+                todo.append((sibling, ast.parse(sibling.read_text(encoding="utf-8"), filename=str(sibling))))
+    for pkg in packages:
+        if not (MODELS_DIR / pkg / "__init__.py").is_file():
+            raise BuildError(f"{script}: imports openemss.models.{pkg}, which does not exist in {MODELS_DIR}")
+    return SlaveSource(script, tuple(sorted(siblings)), tuple(sorted(packages)), _requirements(tree, script))
+
+
+def _package_files(pkg: str) -> list[Path]:
+    root = MODELS_DIR / pkg
+    return sorted(p for p in root.rglob("*") if p.is_file() and "__pycache__" not in p.parts
+                  and p.suffix not in (".pyc", ".pyo"))
+
+
+def source_hash(src: SlaveSource) -> str:
+    """SHA-256 over every file that goes into the FMU (names and contents)."""
+    h = hashlib.sha256()
+    named = [(f.name, f) for f in (src.script, *src.siblings)]
+    if src.model_packages:
+        named.append(("models/__init__.py", MODELS_DIR / "__init__.py"))
+    for pkg in src.model_packages:
+        named.extend((f"models/{f.relative_to(MODELS_DIR).as_posix()}", f) for f in _package_files(pkg))
+    for name, f in named:
+        h.update(name.encode())
+        h.update(f.read_bytes())
+    h.update(repr(src.requirements).encode())
+    return h.hexdigest()
+
+
+def _rewrite_imports(code: str, path: Path, lib: str, siblings: set[str]) -> str:
+    """Point imports of openemss.models and of sibling modules at the vendored package."""
+    tree = ast.parse(code, filename=str(path))
+    lines = code.splitlines(keepends=True)
+    edits: list[tuple[ast.stmt, str]] = []
+
+    def target(module: str) -> str | None:
+        if module == "openemss.models" or module.startswith("openemss.models."):
+            return lib + module[len("openemss"):]
+        top = module.split(".")[0]
+        if top in siblings:
+            return f"{lib}.{module}"
+        return None
+
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and node.level == 0 and node.module and target(node.module):
+            new = ast.ImportFrom(module=target(node.module), names=node.names, level=0)
+            edits.append((node, ast.unparse(new)))
+        elif isinstance(node, ast.Import) and any(target(a.name) for a in node.names):
+            parts = []
+            for a in node.names:
+                t = target(a.name)
+                if t is None:
+                    parts.append(ast.unparse(ast.Import(names=[a])))
+                elif a.asname is None and "." in a.name:
+                    raise BuildError(f"{path}:{node.lineno}: write 'import {a.name} as NAME' or "
+                                     f"'from {a.name} import ...' so the import can be vendored")
+                else:
+                    parts.append(f"import {t} as {a.asname or a.name}")
+            edits.append((node, "; ".join(parts)))
+    for node, text in sorted(edits, key=lambda e: (e[0].lineno, e[0].col_offset), reverse=True):
+        first, last = node.lineno - 1, node.end_lineno - 1
+        prefix = lines[first][: node.col_offset]
+        suffix = lines[last][node.end_col_offset:]
+        lines[first: last + 1] = [prefix + text + suffix]
+    return "".join(lines)
+
+
+def _check_relative_only(pkg_dir: Path) -> None:
+    for f in pkg_dir.rglob("*.py"):
+        for name in _imports(ast.parse(f.read_text(encoding="utf-8"), filename=str(f))):
+            if name == "openemss" or name.startswith("openemss."):
+                raise BuildError(f"{f}: model code must import its own package relatively "
+                                 f"(found absolute import of '{name}')")
+
+
+def _stage(src: SlaveSource, digest: str, stage: Path) -> tuple[Path, list[Path]]:
+    """Lay out the slave, its vendored code and metadata in ``stage``; return script and project files."""
+    lib = f"emss_{src.name}_{digest[:10]}_lib"
+    lib_dir = stage / lib
+    lib_dir.mkdir()
+    (lib_dir / "__init__.py").write_text(f'"""Code vendored into the {src.name} FMU by build-fmus."""\n')
+    sibling_names = {s.stem for s in src.siblings}
+    for s in src.siblings:
+        (lib_dir / s.name).write_text(_rewrite_imports(s.read_text(encoding="utf-8"), s, lib, sibling_names))
+    if src.model_packages:
+        (lib_dir / "models").mkdir()
+        shutil.copy2(MODELS_DIR / "__init__.py", lib_dir / "models" / "__init__.py")
+        for pkg in src.model_packages:
+            shutil.copytree(MODELS_DIR / pkg, lib_dir / "models" / pkg,
+                            ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))
+        _check_relative_only(lib_dir / "models")
+    script = stage / f"emss_{src.name}_{digest[:10]}.py"
+    script.write_text(_rewrite_imports(src.script.read_text(encoding="utf-8"), src.script, lib, sibling_names))
+    req = stage / "requirements.txt"
+    req.write_text("".join(f"{r}\n" for r in src.requirements))
+    info = stage / BUILD_INFO
+    from . import __version__
+
+    info.write_text(json.dumps({"source": src.script.name, "source_sha256": digest, "openemss": __version__},
+                               indent=2))
+    return script, [lib_dir, req, info]
+
+
+def _add_initial_unknowns(fmu: Path) -> None:
+    """Add ModelStructure/InitialUnknowns (outputs and calculated parameters with initial
+    approx/calculated), which pythonfmu omits; FMI 2.0 section 2.2.8 requires them."""
+    with zipfile.ZipFile(fmu) as zf:
+        entries = {i.filename: zf.read(i.filename) for i in zf.infolist()}
+    root = etree.fromstring(entries["modelDescription.xml"])
+    variables = root.findall("ModelVariables/ScalarVariable")
+    structure = root.find("ModelStructure")
+    for old in structure.findall("InitialUnknowns"):
+        structure.remove(old)
+    unknowns = []
+    for i, v in enumerate(variables, start=1):
+        causality = v.get("causality", "local")
+        initial = v.get("initial")
+        if causality == "output" and initial in (None, "approx", "calculated"):
+            unknowns.append(i)
+        elif causality == "calculatedParameter" and initial in (None, "approx", "calculated"):
+            unknowns.append(i)
+    if unknowns:
+        node = etree.SubElement(structure, "InitialUnknowns")
+        for i in unknowns:
+            etree.SubElement(node, "Unknown", index=str(i))
+    entries["modelDescription.xml"] = etree.tostring(root, xml_declaration=True, encoding="UTF-8",
+                                                     pretty_print=True)
+    tmp = fmu.with_suffix(".fmu.tmp")
+    with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as zf:
+        for name, data in entries.items():
+            zf.writestr(name, data)
+    tmp.replace(fmu)
+
+
+def built_hash(fmu: Path) -> str | None:
+    """The source hash recorded in a built FMU, or None."""
+    try:
+        with zipfile.ZipFile(fmu) as zf:
+            return json.loads(zf.read(f"resources/{BUILD_INFO}"))["source_sha256"]
+    except (OSError, KeyError, ValueError, zipfile.BadZipFile):
+        return None
+
+
+def build_fmu(script: Path, out_dir: Path) -> Path:
+    """Build one FMU from a slave script into ``out_dir``; returns the FMU path."""
+    src = analyse(script)
+    digest = source_hash(src)
+    out_dir = Path(out_dir).resolve()
+    out_dir.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(prefix="emss_build_") as tmp:
+        stage = Path(tmp) / "stage"
+        stage.mkdir()
+        staged, project_files = _stage(src, digest, stage)
+        dest = Path(tmp) / "out"
+        code = ("import sys; from pythonfmu.builder import FmuBuilder; "
+                "p = FmuBuilder.build_FMU(sys.argv[1], dest=sys.argv[2], project_files=sys.argv[3:]); print(p)")
+        # A fresh interpreter per build: pythonfmu imports the slave module to read its
+        # variables, and that module must not stay cached in the caller's sys.modules.
+        proc = subprocess.run([sys.executable, "-c", code, str(staged), str(dest), *map(str, project_files)],
+                              capture_output=True, text=True, cwd=tmp)
+        if proc.returncode != 0:
+            lines = [ln for ln in proc.stderr.strip().splitlines() if ln.strip()]
+            raise BuildError(f"{script}: pythonfmu could not build the FMU: {lines[-1] if lines else 'no output'}")
+        built = Path(proc.stdout.strip().splitlines()[-1])
+        _add_initial_unknowns(built)
+        target = out_dir / built.name
+        shutil.move(str(built), target)
+    return target
+
+
+def discover(source_dir: Path) -> dict[str, Path]:
+    """Slave scripts in ``source_dir`` (``*.py`` defining an Fmi2Slave subclass), by name."""
+    found: dict[str, Path] = {}
+    for f in sorted(Path(source_dir).glob("*.py")):
+        if f.name.startswith("_"):
+            continue
+        if _is_slave(ast.parse(f.read_text(encoding="utf-8"), filename=str(f))):
+            found[f.stem] = f
+    return found
+
+
+def fmu_name(script: Path) -> str:
+    """File name of the FMU pythonfmu will write for a slave (its class name + .fmu)."""
+    tree = ast.parse(Path(script).read_text(encoding="utf-8"))
+    for node in tree.body:
+        if isinstance(node, ast.ClassDef) and _is_slave(ast.Module(body=[node], type_ignores=[])):
+            return f"{node.name}.fmu"
+    raise BuildError(f"{script}: no Fmi2Slave subclass found")
+
+
+def ensure_built(source_dir: Path, out_dir: Path, names: list[str] | None = None, force: bool = False,
+                 report=None) -> list[Path]:  # type: ignore[no-untyped-def]
+    """Build the FMUs of ``source_dir`` that are missing or older than their sources."""
+    slaves = discover(source_dir)
+    if names:
+        unknown = [n for n in names if n not in slaves]
+        if unknown:
+            raise BuildError(f"no slave named {', '.join(unknown)} in {source_dir} "
+                             f"(available: {', '.join(slaves) or 'none'})")
+        slaves = {n: slaves[n] for n in names}
+    built = []
+    for name, script in slaves.items():
+        target = Path(out_dir) / fmu_name(script)
+        if not force and target.is_file() and built_hash(target) == source_hash(analyse(script)):
+            if report:
+                report(f"up to date: {target}")
+            built.append(target)
+            continue
+        path = build_fmu(script, out_dir)
+        if report:
+            report(f"built: {path}")
+        built.append(path)
+    return built
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of the ``build-fmus`` command."""
+    parser = argparse.ArgumentParser(
+        prog="build-fmus",
+        description="Build FMI 2.0 co-simulation FMUs from the pythonfmu slaves in a folder "
+                    "(default: the project's fmus/). Each FMU carries the model code it needs under a "
+                    "unique name, a requirements.txt for 'pythonfmu deploy', and is rebuilt only when a "
+                    "source changed.")
+    parser.add_argument("names", nargs="*", help="slaves to build (file names without .py); default: all")
+    parser.add_argument("--src", type=Path, default=DEFAULT_SOURCE_DIR, help="folder of slave scripts")
+    parser.add_argument("--out", type=Path, default=Path("build/fmus"), help="where to write the FMUs")
+    parser.add_argument("--force", action="store_true", help="rebuild even when up to date")
+    args = parser.parse_args(argv)
+    try:
+        if not args.src.is_dir():
+            raise BuildError(f"source folder {args.src} does not exist")
+        paths = ensure_built(args.src, args.out, args.names or None, args.force, report=print)
+        if not paths:
+            print(f"no pythonfmu slaves found in {args.src}")
+    except EmssError as exc:
+        print(f"build-fmus: error: {exc}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,240 @@
+"""The ``emss`` command: run, inspect and validate SSP systems of FMUs.
+
+Bad input gives one line on stderr (what, where, what is allowed) and a non-zero
+exit code, never a traceback; a run that fails keeps what it recorded.
+"""
+from __future__ import annotations
+
+import argparse
+import fnmatch
+import json
+import os
+import sys
+import time
+from pathlib import Path
+from typing import Any, NoReturn, Sequence
+
+from .build import PACKAGE_ROOT, ensure_built
+from .errors import ConfigurationError, EmssError, Problem, SystemStructureError
+from .execution import DEFAULT_RATE_HZ, MAX_RATE_HZ, MIN_RATE_HZ, Execution
+from .observers import CsvRecorder, Progress, RunRecord
+from .ssp import load_system
+from .system import BoundSystem, bind_system
+
+#: The job ``emss run`` runs without a SYSTEM argument: the two-mass oscillator example,
+#: until the Munich demonstration mission exists.
+DEFAULT_EXAMPLE = PACKAGE_ROOT / "examples" / "oscillator"
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse, but usage errors are one line."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {message} (see --help)\n")
+
+
+def _add_system_args(p: argparse.ArgumentParser, optional: bool = False) -> None:
+    p.add_argument("system", nargs="?" if optional else None, type=Path,
+                   help="folder holding SystemStructure.ssd, an .ssd file or an .ssp archive"
+                        + (" (default: the shipped example)" if optional else ""))
+    p.add_argument("--params", type=Path, nargs="+", action="extend", default=[], metavar="FILE.ssv",
+                   help="system-level parameter sets (names component.variable), applied after the SSD's")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="emss", description="openEMSS: run SSP systems of FMI 2.0 co-simulation FMUs.")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+
+    run = sub.add_parser("run", help="run a system and record its time histories",
+                         description="Run a system with a fixed-step master; writes timeseries.csv and run.json.")
+    _add_system_args(run, optional=True)
+    run.add_argument("--stop-time", type=float, metavar="S", help="stop time [s] (default: the SSD's)")
+    run.add_argument("--rate", type=float, metavar="HZ",
+                     help=f"communication rate [Hz], {MIN_RATE_HZ} to {MAX_RATE_HZ} "
+                          f"(default: the SSD's FixedStepMaster, else {DEFAULT_RATE_HZ})")
+    run.add_argument("--algorithm", choices=("jacobi", "gauss-seidel"), default="jacobi",
+                     help="master algorithm (default: jacobi)")
+    run.add_argument("--step-multiple", nargs="+", action="extend", default=[], metavar="COMPONENT=N",
+                     help="let a component step every N-th macro step")
+    run.add_argument("--out", type=Path, help="output folder (default: results/<system>-<time>)")
+    run.add_argument("--record", nargs="+", action="extend", metavar="VARS",
+                     help="variables to record, component.variable, wildcards and commas allowed "
+                          "(default: every connector)")
+    run.add_argument("--record-every", type=int, default=1, metavar="N", help="record every N-th step")
+    run.add_argument("--json", action="store_true", help="print the run summary as JSON")
+
+    info = sub.add_parser("info", help="describe a system: components, connections, parameters, step order")
+    _add_system_args(info)
+    info.add_argument("--json", action="store_true", help="print as JSON")
+
+    val = sub.add_parser("validate", help="check a system and its FMUs; exit code = number of problems",
+                         description="List every problem of a system: schema, FMUs, connectors, "
+                                     "connections, parameters. The exit code is the number of problems.")
+    _add_system_args(val)
+    return parser
+
+
+def _load(system: Path, params: Sequence[Path]) -> BoundSystem:
+    return bind_system(load_system(system), list(params))
+
+
+def _multiples(items: Sequence[str]) -> dict[str, int]:
+    out: dict[str, int] = {}
+    for item in items:
+        name, sep, value = item.partition("=")
+        if not sep or not value.strip().isdigit():
+            raise ConfigurationError(f"--step-multiple '{item}': expected COMPONENT=N with an integer N >= 1")
+        out[name.strip()] = int(value)
+    return out
+
+
+def _record_paths(bound: BoundSystem, patterns: Sequence[str] | None) -> list[str] | None:
+    if not patterns:
+        return None
+    every = [f"{c.name}.{v}" for c in bound.components for v in c.variables]
+    chosen: list[str] = []
+    for pattern in (p.strip() for item in patterns for p in item.split(",") if p.strip()):
+        hits = [p for p in every if fnmatch.fnmatchcase(p, pattern)]
+        if not hits:
+            raise ConfigurationError(f"--record '{pattern}' matches no variable (write component.variable; "
+                                     "wildcards * and ? are allowed)")
+        chosen.extend(h for h in hits if h not in chosen)
+    return chosen
+
+
+def _default_system() -> Path:
+    if not (DEFAULT_EXAMPLE / "SystemStructure.ssd").is_file():
+        raise ConfigurationError("no SYSTEM given and the shipped example is not available "
+                                 f"({DEFAULT_EXAMPLE}); give a system folder, .ssd or .ssp")
+    ensure_built(DEFAULT_EXAMPLE / "fmus", DEFAULT_EXAMPLE / "resources",
+                 report=lambda m: print(m, file=sys.stderr))
+    return DEFAULT_EXAMPLE
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    system = args.system if args.system is not None else _default_system()
+    bound = _load(system, args.params)
+    sysdef = bound.definition
+    stop = args.stop_time if args.stop_time is not None else sysdef.stop_time_s
+    if stop is None:
+        raise ConfigurationError("no stop time: give --stop-time or a DefaultExperiment stopTime in the SSD")
+    if args.record_every < 1:
+        raise ConfigurationError(f"--record-every {args.record_every}: must be an integer >= 1")
+    ex = Execution(bound, rate_hz=args.rate, algorithm=args.algorithm, multiples=_multiples(args.step_multiple),
+                   record=_record_paths(bound, args.record))
+    out = args.out or Path("results") / f"{sysdef.name}-{time.strftime('%Y%m%d-%H%M%S')}"
+    csv = CsvRecorder(out / "timeseries.csv", every=args.record_every)
+    record = RunRecord(out / "run.json", str(system), [str(p) for p in args.params], {"stop_time_s": stop})
+    for o in (csv, record, Progress(stop)):
+        ex.add_observer(o)
+    try:
+        ex.run(stop)
+    except EmssError as exc:
+        raise EmssError(f"{exc} (results so far in {out})") from None
+    summary = {k: record.info.get(k) for k in ("status", "algorithm", "rate_hz", "stop_time_s", "steps",
+                                                "wall_time_s", "realtime_factor")}
+    summary.update(system=sysdef.name, out=str(out), rows=csv.rows_written)
+    if args.json:
+        print(json.dumps(summary, indent=2))
+    else:
+        print(f"{sysdef.name}: {summary['steps']} steps of {ex.step_size_s:g} s ({args.algorithm}) to "
+              f"t = {stop:g} s in {summary['wall_time_s']:.3f} s wall, {summary['realtime_factor']:.1f}x "
+              f"real time; results in {out}")
+    return 0
+
+
+def _describe(bound: BoundSystem) -> dict[str, Any]:
+    sysdef = bound.definition
+    ex_order = Execution(bound, rate_hz=None).order
+    names = [c.name for c in bound.components]
+    return {
+        "name": sysdef.name,
+        "ssd": str(sysdef.ssd_path),
+        "default_experiment": {"start_time_s": sysdef.start_time_s, "stop_time_s": sysdef.stop_time_s},
+        "rate_hz": 1.0 / sysdef.step_size_s if sysdef.step_size_s else DEFAULT_RATE_HZ,
+        "components": [{
+            "name": c.name, "fmu": c.definition.source, "model": c.model_description.modelName,
+            "variables": len(c.variables),
+            "connectors": [{"name": k.name, "kind": k.kind, "type": c.variables[k.name].type_name,
+                            "unit": k.unit or c.variables[k.name].unit} for k in c.definition.connectors],
+        } for c in bound.components],
+        "connections": [f"{names[ln.source]}.{ln.source_var.name} -> {names[ln.target]}.{ln.target_var.name}"
+                        for ln in bound.links],
+        "parameters": {f"{names[p.component]}.{p.variable.name}": p.value for p in bound.parameters},
+        "gauss_seidel_order": [names[i] for i in ex_order.order],
+        "gauss_seidel_lagging": [f"{names[s]} -> {names[t]}" for s, t in ex_order.lagging],
+    }
+
+
+def cmd_info(args: argparse.Namespace) -> int:
+    d = _describe(_load(args.system, args.params))
+    if args.json:
+        print(json.dumps(d, indent=2, default=str))
+        return 0
+    print(f"system {d['name']}  ({d['ssd']})")
+    de = d["default_experiment"]
+    print(f"  default experiment: start {de['start_time_s']} s, stop {de['stop_time_s']} s; rate {d['rate_hz']:g} Hz")
+    for c in d["components"]:
+        print(f"  component {c['name']}: {c['fmu']} (model {c['model']}, {c['variables']} variables)")
+        for k in c["connectors"]:
+            unit = f" [{k['unit']}]" if k["unit"] else ""
+            print(f"    {k['kind']:<8} {k['name']} : {k['type']}{unit}")
+    print(f"  connections ({len(d['connections'])}):")
+    for line in d["connections"]:
+        print(f"    {line}")
+    print(f"  parameters ({len(d['parameters'])}):")
+    for name, value in d["parameters"].items():
+        print(f"    {name} = {value}")
+    print(f"  Gauss-Seidel order: {' -> '.join(d['gauss_seidel_order'])}")
+    lag = ", ".join(d["gauss_seidel_lagging"]) or "none"
+    print(f"  connections using the previous step's value (cycle breaks): {lag}")
+    return 0
+
+
+def _fmu_problems(bound: BoundSystem) -> list[Problem]:
+    from fmpy.validation import validate_fmu
+
+    problems: list[Problem] = []
+    for path in sorted({c.fmu_path for c in bound.components}):
+        for message in validate_fmu(str(path)):
+            problems.append(Problem(str(path), f"fmpy validate: {message.strip()}"))
+    return problems
+
+
+def cmd_validate(args: argparse.Namespace) -> int:
+    try:
+        bound = _load(args.system, args.params)
+        problems = _fmu_problems(bound)
+    except SystemStructureError as exc:
+        problems = exc.problems
+    for p in problems:
+        print(p)
+    print(f"{len(problems)} problem(s) found in {args.system}", file=sys.stderr)
+    return min(len(problems), 125)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``emss`` command."""
+    args = build_parser().parse_args(argv)
+    handler = {"run": cmd_run, "info": cmd_info, "validate": cmd_validate}[args.command]
+    try:
+        return handler(args)
+    except SystemStructureError as exc:
+        print(f"emss {args.command}: error: {exc}", file=sys.stderr)
+        return 1
+    except EmssError as exc:
+        print(f"emss {args.command}: error: {exc}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print(f"emss {args.command}: interrupted", file=sys.stderr)
+        return 130
+    except Exception as exc:  # an internal error: one line, traceback only on request
+        if os.environ.get("EMSS_DEBUG"):
+            raise
+        print(f"emss {args.command}: internal error: {type(exc).__name__}: {exc} "
+              "(set EMSS_DEBUG=1 for the traceback)", file=sys.stderr)
+        return 3
+
+
+if __name__ == "__main__":
+    sys.exit(main())

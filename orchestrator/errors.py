@@ -1,0 +1,81 @@
+"""The orchestrator's error hierarchy.
+
+Every message says what went wrong, where (file:line, component.variable,
+simulation time) and, where it helps, what is allowed. The CLI prints the message
+as one line and exits non-zero; it never shows a traceback for these.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+class EmssError(Exception):
+    """Base of every error the orchestrator reports to a user."""
+
+
+class ConfigurationError(EmssError):
+    """A run option is outside what is allowed (rate, algorithm, stop time, ...)."""
+
+
+@dataclass(frozen=True)
+class Problem:
+    """One problem found in a system description or its FMUs.
+
+    Attributes
+    ----------
+    where : str
+        File and line, or component and variable, the problem belongs to.
+    what : str
+        What is wrong and, where useful, what is allowed.
+    """
+
+    where: str
+    what: str
+
+    def __str__(self) -> str:
+        return f"{self.where}: {self.what}"
+
+
+class SystemStructureError(EmssError):
+    """A system description (SSD, SSV, SSP archive) or the FMUs it names is invalid.
+
+    Carries every problem found, not only the first, so that one run of
+    ``emss validate`` lists them all.
+    """
+
+    def __init__(self, problems: list[Problem]) -> None:
+        self.problems = list(problems)
+        first = str(self.problems[0]) if self.problems else "invalid system"
+        more = f" (and {len(self.problems) - 1} more problem(s))" if len(self.problems) > 1 else ""
+        super().__init__(first + more)
+
+
+class SlaveError(EmssError):
+    """An FMU returned error/fatal/discard, or a Python slave raised.
+
+    Attributes
+    ----------
+    component : str
+        Instance name of the component in the system.
+    call : str
+        The FMI call or the variable concerned.
+    time_s : float | None
+        Simulation time [s] at which it happened, if the run had started.
+    """
+
+    def __init__(self, component: str, call: str, time_s: float | None, detail: str = "") -> None:
+        self.component = component
+        self.call = call
+        self.time_s = time_s
+        self.detail = detail
+        at = f" at t = {time_s:.6g} s" if time_s is not None else ""
+        tail = f": {detail}" if detail else ""
+        super().__init__(f"component '{component}' failed in {call}{at}{tail}")
+
+
+class InitializationError(EmssError):
+    """The initial exchange of outputs to inputs did not reach a fixed point."""
+
+
+class BuildError(EmssError):
+    """An FMU could not be built from its slave source."""

@@ -1,0 +1,330 @@
+"""The execution: owns time, the slaves and the value vectors; runs initialization and steps.
+
+Time is ``t0 + k*h`` with an integer macro-step counter ``k``, never an
+accumulated sum. Every value exchanged between FMUs lives in one preallocated
+numpy vector per FMI type: ``outputs`` (what the slaves' batched gets write) and
+``inputs`` (what their batched sets read); a transfer is one ``numpy.take``.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Protocol, Sequence
+
+import numpy as np
+
+from .algorithm import ALGORITHMS, Algorithm, GaussSeidel, Jacobi, StepOrder, gauss_seidel_order
+from .errors import ConfigurationError, EmssError, InitializationError
+from .slave import FmuLog, Slave
+from .system import BoundSystem, VariableInfo
+
+MIN_RATE_HZ = 0.1
+MAX_RATE_HZ = 100.0
+DEFAULT_RATE_HZ = 20.0
+IO_TYPES = ("Real", "Integer", "Boolean")
+_DTYPE = {"Real": np.float64, "Integer": np.int32, "Boolean": np.int32}
+
+
+class Observer(Protocol):
+    """Watches an execution: called after initialization and after every macro step."""
+
+    def start(self, execution: "Execution") -> None: ...
+    def sample(self, k: int, time_s: float) -> None: ...
+    def finish(self, execution: "Execution", error: BaseException | None) -> None: ...
+
+
+@dataclass(frozen=True)
+class Signal:
+    """Where the current value of a recorded variable lives: ``vector[type][index]``."""
+
+    component: str
+    variable: VariableInfo
+    vector: str  # "outputs" or "inputs"
+    index: int
+
+    @property
+    def path(self) -> str:
+        return f"{self.component}.{self.variable.name}"
+
+
+@dataclass
+class TypeVectors:
+    """The exchange vectors of one FMI type."""
+
+    outputs: np.ndarray
+    inputs: np.ndarray
+    source_index: np.ndarray  # for each input: its source's index in outputs
+    out_range: list[tuple[int, int]] = field(default_factory=list)  # per component
+    in_range: list[tuple[int, int]] = field(default_factory=list)
+    output_names: list[str] = field(default_factory=list)  # component.variable of each output
+
+
+def check_rate(rate_hz: float) -> float:
+    """Return the communication step [s] for a rate [Hz] in the allowed range."""
+    if not (isinstance(rate_hz, (int, float)) and math.isfinite(rate_hz)) or not \
+            MIN_RATE_HZ <= rate_hz <= MAX_RATE_HZ:
+        raise ConfigurationError(f"communication rate {rate_hz} Hz is out of range "
+                                 f"(allowed: {MIN_RATE_HZ} to {MAX_RATE_HZ} Hz)")
+    return 1.0 / rate_hz
+
+
+class Execution:
+    """Runs a bound system with a chosen master algorithm.
+
+    Parameters
+    ----------
+    system : BoundSystem
+        The system, resolved against its FMUs.
+    rate_hz : float | None
+        Communication rate [Hz], 0.1 to 100; None takes the SSD's FixedStepMaster step or 20 Hz.
+    algorithm : str
+        ``"jacobi"`` or ``"gauss-seidel"``.
+    multiples : dict[str, int] | None
+        Step multiple per component name (a component steps every n-th macro step).
+    record : Sequence[str] | None
+        ``component.variable`` paths made available to observers as signals;
+        None means every connector of every component.
+    start_time_s : float | None
+        Start time [s]; None takes the SSD's DefaultExperiment or 0.
+    """
+
+    def __init__(self, system: BoundSystem, rate_hz: float | None = None, algorithm: str = "jacobi",
+                 multiples: dict[str, int] | None = None, record: Sequence[str] | None = None,
+                 start_time_s: float | None = None, max_init_iterations: int = 50) -> None:
+        self.system = system
+        sysdef = system.definition
+        if rate_hz is None:
+            rate_hz = 1.0 / sysdef.step_size_s if sysdef.step_size_s else DEFAULT_RATE_HZ
+        self.rate_hz = float(rate_hz)
+        self.step_size_s = check_rate(self.rate_hz)
+        self.start_time_s = float(start_time_s if start_time_s is not None else (sysdef.start_time_s or 0.0))
+        self.max_init_iterations = max_init_iterations
+        names = [c.name for c in system.components]
+        multiples = dict(multiples or {})
+        unknown = sorted(set(multiples) - set(names))
+        if unknown:
+            raise ConfigurationError(f"step multiple for unknown component(s) {', '.join(unknown)} "
+                                     f"(components: {', '.join(names)})")
+        bad = {k: v for k, v in multiples.items() if not isinstance(v, int) or v < 1}
+        if bad:
+            raise ConfigurationError(f"step multiples must be integers >= 1, got {bad}")
+        self.multiples = [multiples.get(n, 1) for n in names]
+        self.order: StepOrder = gauss_seidel_order(len(names), [(ln.source, ln.target) for ln in system.links])
+        if algorithm == "jacobi":
+            self.algorithm: Algorithm = Jacobi(self.multiples)
+        elif algorithm == "gauss-seidel":
+            self.algorithm = GaussSeidel(self.multiples, self.order)
+        else:
+            raise ConfigurationError(f"unknown algorithm '{algorithm}' (allowed: {', '.join(ALGORITHMS)})")
+        self.log = FmuLog()
+        self.slaves = [Slave(c, self.log, m) for c, m in zip(system.components, self.multiples)]
+        self.k = 0
+        self.observers: list[Observer] = []
+        self.signals: list[Signal] = []
+        self.vectors: dict[str, TypeVectors] = {}
+        self._record = record
+        self._initialized = False
+
+    # -- set-up -----------------------------------------------------------------------------
+    def time_at(self, k: int) -> float:
+        """Simulation time [s] of macro step ``k``."""
+        return self.start_time_s + k * self.step_size_s
+
+    @property
+    def time_s(self) -> float:
+        return self.time_at(self.k)
+
+    def add_observer(self, observer: Observer) -> None:
+        self.observers.append(observer)
+
+    def _recorded_paths(self) -> list[str]:
+        if self._record is not None:
+            return list(self._record)
+        return [f"{c.name}.{k.name}" for c in self.system.components for k in c.definition.connectors
+                if c.variables.get(k.name) is not None and c.variables[k.name].type_name in IO_TYPES]
+
+    def _build_vectors(self) -> None:
+        """Lay out the exchange vectors and bind every slave's batched I/O to slices of them."""
+        sys_ = self.system
+        n = len(sys_.components)
+        linked_in = {(ln.target, ln.target_var.type_name, ln.target_var.vr): ln for ln in sys_.links}
+        gets: list[dict[str, list[VariableInfo]]] = [{t: [] for t in IO_TYPES} for _ in range(n)]
+        sets: list[dict[str, list[VariableInfo]]] = [{t: [] for t in IO_TYPES} for _ in range(n)]
+
+        def add_get(i: int, v: VariableInfo) -> None:
+            if all(g.vr != v.vr for g in gets[i][v.type_name]):
+                gets[i][v.type_name].append(v)
+
+        for ln in sys_.links:
+            add_get(ln.source, ln.source_var)
+            sets[ln.target][ln.target_var.type_name].append(ln.target_var)
+        recorded: list[tuple[int, VariableInfo]] = []
+        for path in self._recorded_paths():
+            i, v = sys_.variable(path)
+            if v.type_name not in IO_TYPES:
+                raise ConfigurationError(f"cannot record '{path}': type {v.type_name} (allowed: "
+                                         f"{', '.join(IO_TYPES)})")
+            recorded.append((i, v))
+            if (i, v.type_name, v.vr) not in linked_in:
+                add_get(i, v)
+        for t in IO_TYPES:
+            out_range, in_range, o, u = [], [], 0, 0
+            for i in range(n):
+                out_range.append((o, o + len(gets[i][t])))
+                o += len(gets[i][t])
+                in_range.append((u, u + len(sets[i][t])))
+                u += len(sets[i][t])
+            out_pos = {(i, v.vr): out_range[i][0] + j for i in range(n) for j, v in enumerate(gets[i][t])}
+            src = np.zeros(u, dtype=np.intp)
+            for i in range(n):
+                for j, v in enumerate(sets[i][t]):
+                    ln = linked_in[(i, t, v.vr)]
+                    src[in_range[i][0] + j] = out_pos[(ln.source, ln.source_var.vr)]
+            names = [f"{sys_.components[i].name}.{v.name}" for i in range(n) for v in gets[i][t]]
+            vec = TypeVectors(np.zeros(o, dtype=_DTYPE[t]), np.zeros(u, dtype=_DTYPE[t]), src, out_range, in_range,
+                              names)
+            self.vectors[t] = vec
+            for i, slave in enumerate(self.slaves):
+                a, b = out_range[i]
+                slave.bind_io(t, "get", gets[i][t], vec.outputs[a:b])
+                a, b = in_range[i]
+                slave.bind_io(t, "set", sets[i][t], vec.inputs[a:b])
+        self.signals = []
+        for i, v in recorded:
+            t = v.type_name
+            vec = self.vectors[t]
+            if (i, t, v.vr) in linked_in:
+                a, _ = vec.in_range[i]
+                j = next(j for j, s in enumerate(sets[i][t]) if s.vr == v.vr)
+                self.signals.append(Signal(sys_.components[i].name, v, "inputs", a + j))
+            else:
+                a, _ = vec.out_range[i]
+                j = next(j for j, g in enumerate(gets[i][t]) if g.vr == v.vr)
+                self.signals.append(Signal(sys_.components[i].name, v, "outputs", a + j))
+        self._transfers = [(vec.outputs, vec.source_index, vec.inputs) for vec in self.vectors.values()
+                           if len(vec.inputs)]
+        self._slave_transfers = [
+            [(vec.outputs, vec.source_index[a:b], vec.inputs[a:b])
+             for vec in self.vectors.values() for a, b in [vec.in_range[i]] if b > a]
+            for i in range(n)]
+
+    # -- coupling interface used by the algorithms ---------------------------------------------
+    def step_component(self, i: int, k: int) -> None:
+        t = self.time_at(k)
+        self.slaves[i].do_step(t, self.time_at(k + self.multiples[i]) - t)
+
+    def get_outputs(self, i: int) -> None:
+        self.slaves[i].get_outputs()
+
+    def set_inputs(self, i: int) -> None:
+        self.slaves[i].set_inputs()
+
+    def transfer_to(self, i: int) -> None:
+        for outputs, idx, inputs in self._slave_transfers[i]:
+            np.take(outputs, idx, out=inputs)
+
+    def transfer_all(self) -> None:
+        for outputs, idx, inputs in self._transfers:
+            np.take(outputs, idx, out=inputs)
+
+    # -- running ----------------------------------------------------------------------------
+    def initialize(self, stop_time_s: float | None = None) -> None:
+        """Instantiate, apply parameters, iterate outputs to inputs to a fixed point, exit initialization.
+
+        Raises
+        ------
+        SlaveError
+            When an FMU fails; InitializationError when the exchange does not settle.
+        """
+        for s in self.slaves:
+            s.instantiate()
+        self._build_vectors()
+        for s in self.slaves:
+            s.setup_experiment(self.start_time_s, stop_time_s)
+        for p in self.system.parameters:
+            self.slaves[p.component].set_value(p.variable, p.value)
+        for s in self.slaves:
+            s.enter_initialization_mode()
+        self._settle()
+        for s in self.slaves:
+            s.exit_initialization_mode()
+        for s in self.slaves:
+            s.get_outputs()
+        self.transfer_all()
+        self._initialized = True
+        for o in self.observers:
+            o.start(self)
+        for o in self.observers:
+            o.sample(0, self.start_time_s)
+
+    def _settle(self, rtol: float = 1e-10, atol: float = 1e-12) -> None:
+        """Exchange outputs to inputs in initialization mode until nothing changes."""
+        previous: dict[str, np.ndarray] | None = None
+        for _ in range(self.max_init_iterations):
+            for s in self.slaves:
+                s.get_outputs()
+            current = {t: v.outputs.copy() for t, v in self.vectors.items()}
+            if previous is not None and all(
+                    np.allclose(current[t], previous[t], rtol=rtol, atol=atol) for t in current):
+                return
+            previous = current
+            self.transfer_all()
+            for s in self.slaves:
+                s.set_inputs()
+        unsettled = []
+        for t, vec in self.vectors.items():
+            for j, name in enumerate(vec.output_names):
+                if previous is not None and not np.isclose(vec.outputs[j], previous[t][j], rtol=rtol, atol=atol):
+                    unsettled.append(name)
+        raise InitializationError(f"initialization did not reach a fixed point in {self.max_init_iterations} "
+                                  f"exchanges; still changing: {', '.join(unsettled) or 'unknown'}")
+
+    def run(self, stop_time_s: float) -> None:
+        """Initialize (if needed) and step until ``stop_time_s`` [s]; observers see every step.
+
+        On failure the observers are finished with the error (so recorders keep what
+        they have) and the error is raised again.
+        """
+        error: BaseException | None = None
+        try:
+            if stop_time_s < self.start_time_s:
+                raise ConfigurationError(f"stop time {stop_time_s} s is before the start time "
+                                         f"{self.start_time_s} s")
+            if not self._initialized:
+                self.initialize(stop_time_s)
+            n_steps = math.ceil((stop_time_s - self.start_time_s) / self.step_size_s - 1e-9)
+            step = self.algorithm.step
+            observers = [o.sample for o in self.observers]
+            for k in range(self.k, n_steps):
+                step(self, k)
+                self.k = k + 1
+                t = self.time_at(k + 1)
+                for sample in observers:
+                    sample(k + 1, t)
+        except BaseException as exc:
+            error = exc
+            raise
+        finally:
+            self._finish(error)
+
+    def _finish(self, error: BaseException | None) -> None:
+        terminate_error: EmssError | None = None
+        if error is None:
+            for s in self.slaves:
+                if s.fmu is not None:
+                    try:
+                        s.terminate()
+                    except EmssError as exc:
+                        terminate_error = terminate_error or exc
+        for o in self.observers:
+            o.finish(self, error or terminate_error)
+        for s in self.slaves:
+            s.free()
+        if terminate_error is not None:
+            raise terminate_error
+
+    def stats(self) -> dict[str, dict[str, float]]:
+        """Per component: steps and wall time [s] in doStep, get and set."""
+        return {s.name: {"steps": s.stats.steps, "do_step_s": s.stats.do_step_s, "get_s": s.stats.get_s,
+                         "set_s": s.stats.set_s} for s in self.slaves}
+

@@ -1,0 +1,279 @@
+"""Observers: recorders (in memory, streamed CSV), the run record (run.json), progress.
+
+Recorders sample the execution's exchange vectors directly (one fancy-indexed
+copy per type per sample), so recording costs no extra FMI calls beyond the
+batched gets the slaves already make.
+"""
+from __future__ import annotations
+
+import json
+import platform
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import IO, TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from .execution import Execution
+
+CSV_FLOAT_FORMAT = "%.15g"  # 15 significant digits: every double prints back within 1 ulp of 1e-15
+
+
+@dataclass(frozen=True)
+class _Gather:
+    """Columns of one exchange vector to copy into a row."""
+
+    columns: np.ndarray
+    vector: np.ndarray
+    indices: np.ndarray
+
+
+def _gatherers(execution: "Execution") -> list[_Gather]:
+    by_vector: dict[tuple[str, str], tuple[list[int], list[int]]] = {}
+    for col, sig in enumerate(execution.signals, start=1):
+        cols, idx = by_vector.setdefault((sig.variable.type_name, sig.vector), ([], []))
+        cols.append(col)
+        idx.append(sig.index)
+    out = []
+    for (t, which), (cols, idx) in by_vector.items():
+        vec = getattr(execution.vectors[t], which)
+        out.append(_Gather(np.array(cols, dtype=np.intp), vec, np.array(idx, dtype=np.intp)))
+    return out
+
+
+class _RowSampler:
+    """Fills rows ``[time, signal...]`` into a preallocated block."""
+
+    def __init__(self, block_rows: int) -> None:
+        self.block_rows = block_rows
+        self.block = np.empty((0, 0))
+        self.rows = 0
+        self.gather: list[_Gather] = []
+        self.columns: list[str] = []
+        self.every = 1
+
+    def attach(self, execution: "Execution") -> None:
+        self.gather = _gatherers(execution)
+        self.columns = ["time_s"] + [s.path for s in execution.signals]
+        self.block = np.empty((self.block_rows, len(self.columns)))
+        self.rows = 0
+
+    def fill(self, time_s: float) -> None:
+        row = self.block[self.rows]
+        row[0] = time_s
+        for g in self.gather:
+            row[g.columns] = g.vector[g.indices]
+        self.rows += 1
+
+
+class MemoryRecorder:
+    """Keeps every sample in memory; ``result()`` gives a dict of numpy arrays by column name.
+
+    Parameters
+    ----------
+    every : int
+        Record every n-th macro step (1 = every step).
+    """
+
+    def __init__(self, every: int = 1) -> None:
+        self.every = every
+        self._sampler = _RowSampler(1024)
+        self._blocks: list[np.ndarray] = []
+
+    def start(self, execution: "Execution") -> None:
+        self._sampler.attach(execution)
+
+    def sample(self, k: int, time_s: float) -> None:
+        if k % self.every:
+            return
+        s = self._sampler
+        if s.rows == s.block_rows:
+            self._blocks.append(s.block.copy())
+            s.rows = 0
+        s.fill(time_s)
+
+    def finish(self, execution: "Execution", error: BaseException | None) -> None:
+        s = self._sampler
+        if s.rows:
+            self._blocks.append(s.block[: s.rows].copy())
+            s.rows = 0
+
+    def result(self) -> dict[str, np.ndarray]:
+        data = np.vstack(self._blocks) if self._blocks else np.empty((0, len(self._sampler.columns)))
+        return {name: data[:, j] for j, name in enumerate(self._sampler.columns)}
+
+
+class CsvRecorder:
+    """Streams samples to a CSV file, flushing at least every ``flush_interval_s`` of wall time.
+
+    A run that dies leaves a valid file up to its last flush (the execution also
+    flushes on any error it sees, so normally nothing recorded is lost).
+    Columns: ``time_s`` then ``component.variable``; values in the FMUs' units.
+    """
+
+    def __init__(self, path: Path, every: int = 1, flush_interval_s: float = 2.0, block_rows: int = 4096) -> None:
+        self.path = Path(path)
+        self.every = every
+        self.flush_interval_s = flush_interval_s
+        self._sampler = _RowSampler(block_rows)
+        self._file: IO[str] | None = None
+        self._last_flush = 0.0
+        self._fmt = ""
+        self.rows_written = 0
+
+    def start(self, execution: "Execution") -> None:
+        self._sampler.attach(execution)
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self._file = open(self.path, "w", encoding="utf-8", newline="\n")
+        self._file.write(",".join(self._sampler.columns) + "\n")
+        self._file.flush()
+        self._fmt = ",".join([CSV_FLOAT_FORMAT] * len(self._sampler.columns)) + "\n"
+        self._last_flush = time.perf_counter()
+
+    def sample(self, k: int, time_s: float) -> None:
+        if k % self.every:
+            return
+        s = self._sampler
+        s.fill(time_s)
+        if s.rows == s.block_rows or time.perf_counter() - self._last_flush > self.flush_interval_s:
+            self.flush()
+
+    def flush(self) -> None:
+        """Write the buffered rows and flush the file to the operating system."""
+        s = self._sampler
+        if self._file is None:
+            return
+        if s.rows:
+            values = s.block[: s.rows]
+            self._file.write((self._fmt * s.rows) % tuple(values.ravel().tolist()))
+            self.rows_written += s.rows
+            s.rows = 0
+        self._file.flush()
+        self._last_flush = time.perf_counter()
+
+    def finish(self, execution: "Execution", error: BaseException | None) -> None:
+        if self._file is not None:
+            self.flush()
+            self._file.close()
+            self._file = None
+
+
+def versions() -> dict[str, str]:
+    """Versions of the software a run depends on."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    out = {"python": platform.python_version(), "platform": platform.platform()}
+    for pkg in ("openemss", "fmpy", "pythonfmu", "numpy", "lxml"):
+        try:
+            out[pkg] = version(pkg)
+        except PackageNotFoundError:
+            out[pkg] = "not installed"
+    return out
+
+
+class RunRecord:
+    """Writes ``run.json``: system, parameters, algorithm, rate, versions, wall time, outcome, step statistics.
+
+    Written once at the start (status ``running``) and again at the end
+    (``completed`` or ``failed`` with the error), so a run that dies still says so.
+    """
+
+    def __init__(self, path: Path, system_location: str, parameter_files: list[str],
+                 extra: dict[str, Any] | None = None) -> None:
+        self.path = Path(path)
+        self.info: dict[str, Any] = {"system": system_location, "parameter_files": parameter_files,
+                                     **(extra or {})}
+        self._wall0 = time.perf_counter()
+
+    def _write(self) -> None:
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = self.path.with_suffix(".json.tmp")
+        tmp.write_text(json.dumps(self.info, indent=2, default=str) + "\n", encoding="utf-8")
+        tmp.replace(self.path)
+
+    def start(self, execution: "Execution") -> None:
+        ex = execution
+        self.info.update({
+            "status": "running",
+            "algorithm": ex.algorithm.name,
+            "rate_hz": ex.rate_hz,
+            "step_size_s": ex.step_size_s,
+            "start_time_s": ex.start_time_s,
+            "step_multiples": {s.name: s.multiple for s in ex.slaves},
+            "gauss_seidel_order": [ex.slaves[i].name for i in ex.order.order],
+            "components": {c.name: str(c.fmu_path) for c in ex.system.components},
+            "parameters": {f"{ex.system.components[p.component].name}.{p.variable.name}": p.value
+                           for p in ex.system.parameters},
+            "versions": versions(),
+        })
+        self._wall0 = time.perf_counter()
+        self._write()
+
+    def sample(self, k: int, time_s: float) -> None:
+        return
+
+    def finish(self, execution: "Execution", error: BaseException | None) -> None:
+        wall = time.perf_counter() - self._wall0
+        sim = execution.time_s - execution.start_time_s
+        self.info.update({
+            "status": "completed" if error is None else "failed",
+            "error": None if error is None else str(error) or type(error).__name__,
+            "stop_time_s": execution.time_s,
+            "steps": execution.k,
+            "wall_time_s": wall,
+            "realtime_factor": sim / wall if wall > 0 else None,
+            "step_statistics": execution.stats(),
+        })
+        self._write()
+
+
+class Progress:
+    """A one-line progress bar on a terminal: simulated time, percent, real-time factor.
+
+    Quiet when the stream is not a TTY, and for runs shorter than ``delay_s`` of wall time.
+    """
+
+    def __init__(self, stop_time_s: float, stream: IO[str] | None = None, delay_s: float = 2.0,
+                 interval_s: float = 0.25) -> None:
+        self.stream = stream if stream is not None else sys.stderr
+        self.enabled = bool(getattr(self.stream, "isatty", lambda: False)())
+        self.stop_time_s = stop_time_s
+        self.delay_s = delay_s
+        self.interval_s = interval_s
+        self._t0_wall = 0.0
+        self._next = 0.0
+        self._sim0 = 0.0
+        self._shown = False
+
+    def start(self, execution: "Execution") -> None:
+        self._t0_wall = time.perf_counter()
+        self._next = self._t0_wall + self.delay_s
+        self._sim0 = execution.start_time_s
+
+    def sample(self, k: int, time_s: float) -> None:
+        if not self.enabled or k & 15:
+            return
+        now = time.perf_counter()
+        if now < self._next:
+            return
+        self._next = now + self.interval_s
+        self._draw(time_s, now)
+
+    def _draw(self, time_s: float, now: float) -> None:
+        span = max(self.stop_time_s - self._sim0, 1e-12)
+        frac = min(max((time_s - self._sim0) / span, 0.0), 1.0)
+        width = 30
+        bar = "#" * int(frac * width) + "-" * (width - int(frac * width))
+        rtf = (time_s - self._sim0) / max(now - self._t0_wall, 1e-9)
+        self.stream.write(f"\r[{bar}] {frac * 100:5.1f}%  t = {time_s:10.2f} s  {rtf:8.1f}x real time")
+        self.stream.flush()
+        self._shown = True
+
+    def finish(self, execution: "Execution", error: BaseException | None) -> None:
+        if self._shown:
+            self._draw(execution.time_s, time.perf_counter())
+            self.stream.write("\n")
+            self.stream.flush()

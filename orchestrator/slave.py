@@ -1,0 +1,234 @@
+"""One FMU instance (fmpy's FMU2Slave) with batched, pre-resolved I/O.
+
+fmpy's convenience calls (``getReal(vrs)``) build new ctypes arrays and a Python
+list on every call. In the hot loop we call fmpy's low-level FMI functions
+directly with value-reference arrays built once and value buffers that are
+views on the execution's preallocated numpy vectors: one get and one set per
+type per step, no allocation, no dict lookups.
+"""
+from __future__ import annotations
+
+import collections
+import shutil
+import tempfile
+import time
+from ctypes import Array, byref, c_double, c_int, c_uint
+from dataclasses import dataclass, field
+
+import numpy as np
+from fmpy import extract
+from fmpy.fmi2 import (
+    FMU2Slave,
+    fmi2CallbackAllocateMemoryTYPE,
+    fmi2CallbackFreeMemoryTYPE,
+    fmi2CallbackFunctions,
+    fmi2CallbackLoggerTYPE,
+)
+
+from .errors import SlaveError
+from .system import ComponentModel, VariableInfo
+
+_STATUS = ("ok", "warning", "discard", "error", "fatal", "pending")
+_MAX_MESSAGES = 20
+
+
+class FmuLog:
+    """Collects the messages FMUs send to the logger callback, per instance name.
+
+    The messages are kept so that a failing call can be reported with what the
+    FMU said (for a pythonfmu slave: the Python exception).
+    """
+
+    def __init__(self) -> None:
+        self.messages: dict[str, collections.deque[str]] = collections.defaultdict(
+            lambda: collections.deque(maxlen=_MAX_MESSAGES))
+        from fmpy import calloc, free
+        from fmpy.logging import addLoggerProxy
+
+        self.callbacks = fmi2CallbackFunctions()
+        self._logger = fmi2CallbackLoggerTYPE(self._log)
+        self.callbacks.logger = self._logger
+        self.callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+        self.callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        # fmpy's native proxy formats the variadic message before it reaches Python.
+        addLoggerProxy(byref(self.callbacks))
+
+    def _log(self, env: object, instance: bytes | None, status: int, category: bytes | None,
+             message: bytes | None) -> None:
+        name = instance.decode("utf-8", "replace") if instance else "?"
+        text = message.decode("utf-8", "replace") if message else ""
+        self.messages[name].append(text.strip())
+
+    def last(self, instance: str) -> str:
+        """The most telling recent message of an instance, on one line."""
+        msgs = [m for m in self.messages.get(instance, ()) if m]
+        if not msgs:
+            return ""
+        # A Python traceback ends with the exception line; keep that one.
+        lines = [ln.strip() for ln in msgs[-1].splitlines() if ln.strip()]
+        return lines[-1] if lines else ""
+
+
+@dataclass
+class IoBuffers:
+    """Value references and value buffers of one type for one direction of one slave."""
+
+    vrs: Array  # type: ignore[type-arg]
+    values: Array  # type: ignore[type-arg]
+    count: int
+
+
+@dataclass
+class StepStats:
+    """Wall time [s] spent in each kind of call of one slave."""
+
+    do_step_s: float = 0.0
+    get_s: float = 0.0
+    set_s: float = 0.0
+    steps: int = 0
+
+
+_CTYPE = {"Real": c_double, "Integer": c_int, "Boolean": c_int}
+_FUNC_SUFFIX = {"Real": "Real", "Integer": "Integer", "Boolean": "Boolean"}
+
+
+def _array_view(ctype: type, vector: np.ndarray) -> Array:  # type: ignore[type-arg]
+    """A ctypes array sharing memory with a contiguous numpy slice."""
+    return (ctype * len(vector)).from_buffer(vector)
+
+
+@dataclass
+class Slave:
+    """A component instance: an FMU2Slave plus its pre-resolved I/O.
+
+    Parameters
+    ----------
+    model : ComponentModel
+        The component bound to its model description.
+    log : FmuLog
+        Shared logger receiving the FMU's messages.
+    """
+
+    model: ComponentModel
+    log: FmuLog
+    multiple: int = 1
+    stats: StepStats = field(default_factory=StepStats)
+
+    def __post_init__(self) -> None:
+        self.name = self.model.name
+        self._unzip_dir: str | None = None
+        self.fmu: FMU2Slave | None = None
+        self._inputs: list[tuple[object, IoBuffers, str]] = []
+        self._outputs: list[tuple[object, IoBuffers, str]] = []
+        self.time_s: float | None = None
+
+    # -- life cycle -------------------------------------------------------------------------
+    def instantiate(self) -> None:
+        """Extract the FMU into its own folder, load it and call fmi2Instantiate."""
+        md = self.model.model_description
+        try:
+            self._unzip_dir = extract(str(self.model.fmu_path), unzipdir=tempfile.mkdtemp(prefix="emss_fmu_"))
+            self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=self._unzip_dir,
+                                 modelIdentifier=md.coSimulation.modelIdentifier, instanceName=self.name)
+            self.fmu.instantiate(callbacks=self.log.callbacks, loggingOn=False)
+        except Exception as exc:
+            raise SlaveError(self.name, "fmi2Instantiate", None, self.log.last(self.name) or str(exc)) from None
+        self._do_step_fn = self.fmu._functions["fmi2DoStep"]
+        self._component = self.fmu.component
+
+    def _guard(self, call: str, fn, *args: object) -> None:  # type: ignore[no-untyped-def]
+        """Run an fmpy call; turn its exception into a SlaveError naming this component."""
+        try:
+            fn(*args)
+        except Exception as exc:
+            raise SlaveError(self.name, call, self.time_s, self.log.last(self.name) or str(exc)) from None
+
+    def setup_experiment(self, start_time_s: float, stop_time_s: float | None) -> None:
+        self.time_s = None
+        self._guard("fmi2SetupExperiment", self.fmu.setupExperiment, None, start_time_s, stop_time_s)
+
+    def enter_initialization_mode(self) -> None:
+        self._guard("fmi2EnterInitializationMode", self.fmu.enterInitializationMode)
+
+    def exit_initialization_mode(self) -> None:
+        self._guard("fmi2ExitInitializationMode", self.fmu.exitInitializationMode)
+
+    def set_value(self, var: VariableInfo, value: float | int | bool | str) -> None:
+        """Set one variable (parameters and start values; not for the hot loop)."""
+        fn = {"Real": self.fmu.setReal, "Integer": self.fmu.setInteger, "Boolean": self.fmu.setBoolean,
+              "String": self.fmu.setString}[var.type_name]
+        self._guard(f"fmi2Set{var.type_name} of '{var.name}'", fn, [var.vr], [value])
+
+    def get_value(self, var: VariableInfo) -> float | int | bool | str:
+        """Get one variable (not for the hot loop)."""
+        fn = {"Real": self.fmu.getReal, "Integer": self.fmu.getInteger, "Boolean": self.fmu.getBoolean,
+              "String": self.fmu.getString}[var.type_name]
+        out: list[object] = []
+        self._guard(f"fmi2Get{var.type_name} of '{var.name}'", lambda: out.extend(fn([var.vr])))
+        return out[0]  # type: ignore[return-value]
+
+    def terminate(self) -> None:
+        self._guard("fmi2Terminate", self.fmu.terminate)
+
+    def free(self) -> None:
+        """Free the instance and remove its extraction folder; never raises."""
+        if self.fmu is not None:
+            try:
+                self.fmu.freeInstance()
+            except Exception:  # a failed FMU may refuse to be freed; nothing more to do
+                pass
+            self.fmu = None
+        if self._unzip_dir is not None:
+            shutil.rmtree(self._unzip_dir, ignore_errors=True)
+            self._unzip_dir = None
+
+    # -- batched I/O ------------------------------------------------------------------------
+    def bind_io(self, type_name: str, direction: str, variables: list[VariableInfo], buffer: np.ndarray) -> None:
+        """Attach a slice of the execution's vector to a batched get or set of one type.
+
+        ``buffer`` must be a contiguous numpy slice of dtype float64 (Real) or int32
+        (Integer, Boolean) with one element per variable, in the order given.
+        """
+        if not variables:
+            return
+        n = len(variables)
+        vrs = (c_uint * n)(*[v.vr for v in variables])
+        io = IoBuffers(vrs, _array_view(_CTYPE[type_name], buffer), n)
+        fname = f"fmi2{'Get' if direction == 'get' else 'Set'}{_FUNC_SUFFIX[type_name]}"
+        entry = (self.fmu._functions[fname], io, fname)
+        (self._outputs if direction == "get" else self._inputs).append(entry)
+
+    def set_inputs(self) -> None:
+        """One fmi2Set<Type> per type, from the bound buffers."""
+        t0 = time.perf_counter()
+        c = self._component
+        for fn, io, fname in self._inputs:
+            status = fn(c, io.vrs, io.count, io.values)
+            if status > 1:
+                self._failed(fname, status)
+        self.stats.set_s += time.perf_counter() - t0
+
+    def get_outputs(self) -> None:
+        """One fmi2Get<Type> per type, into the bound buffers."""
+        t0 = time.perf_counter()
+        c = self._component
+        for fn, io, fname in self._outputs:
+            status = fn(c, io.vrs, io.count, io.values)
+            if status > 1:
+                self._failed(fname, status)
+        self.stats.get_s += time.perf_counter() - t0
+
+    def do_step(self, time_s: float, step_s: float) -> None:
+        """fmi2DoStep from ``time_s`` [s] over ``step_s`` [s]."""
+        self.time_s = time_s
+        t0 = time.perf_counter()
+        status = self._do_step_fn(self._component, time_s, step_s, 1)
+        self.stats.do_step_s += time.perf_counter() - t0
+        self.stats.steps += 1
+        if status > 1:
+            self._failed("fmi2DoStep", status)
+
+    def _failed(self, call: str, status: int | None = None) -> None:
+        label = f" (status {_STATUS[status]})" if status is not None and 0 <= status < len(_STATUS) else ""
+        raise SlaveError(self.name, call + label, self.time_s, self.log.last(self.name))
+

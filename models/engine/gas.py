@@ -1,0 +1,517 @@
+"""Gas properties of dry air and of its lean combustion products with kerosene.
+
+The working fluid of the engine is dry air or the products of complete, lean
+combustion of a hydrocarbon fuel CH_y in dry air, described by the fuel-air
+ratio FAR [-] (kg of fuel burned per kg of dry air). Per kilogram of air the
+products are
+
+    air + FAR/M_f CH_y  ->  air - (1 + y/4) n O2 + n CO2 + (y/2) n H2O,   n = FAR/M_f,
+
+an ideal-gas mixture of N2, O2, Ar, CO2 and H2O whose properties are the
+mole-weighted NASA Glenn polynomials of the species (:mod:`.thermo`). No
+dissociation is modelled, which limits the model to 2200 K; the lower limit,
+200 K, is that of the polynomials.
+
+Conventions
+-----------
+* ``h`` is the sensible enthalpy [J/kg]: every species' enthalpy is counted
+  from 298.15 K, so h(298.15 K, FAR) = 0 at every FAR. The chemical energy of
+  the fuel enters only through its lower heating value in the burner balance
+  (:meth:`GasModel.far_burner`). Mixing streams of different FAR conserves
+  this h exactly, because the mixture is linear in the species.
+* ``phi`` is the entropy function phi(T) = integral from 298.15 K to T of
+  cp/T dT [J/(kg K)]; between two states s2 - s1 = phi2 - phi1 - R ln(p2/p1).
+* Every property is written as (X_air(T) + FAR X_fuel(T)) / (1 + FAR), where
+  X_air is per kilogram of air and X_fuel the change per kilogram of fuel
+  burned; both are precomputed polynomials, so a call costs a few
+  microseconds. Arguments are Python floats (scalars).
+
+References
+----------
+B. J. McBride, M. J. Zehe, S. Gordon, "NASA Glenn Coefficients for Calculating
+Thermodynamic Properties of Individual Species", NASA/TP-2002-211556, 2002.
+S. Gordon, B. J. McBride, "Computer Program for Calculation of Complex Chemical
+Equilibrium Compositions and Applications", NASA RP-1311, 1994 (dry-air
+composition of the 'Air' record, after Gordon 1982).
+P. P. Walsh, P. Fletcher, "Gas Turbine Performance", 2nd ed., Blackwell, 2004,
+chapter 3 (working-fluid properties, burner fuel-air ratio).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Mapping
+
+from .errors import ConvergenceError, ModelError, OutOfRangeError
+from .thermo import T_REF_K, ThermoData, load_thermo_data
+
+__all__ = [
+    "T_MIN_K", "T_MAX_K", "LHV_JET_A_J_KG", "HC_RATIO_JET_A", "GasModel", "DEFAULT_GAS",
+    "cp", "h", "phi", "gamma", "R", "T_from_h", "T_from_phi", "T_isentropic",
+    "far_burner", "T_burner_exit",
+]
+
+#: Valid temperature range of the mixture model [K].
+T_MIN_K: float = 200.0
+T_MAX_K: float = 2200.0
+
+#: Default lower heating value of Jet-A [J/kg], liquid fuel at 298.15 K, water
+#: as vapour. 43.1 MJ/kg is the customary kerosene value of gas-turbine
+#: performance work; ASTM D1655 requires at least 42.8 MJ/kg. The NASA Glenn
+#: heats of formation of Jet-A(L) C12H23, CO2 and H2O in the data file give
+#: 43.03 MJ/kg (checked in the tests).
+LHV_JET_A_J_KG: float = 43.1e6
+
+#: Hydrogen-to-carbon atom ratio y of the fuel CH_y: Jet-A as C12H23 (NASA CEA).
+HC_RATIO_JET_A: float = 23.0 / 12.0
+
+_SPECIES: tuple[str, ...] = ("N2", "O2", "Ar", "CO2", "H2O")
+_FUEL_LIQUID: str = "Jet-A(L)"
+_MAX_ITER: int = 30
+#: Newton stops once a step is below this [K]; the error left after such a step
+#: is about (dcp/dT)/(2 cp) * step^2 < 3e-4/K * (1e-5 K)^2, i.e. < 1e-13 K.
+_STEP_TOL_K: float = 1e-5
+
+Coeffs = tuple[float, ...]
+
+
+def _poly_coeffs(data: ThermoData, moles_per_kg: Mapping[str, float], k: int
+                 ) -> tuple[Coeffs, Coeffs, Coeffs]:
+    """Mass-specific cp, h and phi coefficients of a species blend in interval k.
+
+    Returns (cp7, h8, phi8) for cp = c0/T^2 + c1/T + c2 + c3 T + ... + c6 T^4,
+    h = h0/T + h1 ln T + T (h2 + T (h3 + ...)) + h7 and
+    phi = s0/T^2 + s1/T + s2 ln T + T (s3 + T (s4 + ...)) + s7, zero at 298.15 K.
+    """
+    R_u = data.gas_constant_J_molK
+    a = [0.0] * 7
+    hb = sb = 0.0
+    for name, n in moles_per_kg.items():
+        sp = data.species[name]
+        iv = sp.intervals[k]
+        for j in range(7):
+            a[j] += R_u * n * iv.a[j]
+        hb += R_u * n * (iv.b[0] - sp.H_R(T_REF_K))
+        sb += R_u * n * (iv.b[1] - sp.S_R(T_REF_K))
+    cp7 = tuple(a)
+    h8 = (-a[0], a[1], a[2], a[3] / 2, a[4] / 3, a[5] / 4, a[6] / 5, hb)
+    s8 = (-a[0] / 2, -a[1], a[2], a[3], a[4] / 2, a[5] / 3, a[6] / 4, sb)
+    return cp7, h8, s8
+
+
+def _continuous(lo: tuple[Coeffs, Coeffs, Coeffs], hi: tuple[Coeffs, Coeffs, Coeffs],
+                T_mid: float) -> tuple[Coeffs, Coeffs, Coeffs]:
+    """Shift the high interval's constants so that h and phi are continuous at T_mid.
+
+    The NASA fits meet at 1000 K only to their printed precision (jumps in H/R of
+    the species here are below 5e-5 K, in S/R below 2e-8); without this shift
+    the inverses T_from_h and T_from_phi would be ambiguous by about 1e-6 K there.
+    """
+    cp7, h8, s8 = hi
+    h8 = h8[:7] + (h8[7] + _h(lo[1], T_mid) - _h(h8, T_mid),)
+    s8 = s8[:7] + (s8[7] + _phi(lo[2], T_mid) - _phi(s8, T_mid),)
+    return cp7, h8, s8
+
+
+def _cp(c: Coeffs, T: float) -> float:
+    i = 1.0 / T
+    return i * (c[0] * i + c[1]) + c[2] + T * (c[3] + T * (c[4] + T * (c[5] + T * c[6])))
+
+
+def _h(c: Coeffs, T: float) -> float:
+    return (c[0] / T + c[1] * math.log(T)
+            + T * (c[2] + T * (c[3] + T * (c[4] + T * (c[5] + T * c[6])))) + c[7])
+
+
+def _phi(c: Coeffs, T: float) -> float:
+    i = 1.0 / T
+    return (i * (c[0] * i + c[1]) + c[2] * math.log(T)
+            + T * (c[3] + T * (c[4] + T * (c[5] + T * c[6]))) + c[7])
+
+
+@dataclass(frozen=True, slots=True)
+class GasModel:
+    """Dry air and its lean, complete combustion products with a CH_y fuel.
+
+    Parameters
+    ----------
+    hc_ratio : float
+        Hydrogen-to-carbon atom ratio y of the fuel CH_y [-], 0 < y <= 4;
+        default 23/12 (Jet-A as C12H23).
+    LHV_J_kg : float
+        Lower heating value of the liquid fuel at 298.15 K [J/kg]; default
+        :data:`LHV_JET_A_J_KG`.
+    data : ThermoData
+        Species data; default the bundled NASA Glenn file.
+
+    Attributes
+    ----------
+    FAR_stoich : float
+        Stoichiometric fuel-air ratio [-], the upper limit of FAR.
+    molar_mass_air_kg_mol : float
+        Molar mass of dry air [kg/mol].
+
+    Notes
+    -----
+    Methods take scalars: temperatures ``T_K`` [K] in [200, 2200] and fuel-air
+    ratios ``FAR`` [-] in [0, FAR_stoich]; outside these they raise
+    :class:`~.errors.OutOfRangeError` (a ``ValueError``). The sensible
+    enthalpy of the liquid fuel for fuel temperatures other than 298.15 K is
+    that of Jet-A(L) per kilogram whatever y is.
+
+    References
+    ----------
+    McBride, Zehe & Gordon, NASA/TP-2002-211556 (2002); Walsh & Fletcher, Gas
+    Turbine Performance, 2nd ed. (2004), ch. 3.
+    """
+
+    hc_ratio: float = HC_RATIO_JET_A
+    LHV_J_kg: float = LHV_JET_A_J_KG
+    data: ThermoData = field(default_factory=load_thermo_data, repr=False, compare=False)
+    FAR_stoich: float = field(init=False)
+    molar_mass_air_kg_mol: float = field(init=False)
+    _moles_air: Mapping[str, float] = field(init=False, repr=False, compare=False)
+    _moles_fuel: Mapping[str, float] = field(init=False, repr=False, compare=False)
+    _T_mid: float = field(init=False, repr=False, compare=False)
+    _RA: float = field(init=False, repr=False, compare=False)
+    _RB: float = field(init=False, repr=False, compare=False)
+    _lo: tuple[Coeffs, ...] = field(init=False, repr=False, compare=False)
+    _hi: tuple[Coeffs, ...] = field(init=False, repr=False, compare=False)
+    _h_bounds: tuple[float, float, float, float] = field(init=False, repr=False, compare=False)
+    _fuel_R_J_kgK: float = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        y, data = self.hc_ratio, self.data
+        if not (0.0 < y <= 4.0):
+            raise OutOfRangeError(f"GasModel: hc_ratio={y!r} is outside the allowed range (0, 4]")
+        if not (self.LHV_J_kg > 0.0):
+            raise OutOfRangeError(f"GasModel: LHV_J_kg={self.LHV_J_kg!r} J/kg must be positive")
+        sp = data.species
+        missing = [s for s in (*_SPECIES, _FUEL_LIQUID) if s not in sp]
+        if missing:
+            raise ModelError(f"GasModel: data file {data.path} lacks species {missing}")
+        breaks = {tuple(iv.T_min_K for iv in sp[s].intervals) + (sp[s].T_max_K,) for s in _SPECIES}
+        if len(breaks) != 1 or len(next(iter(breaks))) != 3:
+            raise ModelError(f"GasModel: species {_SPECIES} in {data.path} must share two "
+                             f"intervals with common breakpoints, found {sorted(breaks)}")
+        (T_lo, T_mid, T_hi), = breaks
+        if T_lo > T_MIN_K or T_hi < T_MAX_K:
+            raise ModelError(f"GasModel: data in {data.path} cover {T_lo} K to {T_hi} K, "
+                             f"less than the model range {T_MIN_K} K to {T_MAX_K} K")
+        M = {s: sp[s].molar_mass_kg_mol for s in _SPECIES}
+        x_air = data.air_mole_fractions
+        M_air = sum(x * M[s] for s, x in x_air.items())
+        moles_air = {s: x / M_air for s, x in x_air.items()}            # mol per kg air
+        M_C = M["CO2"] - M["O2"]                                        # element molar masses
+        M_H = (M["H2O"] - M["O2"] / 2) / 2                              # consistent with the data
+        n_f = 1.0 / (M_C + y * M_H)                                     # mol CH_y per kg fuel
+        moles_fuel = {"CO2": n_f, "H2O": y / 2 * n_f, "O2": -(1 + y / 4) * n_f}
+        R_u = data.gas_constant_J_molK
+        s = object.__setattr__
+        s(self, "molar_mass_air_kg_mol", M_air)
+        s(self, "FAR_stoich", moles_air["O2"] / ((1 + y / 4) * n_f))
+        s(self, "_moles_air", moles_air)
+        s(self, "_moles_fuel", moles_fuel)
+        s(self, "_T_mid", T_mid)
+        s(self, "_RA", R_u * sum(moles_air.values()))
+        s(self, "_RB", R_u * sum(moles_fuel.values()))
+        lo_a, lo_f = _poly_coeffs(data, moles_air, 0), _poly_coeffs(data, moles_fuel, 0)
+        hi_a = _continuous(lo_a, _poly_coeffs(data, moles_air, 1), T_mid)
+        hi_f = _continuous(lo_f, _poly_coeffs(data, moles_fuel, 1), T_mid)
+        # per interval: (cp_air, cp_fuel, h_air, h_fuel, phi_air, phi_fuel)
+        s(self, "_lo", (lo_a[0], lo_f[0], lo_a[1], lo_f[1], lo_a[2], lo_f[2]))
+        s(self, "_hi", (hi_a[0], hi_f[0], hi_a[1], hi_f[1], hi_a[2], hi_f[2]))
+        s(self, "_h_bounds", (_h(lo_a[1], T_MIN_K), _h(lo_f[1], T_MIN_K),
+                              _h(hi_a[1], T_MAX_K), _h(hi_f[1], T_MAX_K)))
+        s(self, "_fuel_R_J_kgK", R_u / sp[_FUEL_LIQUID].molar_mass_kg_mol)
+
+    # ------------------------------------------------------------------ checks
+    def _T_error(self, where: str, T_K: float) -> OutOfRangeError:
+        return OutOfRangeError(
+            f"gas.{where}: T_K={T_K!r} K is outside the valid range {T_MIN_K} K to {T_MAX_K} K "
+            f"(NASA Glenn polynomials; complete combustion without dissociation)")
+
+    def _far_error(self, where: str, FAR: float) -> OutOfRangeError:
+        return OutOfRangeError(
+            f"gas.{where}: FAR={FAR!r} is outside the valid range 0 to {self.FAR_stoich:.6f} "
+            f"(lean complete combustion of CH{self.hc_ratio:.4g} in dry air)")
+
+    # -------------------------------------------------------------- properties
+    def R(self, FAR: float = 0.0) -> float:
+        """Specific gas constant R [J/(kg K)] of the mixture at `FAR` [-]."""
+        if FAR == 0.0:
+            return self._RA
+        if not (0.0 <= FAR <= self.FAR_stoich):
+            raise self._far_error("R", FAR)
+        return (self._RA + FAR * self._RB) / (1.0 + FAR)
+
+    def cp(self, T_K: float, FAR: float = 0.0) -> float:
+        """Isobaric specific heat capacity cp [J/(kg K)] at `T_K` [K] and `FAR` [-]."""
+        if not (T_MIN_K <= T_K <= T_MAX_K):
+            raise self._T_error("cp", T_K)
+        c = self._lo if T_K <= self._T_mid else self._hi
+        if FAR == 0.0:
+            return _cp(c[0], T_K)
+        if not (0.0 <= FAR <= self.FAR_stoich):
+            raise self._far_error("cp", FAR)
+        return (_cp(c[0], T_K) + FAR * _cp(c[1], T_K)) / (1.0 + FAR)
+
+    def h(self, T_K: float, FAR: float = 0.0) -> float:
+        """Sensible specific enthalpy h [J/kg], zero at 298.15 K, at `T_K` [K] and `FAR` [-]."""
+        if not (T_MIN_K <= T_K <= T_MAX_K):
+            raise self._T_error("h", T_K)
+        c = self._lo if T_K <= self._T_mid else self._hi
+        if FAR == 0.0:
+            return _h(c[2], T_K)
+        if not (0.0 <= FAR <= self.FAR_stoich):
+            raise self._far_error("h", FAR)
+        return (_h(c[2], T_K) + FAR * _h(c[3], T_K)) / (1.0 + FAR)
+
+    def phi(self, T_K: float, FAR: float = 0.0) -> float:
+        """Entropy function phi = int_{298.15 K}^{T} cp/T dT [J/(kg K)] at `T_K` [K], `FAR` [-]."""
+        if not (T_MIN_K <= T_K <= T_MAX_K):
+            raise self._T_error("phi", T_K)
+        c = self._lo if T_K <= self._T_mid else self._hi
+        if FAR == 0.0:
+            return _phi(c[4], T_K)
+        if not (0.0 <= FAR <= self.FAR_stoich):
+            raise self._far_error("phi", FAR)
+        return (_phi(c[4], T_K) + FAR * _phi(c[5], T_K)) / (1.0 + FAR)
+
+    def gamma(self, T_K: float, FAR: float = 0.0) -> float:
+        """Ratio of specific heats cp/cv [-] at `T_K` [K] and `FAR` [-]."""
+        c = self.cp(T_K, FAR)
+        return c / (c - self.R(FAR))
+
+    def molar_mass(self, FAR: float = 0.0) -> float:
+        """Molar mass of the mixture [kg/mol] at `FAR` [-]."""
+        return self.data.gas_constant_J_molK / self.R(FAR)
+
+    def mole_numbers(self, FAR: float = 0.0) -> dict[str, float]:
+        """Moles of each species per kilogram of mixture [mol/kg] at `FAR` [-]."""
+        if not (0.0 <= FAR <= self.FAR_stoich):
+            raise self._far_error("mole_numbers", FAR)
+        fa, ff = self._moles_air, self._moles_fuel
+        return {s: (fa.get(s, 0.0) + FAR * ff.get(s, 0.0)) / (1.0 + FAR) for s in _SPECIES}
+
+    def mass_fractions(self, FAR: float = 0.0) -> dict[str, float]:
+        """Mass fraction of each species [-] at `FAR` [-]; they sum to 1."""
+        sp = self.data.species
+        return {s: n * sp[s].molar_mass_kg_mol for s, n in self.mole_numbers(FAR).items()}
+
+    # ---------------------------------------------------------------- inverses
+    def T_from_h(self, h_J_kg: float, FAR: float = 0.0, T_guess_K: float | None = None) -> float:
+        """Temperature [K] at which the sensible enthalpy equals `h_J_kg` [J/kg].
+
+        Newton iteration on h(T) - h_J_kg with slope cp, from `T_guess_K` [K]
+        if given (warm start) or from 298.15 K + h/(1100 J/(kg K)); it stops
+        when a step is below 1e-5 K (error then < 1e-13 K).
+
+        Raises
+        ------
+        OutOfRangeError
+            If `h_J_kg` lies outside [h(200 K), h(2200 K)] or `FAR` is out of range.
+        ConvergenceError
+            If 30 iterations do not converge (not expected for valid inputs).
+        """
+        f = FAR
+        if f != 0.0 and not (0.0 <= f <= self.FAR_stoich):
+            raise self._far_error("T_from_h", f)
+        inv = 1.0 / (1.0 + f)
+        ha_min, hf_min, ha_max, hf_max = self._h_bounds
+        h_min, h_max = (ha_min + f * hf_min) * inv, (ha_max + f * hf_max) * inv
+        if not (h_min <= h_J_kg <= h_max):
+            raise OutOfRangeError(
+                f"gas.T_from_h: h_J_kg={h_J_kg!r} J/kg at FAR={f!r} is outside the valid range "
+                f"{h_min:.1f} J/kg to {h_max:.1f} J/kg (the enthalpies at {T_MIN_K} K and {T_MAX_K} K)")
+        T = T_guess_K if T_guess_K is not None else T_REF_K + h_J_kg / 1100.0
+        T_mid, lo, hi, log = self._T_mid, self._lo, self._hi, math.log
+        for _ in range(_MAX_ITER):
+            T = T_MIN_K if T < T_MIN_K else (T_MAX_K if T > T_MAX_K else T)
+            c = lo if T <= T_mid else hi
+            i, lnT = 1.0 / T, log(T)
+            a, b = c[0], c[2]
+            cp_ = i * (a[0] * i + a[1]) + a[2] + T * (a[3] + T * (a[4] + T * (a[5] + T * a[6])))
+            h_ = b[0] * i + b[1] * lnT + T * (b[2] + T * (b[3] + T * (b[4] + T * (b[5] + T * b[6])))) + b[7]
+            if f != 0.0:
+                a, b = c[1], c[3]
+                cp_ = (cp_ + f * (i * (a[0] * i + a[1]) + a[2]
+                                  + T * (a[3] + T * (a[4] + T * (a[5] + T * a[6]))))) * inv
+                h_ = (h_ + f * (b[0] * i + b[1] * lnT + T * (b[2] + T * (b[3] + T * (
+                    b[4] + T * (b[5] + T * b[6])))) + b[7])) * inv
+            dT = (h_ - h_J_kg) / cp_
+            T -= dT
+            if -_STEP_TOL_K < dT < _STEP_TOL_K:
+                return T
+        raise ConvergenceError(f"gas.T_from_h: no convergence in {_MAX_ITER} Newton steps for "
+                               f"h_J_kg={h_J_kg!r} J/kg, FAR={f!r}; last step {dT!r} K")
+
+    def T_from_phi(self, phi_J_kgK: float, FAR: float = 0.0, T_guess_K: float | None = None) -> float:
+        """Temperature [K] at which the entropy function equals `phi_J_kgK` [J/(kg K)].
+
+        Newton iteration in ln T (dphi/dlnT = cp): T <- T exp(-(phi(T) - phi)/cp),
+        from `T_guess_K` [K] if given; stops when a step is below 1e-5 K.
+
+        Raises
+        ------
+        OutOfRangeError
+            If `phi_J_kgK` lies outside [phi(200 K), phi(2200 K)] or `FAR` is out of range.
+        ConvergenceError
+            If 30 iterations do not converge.
+        """
+        f = FAR
+        if f != 0.0 and not (0.0 <= f <= self.FAR_stoich):
+            raise self._far_error("T_from_phi", f)
+        inv = 1.0 / (1.0 + f)
+        lo, hi = self._lo, self._hi
+        p_min = (_phi(lo[4], T_MIN_K) + f * _phi(lo[5], T_MIN_K)) * inv
+        p_max = (_phi(hi[4], T_MAX_K) + f * _phi(hi[5], T_MAX_K)) * inv
+        if not (p_min <= phi_J_kgK <= p_max):
+            raise OutOfRangeError(
+                f"gas.T_from_phi: phi_J_kgK={phi_J_kgK!r} J/(kg K) at FAR={f!r} is outside the valid "
+                f"range {p_min:.3f} to {p_max:.3f} J/(kg K) (phi at {T_MIN_K} K and {T_MAX_K} K)")
+        T = T_guess_K if T_guess_K is not None else T_REF_K * math.exp(phi_J_kgK / 1100.0)
+        T_mid, log, exp = self._T_mid, math.log, math.exp
+        for _ in range(_MAX_ITER):
+            T = T_MIN_K if T < T_MIN_K else (T_MAX_K if T > T_MAX_K else T)
+            c = lo if T <= T_mid else hi
+            i, lnT = 1.0 / T, log(T)
+            a, b = c[0], c[4]
+            cp_ = i * (a[0] * i + a[1]) + a[2] + T * (a[3] + T * (a[4] + T * (a[5] + T * a[6])))
+            p_ = i * (b[0] * i + b[1]) + b[2] * lnT + T * (b[3] + T * (b[4] + T * (b[5] + T * b[6]))) + b[7]
+            if f != 0.0:
+                a, b = c[1], c[5]
+                cp_ = (cp_ + f * (i * (a[0] * i + a[1]) + a[2]
+                                  + T * (a[3] + T * (a[4] + T * (a[5] + T * a[6]))))) * inv
+                p_ = (p_ + f * (i * (b[0] * i + b[1]) + b[2] * lnT + T * (b[3] + T * (
+                    b[4] + T * (b[5] + T * b[6]))) + b[7])) * inv
+            T_new = T * exp((phi_J_kgK - p_) / cp_)
+            dT, T = T_new - T, T_new
+            if -_STEP_TOL_K < dT < _STEP_TOL_K:
+                return T
+        raise ConvergenceError(f"gas.T_from_phi: no convergence in {_MAX_ITER} Newton steps for "
+                               f"phi_J_kgK={phi_J_kgK!r}, FAR={f!r}; last step {dT!r} K")
+
+    def T_isentropic(self, T1_K: float, pressure_ratio: float, FAR: float = 0.0,
+                     T_guess_K: float | None = None) -> float:
+        """Temperature [K] after an isentropic change of pressure by `pressure_ratio` = p2/p1 [-].
+
+        Solves phi(T2) = phi(T1) + R ln(p2/p1) at constant composition.
+        """
+        if not (pressure_ratio > 0.0):
+            raise OutOfRangeError(f"gas.T_isentropic: pressure_ratio={pressure_ratio!r} must be > 0")
+        phi2 = self.phi(T1_K, FAR) + self.R(FAR) * math.log(pressure_ratio)
+        return self.T_from_phi(phi2, FAR, T_guess_K)
+
+    # ------------------------------------------------------------------ burner
+    def _h_parts(self, T_K: float, where: str) -> tuple[float, float]:
+        """(h_air, h_fuel): enthalpy per kg air and its change per kg fuel burned [J/kg]."""
+        if not (T_MIN_K <= T_K <= T_MAX_K):
+            raise self._T_error(where, T_K)
+        c = self._lo if T_K <= self._T_mid else self._hi
+        return _h(c[2], T_K), _h(c[3], T_K)
+
+    def h_fuel_liquid(self, T_fuel_K: float) -> float:
+        """Sensible enthalpy of the liquid fuel [J/kg] relative to 298.15 K (Jet-A(L), 220-550 K)."""
+        if T_fuel_K == T_REF_K:
+            return 0.0
+        sp = self.data.species[_FUEL_LIQUID]
+        return self._fuel_R_J_kgK * (sp.H_R(T_fuel_K) - sp.H_R(T_REF_K))
+
+    def _burner_check(self, where: str, eta_b: float, FAR_in: float) -> None:
+        if not (0.0 < eta_b <= 1.0):
+            raise OutOfRangeError(f"gas.{where}: eta_b={eta_b!r} is outside the valid range (0, 1]")
+        if not (0.0 <= FAR_in <= self.FAR_stoich):
+            raise self._far_error(where, FAR_in)
+
+    def far_burner(self, Tt3_K: float, Tt4_K: float, eta_b: float = 1.0, FAR_in: float = 0.0,
+                   T_fuel_K: float = T_REF_K) -> float:
+        """Fuel-air ratio at burner exit [-] that heats the flow from `Tt3_K` to `Tt4_K` [K].
+
+        Energy balance per kilogram of dry air, with the gas enthalpies sensible
+        (zero at 298.15 K) and the heat release eta_b * LHV of liquid fuel at
+        298.15 K with water leaving as vapour:
+
+            (1 + f3) h(Tt3, f3) + df (eta_b LHV + h_fuel(T_fuel)) = (1 + f4) h(Tt4, f4),
+
+        f4 = f3 + df. Since (1 + f) h(T, f) = h_air(T) + f h_fuel(T), df follows
+        in closed form:
+
+            df = [h_air(Tt4) - h_air(Tt3) + f3 (h_fuel(Tt4) - h_fuel(Tt3))]
+                 / [eta_b LHV + h_fuel_liquid(T_fuel) - h_fuel(Tt4)].
+
+        Parameters
+        ----------
+        Tt3_K, Tt4_K : float
+            Burner inlet and exit total temperatures [K], Tt4_K > Tt3_K.
+        eta_b : float
+            Combustion efficiency [-]: fraction of LHV released, (0, 1].
+        FAR_in : float
+            Fuel-air ratio of the entering gas [-] (0 for air).
+        T_fuel_K : float
+            Temperature of the liquid fuel [K], 220 K to 550 K; default 298.15 K.
+
+        Returns
+        -------
+        float
+            Exit fuel-air ratio f4 [-] (kg fuel burned in total per kg dry air).
+
+        Raises
+        ------
+        OutOfRangeError
+            If a temperature, eta_b or FAR_in is out of range, if Tt4_K <= Tt3_K,
+            or if the result would exceed FAR_stoich.
+
+        References
+        ----------
+        Walsh & Fletcher, Gas Turbine Performance, 2nd ed. (2004), ch. 3 (burner
+        fuel-air ratio from LHV and enthalpies); McBride et al. NASA/TP-2002-211556.
+        """
+        self._burner_check("far_burner", eta_b, FAR_in)
+        if not (Tt4_K > Tt3_K):
+            raise OutOfRangeError(f"gas.far_burner: Tt4_K={Tt4_K!r} K must exceed Tt3_K={Tt3_K!r} K")
+        ha3, hf3 = self._h_parts(Tt3_K, "far_burner")
+        ha4, hf4 = self._h_parts(Tt4_K, "far_burner")
+        d_far = (ha4 - ha3 + FAR_in * (hf4 - hf3)) / (
+            eta_b * self.LHV_J_kg + self.h_fuel_liquid(T_fuel_K) - hf4)
+        far4 = FAR_in + d_far
+        if far4 > self.FAR_stoich:
+            raise OutOfRangeError(
+                f"gas.far_burner: reaching Tt4_K={Tt4_K!r} K from Tt3_K={Tt3_K!r} K needs "
+                f"FAR={far4:.6f}, beyond the stoichiometric {self.FAR_stoich:.6f} (lean model only)")
+        return far4
+
+    def T_burner_exit(self, Tt3_K: float, FAR_out: float, eta_b: float = 1.0, FAR_in: float = 0.0,
+                      T_fuel_K: float = T_REF_K, T_guess_K: float | None = None) -> float:
+        """Burner exit total temperature [K] for an exit fuel-air ratio `FAR_out` [-].
+
+        The same energy balance as :meth:`far_burner`, solved for Tt4:
+        h(Tt4, f4) = [h_air(Tt3) + f3 h_fuel(Tt3) + (f4 - f3)(eta_b LHV + h_fuel_liquid)] / (1 + f4).
+        Used when the fuel flow is the input (transient engine).
+        """
+        self._burner_check("T_burner_exit", eta_b, FAR_in)
+        if not (FAR_in <= FAR_out <= self.FAR_stoich):
+            raise OutOfRangeError(
+                f"gas.T_burner_exit: FAR_out={FAR_out!r} is outside the valid range "
+                f"FAR_in={FAR_in!r} to {self.FAR_stoich:.6f}")
+        ha3, hf3 = self._h_parts(Tt3_K, "T_burner_exit")
+        q = (FAR_out - FAR_in) * (eta_b * self.LHV_J_kg + self.h_fuel_liquid(T_fuel_K))
+        h4 = (ha3 + FAR_in * hf3 + q) / (1.0 + FAR_out)
+        return self.T_from_h(h4, FAR_out, T_guess_K)
+
+
+#: The default gas: Jet-A (C12H23) products in dry air, LHV 43.1 MJ/kg.
+DEFAULT_GAS: GasModel = GasModel()
+
+# Module-level shortcuts to the default gas (bound methods, same signatures).
+cp = DEFAULT_GAS.cp
+h = DEFAULT_GAS.h
+phi = DEFAULT_GAS.phi
+gamma = DEFAULT_GAS.gamma
+R = DEFAULT_GAS.R
+T_from_h = DEFAULT_GAS.T_from_h
+T_from_phi = DEFAULT_GAS.T_from_phi
+T_isentropic = DEFAULT_GAS.T_isentropic
+far_burner = DEFAULT_GAS.far_burner
+T_burner_exit = DEFAULT_GAS.T_burner_exit

@@ -1,0 +1,33 @@
+"""Shared fixtures: the FMUs the tests need, built once per session with build-fmus."""
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pytest
+
+from openemss.orchestrator.build import ensure_built
+
+ROOT = Path(__file__).resolve().parent.parent
+OSCILLATOR = ROOT / "examples" / "oscillator"
+
+
+@pytest.fixture(scope="session")
+def fmu_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """Folder holding every test FMU and the oscillator example's FMUs, freshly built."""
+    out = tmp_path_factory.mktemp("fmus")
+    ensure_built(OSCILLATOR / "fmus", out, force=True)
+    ensure_built(ROOT / "tests" / "fmus", out, force=True)
+    return out
+
+
+@pytest.fixture()
+def oscillator(tmp_path: Path, fmu_dir: Path) -> Path:
+    """A private copy of the oscillator example system with freshly built FMUs."""
+    folder = tmp_path / "oscillator"
+    (folder / "resources").mkdir(parents=True)
+    for f in ("SystemStructure.ssd", "oscillator.ssv"):
+        shutil.copy2(OSCILLATOR / f, folder / f)
+    for f in ("ForceDrivenMass.fmu", "DisplacementDrivenMass.fmu"):
+        shutil.copy2(fmu_dir / f, folder / "resources" / f)
+    return folder

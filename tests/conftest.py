@@ -26,7 +26,7 @@ def oscillator(tmp_path: Path, fmu_dir: Path) -> Path:
     """A private copy of the oscillator example system with freshly built FMUs."""
     folder = tmp_path / "oscillator"
     (folder / "resources").mkdir(parents=True)
-    for f in ("SystemStructure.ssd", "oscillator.ssv"):
+    for f in ("SystemStructure.ssd", "mass2.ssv"):
         shutil.copy2(OSCILLATOR / f, folder / f)
     for f in ("ForceDrivenMass.fmu", "DisplacementDrivenMass.fmu"):
         shutil.copy2(fmu_dir / f, folder / "resources" / f)

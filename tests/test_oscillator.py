@@ -78,7 +78,7 @@ def errors(tmp_path_factory: pytest.TempPathFactory, fmu_dir: Path) -> dict[str,
 
     folder = tmp_path_factory.mktemp("osc")
     (folder / "resources").mkdir()
-    for f in ("SystemStructure.ssd", "oscillator.ssv"):
+    for f in ("SystemStructure.ssd", "mass2.ssv"):
         shutil.copy2(OSCILLATOR / f, folder / f)
     for f in ("ForceDrivenMass.fmu", "DisplacementDrivenMass.fmu"):
         shutil.copy2(fmu_dir / f, folder / "resources" / f)

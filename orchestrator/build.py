@@ -29,6 +29,7 @@ import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 
+from fmpy.validation import validate_fmu
 from lxml import etree
 
 from .errors import BuildError, EmssError
@@ -273,6 +274,10 @@ def build_fmu(script: Path, out_dir: Path) -> Path:
             raise BuildError(f"{script}: pythonfmu could not build the FMU: {lines[-1] if lines else 'no output'}")
         built = Path(proc.stdout.strip().splitlines()[-1])
         _add_initial_unknowns(built)
+        problems = validate_fmu(str(built))
+        if problems:
+            raise BuildError(f"{script}: the FMU fails 'fmpy validate' ({len(problems)} problem(s)): "
+                             + "; ".join(p.strip() for p in problems))
         target = out_dir / built.name
         shutil.move(str(built), target)
     return target

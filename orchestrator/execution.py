@@ -116,7 +116,7 @@ class Execution:
             self.algorithm = GaussSeidel(self.multiples, self.order)
         else:
             raise ConfigurationError(f"unknown algorithm '{algorithm}' (allowed: {', '.join(ALGORITHMS)})")
-        self.log = FmuLog()
+        self.log = FmuLog.shared()
         self.slaves = [Slave(c, self.log, m) for c, m in zip(system.components, self.multiples)]
         self.k = 0
         self.observers: list[Observer] = []
@@ -260,24 +260,23 @@ class Execution:
     def _settle(self, rtol: float = 1e-10, atol: float = 1e-12) -> None:
         """Exchange outputs to inputs in initialization mode until nothing changes."""
         previous: dict[str, np.ndarray] | None = None
+        changed: dict[str, np.ndarray] = {}
         for _ in range(self.max_init_iterations):
             for s in self.slaves:
                 s.get_outputs()
             current = {t: v.outputs.copy() for t, v in self.vectors.items()}
-            if previous is not None and all(
-                    np.allclose(current[t], previous[t], rtol=rtol, atol=atol) for t in current):
-                return
+            if previous is not None:
+                changed = {t: ~np.isclose(current[t], previous[t], rtol=rtol, atol=atol) for t in current}
+                if not any(c.any() for c in changed.values()):
+                    return
             previous = current
             self.transfer_all()
             for s in self.slaves:
                 s.set_inputs()
-        unsettled = []
-        for t, vec in self.vectors.items():
-            for j, name in enumerate(vec.output_names):
-                if previous is not None and not np.isclose(vec.outputs[j], previous[t][j], rtol=rtol, atol=atol):
-                    unsettled.append(name)
+        unsettled = [name for t, vec in self.vectors.items() if t in changed
+                     for name, moving in zip(vec.output_names, changed[t]) if moving]
         raise InitializationError(f"initialization did not reach a fixed point in {self.max_init_iterations} "
-                                  f"exchanges; still changing: {', '.join(unsettled) or 'unknown'}")
+                                  f"exchanges; still changing: {', '.join(unsettled)}")
 
     def run(self, stop_time_s: float) -> None:
         """Initialize (if needed) and step until ``stop_time_s`` [s]; observers see every step.

@@ -39,6 +39,16 @@ class FmuLog:
     FMU said (for a pythonfmu slave: the Python exception).
     """
 
+    _shared: "FmuLog | None" = None
+
+    @classmethod
+    def shared(cls) -> "FmuLog":
+        """The process-wide logger. It is never freed: an FMU may keep the callback
+        pointer for as long as the process lives."""
+        if cls._shared is None:
+            cls._shared = cls()
+        return cls._shared
+
     def __init__(self) -> None:
         self.messages: dict[str, collections.deque[str]] = collections.defaultdict(
             lambda: collections.deque(maxlen=_MAX_MESSAGES))
@@ -121,6 +131,7 @@ class Slave:
         self._inputs: list[tuple[object, IoBuffers, str]] = []
         self._outputs: list[tuple[object, IoBuffers, str]] = []
         self.time_s: float | None = None
+        self.fatal = False
 
     # -- life cycle -------------------------------------------------------------------------
     def instantiate(self) -> None:
@@ -130,7 +141,7 @@ class Slave:
             self._unzip_dir = extract(str(self.model.fmu_path), unzipdir=tempfile.mkdtemp(prefix="emss_fmu_"))
             self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=self._unzip_dir,
                                  modelIdentifier=md.coSimulation.modelIdentifier, instanceName=self.name)
-            self.fmu.instantiate(callbacks=self.log.callbacks, loggingOn=False)
+            self.fmu.instantiate(callbacks=self.log.callbacks, loggingOn=True)
         except Exception as exc:
             raise SlaveError(self.name, "fmi2Instantiate", None, self.log.last(self.name) or str(exc)) from None
         self._do_step_fn = self.fmu._functions["fmi2DoStep"]
@@ -141,6 +152,7 @@ class Slave:
         try:
             fn(*args)
         except Exception as exc:
+            self.fatal = self.fatal or getattr(exc, "status", None) == 4
             raise SlaveError(self.name, call, self.time_s, self.log.last(self.name) or str(exc)) from None
 
     def setup_experiment(self, start_time_s: float, stop_time_s: float | None) -> None:
@@ -171,12 +183,19 @@ class Slave:
         self._guard("fmi2Terminate", self.fmu.terminate)
 
     def free(self) -> None:
-        """Free the instance and remove its extraction folder; never raises."""
+        """Free the instance and remove its extraction folder; never raises.
+
+        The shared library stays loaded: a pythonfmu FMU runs in this interpreter, and
+        unloading its library while Python still holds objects it created crashes the
+        process at the next garbage collection. After a fatal status FMI 2.0 allows no
+        further call at all, so such an instance is left alone.
+        """
         if self.fmu is not None:
-            try:
-                self.fmu.freeInstance()
-            except Exception:  # a failed FMU may refuse to be freed; nothing more to do
-                pass
+            if not self.fatal:
+                try:
+                    self.fmu.fmi2FreeInstance(self.fmu.component)
+                except Exception:  # a failed FMU may refuse to be freed; nothing more to do
+                    pass
             self.fmu = None
         if self._unzip_dir is not None:
             shutil.rmtree(self._unzip_dir, ignore_errors=True)
@@ -229,6 +248,7 @@ class Slave:
             self._failed("fmi2DoStep", status)
 
     def _failed(self, call: str, status: int | None = None) -> None:
+        self.fatal = self.fatal or status == 4
         label = f" (status {_STATUS[status]})" if status is not None and 0 <= status < len(_STATUS) else ""
         raise SlaveError(self.name, call + label, self.time_s, self.log.last(self.name))
 

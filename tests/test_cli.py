@@ -1,0 +1,75 @@
+"""The emss command: info, run options, JSON output."""
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import pytest
+
+from openemss.orchestrator.cli import main
+
+
+def test_info_prints_components_connections_and_gauss_seidel_order(
+        oscillator: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["info", str(oscillator)]) == 0
+    out = capsys.readouterr().out
+    assert "component mass1: resources/ForceDrivenMass.fmu" in out
+    assert "mass2.f_c_N -> mass1.f_c_N" in out
+    assert "Gauss-Seidel order: mass1 -> mass2" in out
+    assert "cycle breaks): mass2 -> mass1" in out
+    assert "mass2.kc_N_m = 50.0" in out  # from the component's .ssv file
+
+
+def test_info_json(oscillator: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["info", str(oscillator), "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["gauss_seidel_order"] == ["mass1", "mass2"]
+    assert d["default_experiment"]["stop_time_s"] == 10.0
+
+
+def test_run_records_selected_variables_with_wildcards(
+        oscillator: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out = tmp_path / "out"
+    rc = main(["run", str(oscillator), "--stop-time", "1", "--rate", "10", "--algorithm", "gauss-seidel",
+               "--record", "mass1.x1_*,mass2.f_c_N", "--out", str(out), "--json"])
+    assert rc == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["status"] == "completed" and summary["steps"] == 10 and summary["rows"] == 11
+    with open(out / "timeseries.csv", newline="") as fh:
+        rows = list(csv.reader(fh))
+    assert rows[0] == ["time_s", "mass1.x1_start_m", "mass1.x1_m", "mass2.f_c_N"]
+    assert [float(r[0]) for r in rows[1:]] == pytest.approx([k * 0.1 for k in range(11)])
+    run = json.loads((out / "run.json").read_text())
+    assert run["algorithm"] == "gauss-seidel" and run["rate_hz"] == 10.0 and run["steps"] == 10
+    assert set(run["step_statistics"]) == {"mass1", "mass2"}
+    assert run["versions"]["fmpy"]
+
+
+def test_time_is_t0_plus_k_h_without_drift(oscillator: Path, tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    assert main(["run", str(oscillator), "--stop-time", "100", "--rate", "30", "--record", "mass1.x1_m",
+                 "--out", str(out)]) == 0
+    with open(out / "timeseries.csv", newline="") as fh:
+        times = [float(r["time_s"]) for r in csv.DictReader(fh)]
+    assert len(times) == 3001
+    # k / 30 exactly as printed with 15 digits: an accumulated t += h would drift by ~1e-13 here
+    assert all(abs(t - k / 30.0) <= 1e-12 * max(1.0, t) for k, t in enumerate(times))
+    assert times[-1] == 100.0
+
+
+@pytest.mark.parametrize("argv, fragment", [
+    (["--step-multiple", "mass2"], "expected COMPONENT=N"),
+    (["--step-multiple", "nobody=2"], "unknown component"),
+    (["--record", "mass9.*"], "matches no variable"),
+    (["--record-every", "0"], "must be an integer >= 1"),
+    (["--algorithm", "newton"], "invalid choice"),
+])
+def test_bad_options_give_one_line(oscillator: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                   argv: list[str], fragment: str) -> None:
+    try:
+        rc = main(["run", str(oscillator), "--out", str(tmp_path / "o"), *argv])
+    except SystemExit as exc:  # argparse usage errors
+        rc = exc.code
+    err = [ln for ln in capsys.readouterr().err.splitlines() if ln.strip()]
+    assert rc != 0 and len(err) == 1 and fragment in err[0], err

@@ -55,12 +55,14 @@ class SlaveSource:
 
 
 def _imports(tree: ast.Module) -> list[str]:
+    """Absolute module names imported anywhere in a module (``from a import b`` gives ``a`` and ``a.b``)."""
     names: list[str] = []
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
             names.extend(a.name for a in node.names)
         elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
             names.append(node.module)
+            names.extend(f"{node.module}.{a.name}" for a in node.names if a.name != "*")
     return names
 
 
@@ -103,7 +105,7 @@ def analyse(script: Path) -> SlaveSource:
                 parts = name.split(".")
                 if parts[1] != "models":
                     raise BuildError(f"{path}: imports '{name}'; an FMU may depend only on openemss.models")
-                if len(parts) > 2:
+                if len(parts) > 2 and (MODELS_DIR / parts[2]).is_dir():
                     packages.add(parts[2])
                 continue
             sibling = script.parent / f"{top}.py"

@@ -17,7 +17,7 @@ Conventions
 * ``h`` is the sensible enthalpy [J/kg]: every species' enthalpy is counted
   from 298.15 K, so h(298.15 K, FAR) = 0 at every FAR. The chemical energy of
   the fuel enters only through its lower heating value in the burner balance
-  (:meth:`GasModel.far_burner`). Mixing streams of different FAR conserves
+  (:func:`.combustion.far_burner`). Mixing streams of different FAR conserves
   this h exactly, because the mixture is linear in the species.
 * ``phi`` is the entropy function phi(T) = integral from 298.15 K to T of
   cp/T dT [J/(kg K)]; between two states s2 - s1 = phi2 - phi1 - R ln(p2/p1).
@@ -47,9 +47,9 @@ from .errors import ConvergenceError, ModelError, OutOfRangeError
 from .thermo import T_REF_K, ThermoData, load_thermo_data
 
 __all__ = [
-    "T_MIN_K", "T_MAX_K", "LHV_JET_A_J_KG", "HC_RATIO_JET_A", "GasModel", "DEFAULT_GAS",
-    "cp", "h", "phi", "gamma", "R", "T_from_h", "T_from_phi", "T_isentropic",
-    "far_burner", "T_burner_exit",
+    "T_MIN_K", "T_MAX_K", "LHV_JET_A_J_KG", "HC_RATIO_JET_A", "FUEL_LIQUID_SPECIES",
+    "GasModel", "DEFAULT_GAS",
+    "cp", "h", "phi", "gamma", "R", "T_from_h", "T_from_phi", "T_isentropic", "static_from_total",
 ]
 
 #: Valid temperature range of the mixture model [K].
@@ -67,7 +67,8 @@ LHV_JET_A_J_KG: float = 43.1e6
 HC_RATIO_JET_A: float = 23.0 / 12.0
 
 _SPECIES: tuple[str, ...] = ("N2", "O2", "Ar", "CO2", "H2O")
-_FUEL_LIQUID: str = "Jet-A(L)"
+#: Species of the data file whose enthalpy stands for the liquid fuel's.
+FUEL_LIQUID_SPECIES: str = "Jet-A(L)"
 _MAX_ITER: int = 30
 #: Newton stops once a step is below this [K]; the error left after such a step
 #: is about (dcp/dT)/(2 cp) * step^2 < 3e-4/K * (1e-5 K)^2, i.e. < 1e-13 K.
@@ -156,9 +157,8 @@ class GasModel:
     -----
     Methods take scalars: temperatures ``T_K`` [K] in [200, 2200] and fuel-air
     ratios ``FAR`` [-] in [0, FAR_stoich]; outside these they raise
-    :class:`~.errors.OutOfRangeError` (a ``ValueError``). The sensible
-    enthalpy of the liquid fuel for fuel temperatures other than 298.15 K is
-    that of Jet-A(L) per kilogram whatever y is.
+    :class:`~.errors.OutOfRangeError` (a ``ValueError``). The burner energy
+    balance, which uses `LHV_J_kg`, is in :mod:`.combustion`.
 
     References
     ----------
@@ -179,7 +179,7 @@ class GasModel:
     _lo: tuple[Coeffs, ...] = field(init=False, repr=False, compare=False)
     _hi: tuple[Coeffs, ...] = field(init=False, repr=False, compare=False)
     _h_bounds: tuple[float, float, float, float] = field(init=False, repr=False, compare=False)
-    _fuel_R_J_kgK: float = field(init=False, repr=False, compare=False)
+    _phi_bounds: tuple[float, float, float, float] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         y, data = self.hc_ratio, self.data
@@ -188,7 +188,7 @@ class GasModel:
         if not (self.LHV_J_kg > 0.0):
             raise OutOfRangeError(f"GasModel: LHV_J_kg={self.LHV_J_kg!r} J/kg must be positive")
         sp = data.species
-        missing = [s for s in (*_SPECIES, _FUEL_LIQUID) if s not in sp]
+        missing = [s for s in (*_SPECIES, FUEL_LIQUID_SPECIES) if s not in sp]
         if missing:
             raise ModelError(f"GasModel: data file {data.path} lacks species {missing}")
         breaks = {tuple(iv.T_min_K for iv in sp[s].intervals) + (sp[s].T_max_K,) for s in _SPECIES}
@@ -224,7 +224,8 @@ class GasModel:
         s(self, "_hi", (hi_a[0], hi_f[0], hi_a[1], hi_f[1], hi_a[2], hi_f[2]))
         s(self, "_h_bounds", (_h(lo_a[1], T_MIN_K), _h(lo_f[1], T_MIN_K),
                               _h(hi_a[1], T_MAX_K), _h(hi_f[1], T_MAX_K)))
-        s(self, "_fuel_R_J_kgK", R_u / sp[_FUEL_LIQUID].molar_mass_kg_mol)
+        s(self, "_phi_bounds", (_phi(lo_a[2], T_MIN_K), _phi(lo_f[2], T_MIN_K),
+                                _phi(hi_a[2], T_MAX_K), _phi(hi_f[2], T_MAX_K)))
 
     # ------------------------------------------------------------------ checks
     def _T_error(self, where: str, T_K: float) -> OutOfRangeError:
@@ -305,7 +306,7 @@ class GasModel:
         """Temperature [K] at which the sensible enthalpy equals `h_J_kg` [J/kg].
 
         Newton iteration on h(T) - h_J_kg with slope cp, from `T_guess_K` [K]
-        if given (warm start) or from 298.15 K + h/(1100 J/(kg K)); it stops
+        if given and in range (warm start), else from 298.15 K + h/(1100 J/(kg K)); it stops
         when a step is below 1e-5 K (error then < 1e-13 K).
 
         Raises
@@ -321,11 +322,14 @@ class GasModel:
         inv = 1.0 / (1.0 + f)
         ha_min, hf_min, ha_max, hf_max = self._h_bounds
         h_min, h_max = (ha_min + f * hf_min) * inv, (ha_max + f * hf_max) * inv
-        if not (h_min <= h_J_kg <= h_max):
+        slack = 1e-12 * (h_max - h_min)       # rounding at the ends; T is clamped below
+        if not (h_min - slack <= h_J_kg <= h_max + slack):
             raise OutOfRangeError(
                 f"gas.T_from_h: h_J_kg={h_J_kg!r} J/kg at FAR={f!r} is outside the valid range "
                 f"{h_min:.1f} J/kg to {h_max:.1f} J/kg (the enthalpies at {T_MIN_K} K and {T_MAX_K} K)")
-        T = T_guess_K if T_guess_K is not None else T_REF_K + h_J_kg / 1100.0
+        if T_guess_K is None or not (T_MIN_K <= T_guess_K <= T_MAX_K):
+            T_guess_K = T_REF_K + h_J_kg / 1100.0
+        T = T_guess_K
         T_mid, lo, hi, log = self._T_mid, self._lo, self._hi, math.log
         for _ in range(_MAX_ITER):
             T = T_MIN_K if T < T_MIN_K else (T_MAX_K if T > T_MAX_K else T)
@@ -364,15 +368,17 @@ class GasModel:
         if f != 0.0 and not (0.0 <= f <= self.FAR_stoich):
             raise self._far_error("T_from_phi", f)
         inv = 1.0 / (1.0 + f)
-        lo, hi = self._lo, self._hi
-        p_min = (_phi(lo[4], T_MIN_K) + f * _phi(lo[5], T_MIN_K)) * inv
-        p_max = (_phi(hi[4], T_MAX_K) + f * _phi(hi[5], T_MAX_K)) * inv
-        if not (p_min <= phi_J_kgK <= p_max):
+        pa_min, pf_min, pa_max, pf_max = self._phi_bounds
+        p_min, p_max = (pa_min + f * pf_min) * inv, (pa_max + f * pf_max) * inv
+        slack = 1e-12 * (p_max - p_min)
+        if not (p_min - slack <= phi_J_kgK <= p_max + slack):
             raise OutOfRangeError(
                 f"gas.T_from_phi: phi_J_kgK={phi_J_kgK!r} J/(kg K) at FAR={f!r} is outside the valid "
                 f"range {p_min:.3f} to {p_max:.3f} J/(kg K) (phi at {T_MIN_K} K and {T_MAX_K} K)")
-        T = T_guess_K if T_guess_K is not None else T_REF_K * math.exp(phi_J_kgK / 1100.0)
-        T_mid, log, exp = self._T_mid, math.log, math.exp
+        if T_guess_K is None or not (T_MIN_K <= T_guess_K <= T_MAX_K):
+            T_guess_K = T_REF_K * math.exp(phi_J_kgK / 1100.0)
+        T = T_guess_K
+        T_mid, lo, hi, log, exp = self._T_mid, self._lo, self._hi, math.log, math.exp
         for _ in range(_MAX_ITER):
             T = T_MIN_K if T < T_MIN_K else (T_MAX_K if T > T_MAX_K else T)
             c = lo if T <= T_mid else hi
@@ -404,101 +410,46 @@ class GasModel:
         phi2 = self.phi(T1_K, FAR) + self.R(FAR) * math.log(pressure_ratio)
         return self.T_from_phi(phi2, FAR, T_guess_K)
 
-    # ------------------------------------------------------------------ burner
-    def _h_parts(self, T_K: float, where: str) -> tuple[float, float]:
-        """(h_air, h_fuel): enthalpy per kg air and its change per kg fuel burned [J/kg]."""
-        if not (T_MIN_K <= T_K <= T_MAX_K):
-            raise self._T_error(where, T_K)
-        c = self._lo if T_K <= self._T_mid else self._hi
-        return _h(c[2], T_K), _h(c[3], T_K)
+    def static_from_total(self, Tt_K: float, Mach: float, FAR: float = 0.0) -> tuple[float, float]:
+        """Static temperature [K] and static-to-total pressure ratio p/pt [-] at a Mach number.
 
-    def h_fuel_liquid(self, T_fuel_K: float) -> float:
-        """Sensible enthalpy of the liquid fuel [J/kg] relative to 298.15 K (Jet-A(L), 220-550 K)."""
-        if T_fuel_K == T_REF_K:
-            return 0.0
-        sp = self.data.species[_FUEL_LIQUID]
-        return self._fuel_R_J_kgK * (sp.H_R(T_fuel_K) - sp.H_R(T_REF_K))
-
-    def _burner_check(self, where: str, eta_b: float, FAR_in: float) -> None:
-        if not (0.0 < eta_b <= 1.0):
-            raise OutOfRangeError(f"gas.{where}: eta_b={eta_b!r} is outside the valid range (0, 1]")
-        if not (0.0 <= FAR_in <= self.FAR_stoich):
-            raise self._far_error(where, FAR_in)
-
-    def far_burner(self, Tt3_K: float, Tt4_K: float, eta_b: float = 1.0, FAR_in: float = 0.0,
-                   T_fuel_K: float = T_REF_K) -> float:
-        """Fuel-air ratio at burner exit [-] that heats the flow from `Tt3_K` to `Tt4_K` [K].
-
-        Energy balance per kilogram of dry air, with the gas enthalpies sensible
-        (zero at 298.15 K) and the heat release eta_b * LHV of liquid fuel at
-        298.15 K with water leaving as vapour:
-
-            (1 + f3) h(Tt3, f3) + df (eta_b LHV + h_fuel(T_fuel)) = (1 + f4) h(Tt4, f4),
-
-        f4 = f3 + df. Since (1 + f) h(T, f) = h_air(T) + f h_fuel(T), df follows
-        in closed form:
-
-            df = [h_air(Tt4) - h_air(Tt3) + f3 (h_fuel(Tt4) - h_fuel(Tt3))]
-                 / [eta_b LHV + h_fuel_liquid(T_fuel) - h_fuel(Tt4)].
-
-        Parameters
-        ----------
-        Tt3_K, Tt4_K : float
-            Burner inlet and exit total temperatures [K], Tt4_K > Tt3_K.
-        eta_b : float
-            Combustion efficiency [-]: fraction of LHV released, (0, 1].
-        FAR_in : float
-            Fuel-air ratio of the entering gas [-] (0 for air).
-        T_fuel_K : float
-            Temperature of the liquid fuel [K], 220 K to 550 K; default 298.15 K.
-
-        Returns
-        -------
-        float
-            Exit fuel-air ratio f4 [-] (kg fuel burned in total per kg dry air).
+        Solves h(Tt) = h(T) + V^2/2 with V = Mach sqrt(gamma(T) R T) (adiabatic,
+        real cp), then p/pt = exp((phi(T) - phi(Tt))/R) (isentropic). Iterates
+        with slope cp + Mach^2 gamma R / 2 (dgamma/dT neglected in the slope
+        only), to a step below 1e-7 K.
 
         Raises
         ------
         OutOfRangeError
-            If a temperature, eta_b or FAR_in is out of range, if Tt4_K <= Tt3_K,
-            or if the result would exceed FAR_stoich.
-
-        References
-        ----------
-        Walsh & Fletcher, Gas Turbine Performance, 2nd ed. (2004), ch. 3 (burner
-        fuel-air ratio from LHV and enthalpies); McBride et al. NASA/TP-2002-211556.
+            If `Mach` < 0, or Tt or the static temperature leave 200 K to 2200 K.
         """
-        self._burner_check("far_burner", eta_b, FAR_in)
-        if not (Tt4_K > Tt3_K):
-            raise OutOfRangeError(f"gas.far_burner: Tt4_K={Tt4_K!r} K must exceed Tt3_K={Tt3_K!r} K")
-        ha3, hf3 = self._h_parts(Tt3_K, "far_burner")
-        ha4, hf4 = self._h_parts(Tt4_K, "far_burner")
-        d_far = (ha4 - ha3 + FAR_in * (hf4 - hf3)) / (
-            eta_b * self.LHV_J_kg + self.h_fuel_liquid(T_fuel_K) - hf4)
-        far4 = FAR_in + d_far
-        if far4 > self.FAR_stoich:
-            raise OutOfRangeError(
-                f"gas.far_burner: reaching Tt4_K={Tt4_K!r} K from Tt3_K={Tt3_K!r} K needs "
-                f"FAR={far4:.6f}, beyond the stoichiometric {self.FAR_stoich:.6f} (lean model only)")
-        return far4
+        if not (Mach >= 0.0):
+            raise OutOfRangeError(f"gas.static_from_total: Mach={Mach!r} must be >= 0")
+        ht, R_ = self.h(Tt_K, FAR), self.R(FAR)
+        k = 0.5 * Mach * Mach * R_
+        T = Tt_K / (1.0 + k / (self.cp(Tt_K, FAR) - R_))          # constant-gamma estimate
+        for _ in range(_MAX_ITER):
+            c = self.cp(T, FAR)
+            g = c / (c - R_)
+            dT = (self.h(T, FAR) + k * g * T - ht) / (c + k * g)
+            T -= dT
+            if -1e-7 < dT < 1e-7:
+                return T, math.exp((self.phi(T, FAR) - self.phi(Tt_K, FAR)) / R_)
+        raise ConvergenceError(f"gas.static_from_total: no convergence in {_MAX_ITER} steps for "
+                               f"Tt_K={Tt_K!r} K, Mach={Mach!r}, FAR={FAR!r}; last step {dT!r} K")
 
-    def T_burner_exit(self, Tt3_K: float, FAR_out: float, eta_b: float = 1.0, FAR_in: float = 0.0,
-                      T_fuel_K: float = T_REF_K, T_guess_K: float | None = None) -> float:
-        """Burner exit total temperature [K] for an exit fuel-air ratio `FAR_out` [-].
+    # --------------------------------------------------------------- burner
+    def h_parts(self, T_K: float) -> tuple[float, float]:
+        """Enthalpy split (h_air, h_fuel) [J/kg] at `T_K` [K], sensible, zero at 298.15 K.
 
-        The same energy balance as :meth:`far_burner`, solved for Tt4:
-        h(Tt4, f4) = [h_air(Tt3) + f3 h_fuel(Tt3) + (f4 - f3)(eta_b LHV + h_fuel_liquid)] / (1 + f4).
-        Used when the fuel flow is the input (transient engine).
+        h_air is per kilogram of dry air and h_fuel the change per kilogram of
+        fuel burned, so that (1 + FAR) h(T, FAR) = h_air + FAR h_fuel. Used by
+        the burner energy balance (:mod:`.combustion`).
         """
-        self._burner_check("T_burner_exit", eta_b, FAR_in)
-        if not (FAR_in <= FAR_out <= self.FAR_stoich):
-            raise OutOfRangeError(
-                f"gas.T_burner_exit: FAR_out={FAR_out!r} is outside the valid range "
-                f"FAR_in={FAR_in!r} to {self.FAR_stoich:.6f}")
-        ha3, hf3 = self._h_parts(Tt3_K, "T_burner_exit")
-        q = (FAR_out - FAR_in) * (eta_b * self.LHV_J_kg + self.h_fuel_liquid(T_fuel_K))
-        h4 = (ha3 + FAR_in * hf3 + q) / (1.0 + FAR_out)
-        return self.T_from_h(h4, FAR_out, T_guess_K)
+        if not (T_MIN_K <= T_K <= T_MAX_K):
+            raise self._T_error("h_parts", T_K)
+        c = self._lo if T_K <= self._T_mid else self._hi
+        return _h(c[2], T_K), _h(c[3], T_K)
 
 
 #: The default gas: Jet-A (C12H23) products in dry air, LHV 43.1 MJ/kg.
@@ -513,5 +464,4 @@ R = DEFAULT_GAS.R
 T_from_h = DEFAULT_GAS.T_from_h
 T_from_phi = DEFAULT_GAS.T_from_phi
 T_isentropic = DEFAULT_GAS.T_isentropic
-far_burner = DEFAULT_GAS.far_burner
-T_burner_exit = DEFAULT_GAS.T_burner_exit
+static_from_total = DEFAULT_GAS.static_from_total

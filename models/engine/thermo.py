@@ -194,7 +194,7 @@ def _species_from_json(name: str, rec: Mapping[str, Any], where: str) -> Species
         intervals.append(NasaInterval(float(iv["T_min_K"]), float(iv["T_max_K"]), a, b))  # type: ignore[arg-type]
     if not intervals:
         raise ModelError(f"{where}: species {name!r} has no temperature interval")
-    for lo, hi in zip(intervals, intervals[1:]):
+    for lo, hi in zip(intervals[:-1], intervals[1:], strict=True):
         if lo.T_max_K != hi.T_min_K:
             raise ModelError(
                 f"{where}: species {name!r}: intervals are not contiguous "

@@ -12,8 +12,9 @@ values of the previous step (the ones that break the cycles) are reported.
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Protocol, Sequence
+from typing import Protocol
 
 ALGORITHMS = ("jacobi", "gauss-seidel")
 

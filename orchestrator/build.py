@@ -316,7 +316,7 @@ def ensure_built(source_dir: Path, out_dir: Path, names: list[str] | None = None
                              f"(available: {', '.join(slaves) or 'none'})")
         slaves = {n: slaves[n] for n in names}
     built = []
-    for name, script in slaves.items():
+    for script in slaves.values():
         target = Path(out_dir) / fmu_name(script)
         if not force and target.is_file() and built_hash(target) == source_hash(analyse(script)):
             if report:

@@ -11,8 +11,9 @@ import json
 import os
 import sys
 import time
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Any, NoReturn, Sequence
+from typing import Any, NoReturn
 
 from .build import PACKAGE_ROOT, ensure_built
 from .errors import ConfigurationError, EmssError, Problem, SystemStructureError

@@ -8,8 +8,9 @@ numpy vector per FMI type: ``outputs`` (what the slaves' batched gets write) and
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Protocol, Sequence
+from typing import Protocol
 
 import numpy as np
 
@@ -28,9 +29,9 @@ _DTYPE = {"Real": np.float64, "Integer": np.int32, "Boolean": np.int32}
 class Observer(Protocol):
     """Watches an execution: called after initialization and after every macro step."""
 
-    def start(self, execution: "Execution") -> None: ...
+    def start(self, execution: Execution) -> None: ...
     def sample(self, k: int, time_s: float) -> None: ...
-    def finish(self, execution: "Execution", error: BaseException | None) -> None: ...
+    def finish(self, execution: Execution, error: BaseException | None) -> None: ...
 
 
 @dataclass(frozen=True)
@@ -117,7 +118,7 @@ class Execution:
         else:
             raise ConfigurationError(f"unknown algorithm '{algorithm}' (allowed: {', '.join(ALGORITHMS)})")
         self.log = FmuLog.shared()
-        self.slaves = [Slave(c, self.log, m) for c, m in zip(system.components, self.multiples)]
+        self.slaves = [Slave(c, self.log, m) for c, m in zip(system.components, self.multiples, strict=False)]
         self.k = 0
         self.observers: list[Observer] = []
         self.signals: list[Signal] = []
@@ -274,7 +275,7 @@ class Execution:
             for s in self.slaves:
                 s.set_inputs()
         unsettled = [name for t, vec in self.vectors.items() if t in changed
-                     for name, moving in zip(vec.output_names, changed[t]) if moving]
+                     for name, moving in zip(vec.output_names, changed[t], strict=False) if moving]
         raise InitializationError(f"initialization did not reach a fixed point in {self.max_init_iterations} "
                                   f"exchanges; still changing: {', '.join(unsettled)}")
 

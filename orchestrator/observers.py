@@ -31,7 +31,7 @@ class _Gather:
     indices: np.ndarray
 
 
-def _gatherers(execution: "Execution") -> list[_Gather]:
+def _gatherers(execution: Execution) -> list[_Gather]:
     by_vector: dict[tuple[str, str], tuple[list[int], list[int]]] = {}
     for col, sig in enumerate(execution.signals, start=1):
         cols, idx = by_vector.setdefault((sig.variable.type_name, sig.vector), ([], []))
@@ -55,7 +55,7 @@ class _RowSampler:
         self.columns: list[str] = []
         self.every = 1
 
-    def attach(self, execution: "Execution") -> None:
+    def attach(self, execution: Execution) -> None:
         self.gather = _gatherers(execution)
         self.columns = ["time_s"] + [s.path for s in execution.signals]
         self.block = np.empty((self.block_rows, len(self.columns)))
@@ -83,7 +83,7 @@ class MemoryRecorder:
         self._sampler = _RowSampler(1024)
         self._blocks: list[np.ndarray] = []
 
-    def start(self, execution: "Execution") -> None:
+    def start(self, execution: Execution) -> None:
         self._sampler.attach(execution)
 
     def sample(self, k: int, time_s: float) -> None:
@@ -95,7 +95,7 @@ class MemoryRecorder:
             s.rows = 0
         s.fill(time_s)
 
-    def finish(self, execution: "Execution", error: BaseException | None) -> None:
+    def finish(self, execution: Execution, error: BaseException | None) -> None:
         s = self._sampler
         if s.rows:
             self._blocks.append(s.block[: s.rows].copy())
@@ -124,7 +124,7 @@ class CsvRecorder:
         self._fmt = ""
         self.rows_written = 0
 
-    def start(self, execution: "Execution") -> None:
+    def start(self, execution: Execution) -> None:
         self._sampler.attach(execution)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._file = open(self.path, "w", encoding="utf-8", newline="\n")
@@ -154,7 +154,7 @@ class CsvRecorder:
         self._file.flush()
         self._last_flush = time.perf_counter()
 
-    def finish(self, execution: "Execution", error: BaseException | None) -> None:
+    def finish(self, execution: Execution, error: BaseException | None) -> None:
         if self._file is not None:
             self.flush()
             self._file.close()
@@ -194,7 +194,7 @@ class RunRecord:
         tmp.write_text(json.dumps(self.info, indent=2, default=str) + "\n", encoding="utf-8")
         tmp.replace(self.path)
 
-    def start(self, execution: "Execution") -> None:
+    def start(self, execution: Execution) -> None:
         ex = execution
         self.info.update({
             "status": "running",
@@ -215,7 +215,7 @@ class RunRecord:
     def sample(self, k: int, time_s: float) -> None:
         return
 
-    def finish(self, execution: "Execution", error: BaseException | None) -> None:
+    def finish(self, execution: Execution, error: BaseException | None) -> None:
         wall = time.perf_counter() - self._wall0
         sim = execution.time_s - execution.start_time_s
         self.info.update({
@@ -248,7 +248,7 @@ class Progress:
         self._sim0 = 0.0
         self._shown = False
 
-    def start(self, execution: "Execution") -> None:
+    def start(self, execution: Execution) -> None:
         self._t0_wall = time.perf_counter()
         self._next = self._t0_wall + self.delay_s
         self._sim0 = execution.start_time_s
@@ -272,7 +272,7 @@ class Progress:
         self.stream.flush()
         self._shown = True
 
-    def finish(self, execution: "Execution", error: BaseException | None) -> None:
+    def finish(self, execution: Execution, error: BaseException | None) -> None:
         if self._shown:
             self._draw(execution.time_s, time.perf_counter())
             self.stream.write("\n")

@@ -39,10 +39,10 @@ class FmuLog:
     FMU said (for a pythonfmu slave: the Python exception).
     """
 
-    _shared: "FmuLog | None" = None
+    _shared: FmuLog | None = None
 
     @classmethod
-    def shared(cls) -> "FmuLog":
+    def shared(cls) -> FmuLog:
         """The process-wide logger. It is never freed: an FMU may keep the callback
         pointer for as long as the process lives."""
         if cls._shared is None:
@@ -217,24 +217,23 @@ class Slave:
         entry = (self.fmu._functions[fname], io, fname)
         (self._outputs if direction == "get" else self._inputs).append(entry)
 
+    def _batch(self, entries: list[tuple[object, IoBuffers, str]]) -> None:
+        c = self._component
+        for fn, io, fname in entries:
+            status = fn(c, io.vrs, io.count, io.values)  # type: ignore[operator]
+            if status > 1:
+                self._failed(fname, status)
+
     def set_inputs(self) -> None:
         """One fmi2Set<Type> per type, from the bound buffers."""
         t0 = time.perf_counter()
-        c = self._component
-        for fn, io, fname in self._inputs:
-            status = fn(c, io.vrs, io.count, io.values)
-            if status > 1:
-                self._failed(fname, status)
+        self._batch(self._inputs)
         self.stats.set_s += time.perf_counter() - t0
 
     def get_outputs(self) -> None:
         """One fmi2Get<Type> per type, into the bound buffers."""
         t0 = time.perf_counter()
-        c = self._component
-        for fn, io, fname in self._outputs:
-            status = fn(c, io.vrs, io.count, io.values)
-            if status > 1:
-                self._failed(fname, status)
+        self._batch(self._outputs)
         self.stats.get_s += time.perf_counter() - t0
 
     def do_step(self, time_s: float, step_s: float) -> None:

@@ -17,7 +17,7 @@ import os
 import tempfile
 import zipfile
 from dataclasses import dataclass, field
-from functools import lru_cache
+from functools import cache
 from pathlib import Path, PurePosixPath
 
 from lxml import etree
@@ -41,7 +41,7 @@ def _q(prefix: str, local: str) -> str:
     return f"{{{NS[prefix]}}}{local}"
 
 
-@lru_cache(maxsize=None)
+@cache
 def _schema(file_name: str) -> etree.XMLSchema:
     """The SSP 1.0 schema shipped with fmpy (loaded once)."""
     import fmpy.ssp

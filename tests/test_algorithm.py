@@ -85,4 +85,4 @@ def test_step_multiple_steps_every_nth_and_publishes_at_the_end_of_its_step(algo
         gets.append([i for kind, i in c.calls if kind == "get"])
     assert [1 in s for s in steps] == [True, False, False] * 3
     assert [1 in g for g in gets] == [False, False, True] * 3
-    assert all(0 in s and 0 in g for s, g in zip(steps, gets))
+    assert all(0 in s and 0 in g for s, g in zip(steps, gets, strict=False))

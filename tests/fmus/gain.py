@@ -23,13 +23,18 @@ class Gain(Fmi2Slave):
         self.register_variable(Real("k", causality=Fmi2Causality.parameter, variability=Fmi2Variability.tunable,
                                     description="Gain [-]"))
         self.register_variable(Real("u_real", causality=Fmi2Causality.input, description="Input [-]"))
-        self.register_variable(Integer("u_int", causality=Fmi2Causality.input, variability=Fmi2Variability.discrete, description="Input [-]"))
-        self.register_variable(Boolean("u_bool", causality=Fmi2Causality.input, variability=Fmi2Variability.discrete, description="Input [-]"))
+        discrete = Fmi2Variability.discrete
+        self.register_variable(Integer("u_int", causality=Fmi2Causality.input, variability=discrete,
+                                       description="Input [-]"))
+        self.register_variable(Boolean("u_bool", causality=Fmi2Causality.input, variability=discrete,
+                                       description="Input [-]"))
         self.register_variable(Real("y_real", causality=Fmi2Causality.output, description="k * u_real [-]",
                                     getter=lambda: self.k * self.u_real))
-        self.register_variable(Integer("y_int", causality=Fmi2Causality.output, variability=Fmi2Variability.discrete, description="u_int + 1 [-]",
+        self.register_variable(Integer("y_int", causality=Fmi2Causality.output, variability=discrete,
+                                       description="u_int + 1 [-]",
                                        getter=lambda: self.u_int + 1))
-        self.register_variable(Boolean("y_bool", causality=Fmi2Causality.output, variability=Fmi2Variability.discrete, description="not u_bool [-]",
+        self.register_variable(Boolean("y_bool", causality=Fmi2Causality.output, variability=discrete,
+                                       description="not u_bool [-]",
                                        getter=lambda: not self.u_bool))
 
     def do_step(self, current_time: float, step_size: float) -> bool:

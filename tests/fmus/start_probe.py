@@ -32,7 +32,8 @@ class StartProbe(Fmi2Slave):
                                        variability=Fmi2Variability.fixed, description="Parameter, start 7 [-]"))
         for name in ("u_at_init", "u_at_first_step", "gain_at_init"):
             self.register_variable(Real(name, causality=Fmi2Causality.output, description=f"{name} [-]"))
-        self.register_variable(Integer("count_at_init", causality=Fmi2Causality.output, variability=Fmi2Variability.discrete,
+        self.register_variable(Integer("count_at_init", causality=Fmi2Causality.output,
+                                       variability=Fmi2Variability.discrete,
                                        description="count at initialization [-]"))
 
     def exit_initialization_mode(self) -> None:

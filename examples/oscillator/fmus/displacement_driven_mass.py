@@ -3,9 +3,8 @@ the displacement [m] and velocity [m/s] of mass 1; outputs the coupling force [N
 that acts on mass 1."""
 from __future__ import annotations
 
-from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Real
-
 from linear_step import ExactLinearStep
+from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Real
 
 REQUIREMENTS = ["numpy>=1.24", "scipy>=1.10"]
 

@@ -2,9 +2,8 @@
 driven by the coupling force [N]; outputs its displacement [m] and velocity [m/s]."""
 from __future__ import annotations
 
-from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Real
-
 from linear_step import ExactLinearStep
+from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Real
 
 REQUIREMENTS = ["numpy>=1.24", "scipy>=1.10"]
 
@@ -37,7 +36,8 @@ class ForceDrivenMass(Fmi2Slave):
                 Real(name, causality=Fmi2Causality.parameter, variability=Fmi2Variability.tunable,
                      description=desc)
             )
-        self.register_variable(Real("f_c_N", causality=Fmi2Causality.input, description="Coupling force on the mass [N]"))
+        self.register_variable(Real("f_c_N", causality=Fmi2Causality.input,
+                                    description="Coupling force on the mass [N]"))
         # Before initialization ends the outputs follow the start parameters, so a
         # master reading outputs in initialization mode sees the initial state.
         self.register_variable(Real("x1_m", causality=Fmi2Causality.output, description="Displacement [m]",

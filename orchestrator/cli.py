@@ -52,7 +52,7 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--stop-time", type=float, metavar="S", help="stop time [s] (default: the SSD's)")
     run.add_argument("--rate", type=float, metavar="HZ",
                      help=f"communication rate [Hz], {MIN_RATE_HZ} to {MAX_RATE_HZ} "
-                          f"(default: the SSD's FixedStepMaster, else {DEFAULT_RATE_HZ})")
+                          f"(default: the SSD's OSP FixedStepAlgorithm annotation, else {DEFAULT_RATE_HZ})")
     run.add_argument("--algorithm", choices=("jacobi", "gauss-seidel"), default="jacobi",
                      help="master algorithm (default: jacobi)")
     run.add_argument("--step-multiple", nargs="+", action="extend", default=[], metavar="COMPONENT=N",

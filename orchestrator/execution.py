@@ -77,7 +77,7 @@ class Execution:
     system : BoundSystem
         The system, resolved against its FMUs.
     rate_hz : float | None
-        Communication rate [Hz], 0.1 to 100; None takes the SSD's FixedStepMaster step or 20 Hz.
+        Communication rate [Hz], 0.1 to 100; None takes the SSD's step (OSP annotation) or 20 Hz.
     algorithm : str
         ``"jacobi"`` or ``"gauss-seidel"``.
     multiples : dict[str, int] | None

@@ -30,7 +30,10 @@ NS = {
     "ssv": "http://ssp-standard.org/SSP1/SystemStructureParameterValues",
     "ssm": "http://ssp-standard.org/SSP1/SystemStructureParameterMapping",
     "ssb": "http://ssp-standard.org/SSP1/SystemStructureSignalDictionary",
+    "osp": "http://opensimulationplatform.com/SSP/OSPAnnotations",
 }
+#: SSP 1.0 has no place for the master's step size; we read the annotation libcosim (OSP) defines.
+OSP_ANNOTATION_TYPE = "com.opensimulationplatform"
 SSD_FILE_NAME = "SystemStructure.ssd"
 FMU_MIME_TYPE = "application/x-fmu-sharedlibrary"
 SCALAR_TYPES = ("Real", "Integer", "Boolean", "String")
@@ -121,7 +124,8 @@ class SystemDef:
     start_time_s, stop_time_s : float | None
         From ``DefaultExperiment`` [s], None when absent.
     step_size_s : float | None
-        From ``SimulationInformation/FixedStepMaster@stepSize`` [s], None when absent.
+        Master step [s] from the DefaultExperiment's OSP annotation
+        (``osp:Algorithm/osp:FixedStepAlgorithm@baseStepSize``, as libcosim reads it), None when absent.
     """
 
     name: str
@@ -275,6 +279,25 @@ def _unsupported(root: etree._Element, path: Path, problems: list[Problem]) -> N
                                                              f"{etree.QName(child).localname} is not applied yet"))
 
 
+def _osp_step_size(experiment: etree._Element | None, path: Path, problems: list[Problem]) -> float | None:
+    if experiment is None:
+        return None
+    for a in experiment.iterfind("ssd:Annotations/ssc:Annotation", NS):
+        if a.get("type") != OSP_ANNOTATION_TYPE:
+            continue
+        for fixed in a.iter(f"{{{NS['osp']}}}FixedStepAlgorithm"):
+            try:
+                step = float(fixed.get("baseStepSize", ""))
+            except ValueError:
+                problems.append(Problem(_where(path, fixed), "FixedStepAlgorithm needs a numeric baseStepSize [s]"))
+                return None
+            if not step > 0:
+                problems.append(Problem(_where(path, fixed), f"baseStepSize {step} s must be positive"))
+                return None
+            return step
+    return None
+
+
 def _float_attr(element: etree._Element | None, name: str) -> float | None:
     if element is None or element.get(name) is None:
         return None
@@ -322,14 +345,14 @@ def read_ssd(path: Path, archive_dir: tempfile.TemporaryDirectory[str] | None = 
                       e.get("endConnector"), _where(path, e))
         for e in system.iterfind("ssd:Connections/ssd:Connection", NS))
     experiment = root.find("ssd:DefaultExperiment", NS)
-    master = system.find("ssd:SimulationInformation/ssd:FixedStepMaster", NS)
+    step_size_s = _osp_step_size(experiment, path, problems)
     if problems:
         raise SystemStructureError(problems)
     return SystemDef(
         name=system.get("name"), ssd_path=path, components=tuple(components), connections=connections,
         bindings=_bindings(system, path, base_dir, problems),
         start_time_s=_float_attr(experiment, "startTime"), stop_time_s=_float_attr(experiment, "stopTime"),
-        step_size_s=_float_attr(master, "stepSize"), archive_dir=archive_dir)
+        step_size_s=step_size_s, archive_dir=archive_dir)
 
 
 def extract_archive(archive: Path) -> tempfile.TemporaryDirectory[str]:

@@ -73,3 +73,25 @@ def test_bad_options_give_one_line(oscillator: Path, tmp_path: Path, capsys: pyt
         rc = exc.code
     err = [ln for ln in capsys.readouterr().err.splitlines() if ln.strip()]
     assert rc != 0 and len(err) == 1 and fragment in err[0], err
+
+
+def _set_base_step(system: Path, step: str) -> None:
+    ssd = system / "SystemStructure.ssd"
+    ssd.write_text(ssd.read_text().replace('baseStepSize="0.05"', f'baseStepSize="{step}"'))
+
+
+def test_default_rate_comes_from_the_ssd_annotation(oscillator: Path, tmp_path: Path) -> None:
+    _set_base_step(oscillator, "0.1")
+    out = tmp_path / "out"
+    assert main(["run", str(oscillator), "--stop-time", "1", "--out", str(out)]) == 0
+    run = json.loads((out / "run.json").read_text())
+    assert run["rate_hz"] == pytest.approx(10.0) and run["steps"] == 10
+
+
+def test_ssd_step_outside_the_allowed_rates_is_refused_unless_overridden(
+        oscillator: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    _set_base_step(oscillator, "0.001")
+    assert main(["run", str(oscillator), "--stop-time", "1", "--out", str(tmp_path / "a")]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "1000" in err[0] and "allowed: 0.1 to 100.0 Hz" in err[0]
+    assert main(["run", str(oscillator), "--stop-time", "1", "--rate", "50", "--out", str(tmp_path / "b")]) == 0

@@ -7,11 +7,13 @@ from __future__ import annotations
 
 import argparse
 import fnmatch
+import importlib
 import json
 import os
+import pkgutil
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, NoReturn
 
@@ -68,11 +70,40 @@ def build_parser() -> argparse.ArgumentParser:
     _add_system_args(info)
     info.add_argument("--json", action="store_true", help="print as JSON")
 
+    _register_model_commands(sub)
+
     val = sub.add_parser("validate", help="check a system and its FMUs; exit code = number of problems",
                          description="List every problem of a system: schema, FMUs, connectors, "
                                      "connections, parameters. The exit code is the number of problems.")
     _add_system_args(val)
     return parser
+
+
+#: Exception types that model commands raise for bad input (reported as one line, no traceback).
+USER_ERRORS: list[type[Exception]] = []
+
+
+def _register_model_commands(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    """Add the sub-commands of model packages (``emss engine ...``, ``emss airframe ...``).
+
+    Every package ``openemss.models.<name>`` that has a ``cli`` module with a
+    ``register(subparsers) -> tuple[type[Exception], ...]`` function contributes
+    its commands; each sets ``handler`` (a function of the parsed arguments
+    returning the exit code) with ``set_defaults``, and returns the exception
+    types that mean bad input. The orchestrator itself knows no model.
+    """
+    import openemss.models as models
+
+    for info in sorted(pkgutil.iter_modules(models.__path__), key=lambda i: i.name):
+        if not info.ispkg:
+            continue
+        try:
+            module = importlib.import_module(f"openemss.models.{info.name}.cli")
+        except ModuleNotFoundError as exc:
+            if exc.name == f"openemss.models.{info.name}.cli":
+                continue
+            raise
+        USER_ERRORS.extend(module.register(sub))
 
 
 def _load(system: Path, params: Sequence[Path]) -> BoundSystem:
@@ -217,13 +248,12 @@ def cmd_validate(args: argparse.Namespace) -> int:
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``emss`` command."""
     args = build_parser().parse_args(argv)
-    handler = {"run": cmd_run, "info": cmd_info, "validate": cmd_validate}[args.command]
+    builtin: dict[str, Callable[[argparse.Namespace], int]] = {"run": cmd_run, "info": cmd_info,
+                                                               "validate": cmd_validate}
+    handler = builtin.get(args.command) or args.handler
     try:
         return handler(args)
-    except SystemStructureError as exc:
-        print(f"emss {args.command}: error: {exc}", file=sys.stderr)
-        return 1
-    except EmssError as exc:
+    except (EmssError, *USER_ERRORS) as exc:
         print(f"emss {args.command}: error: {exc}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:

@@ -95,3 +95,25 @@ def test_ssd_step_outside_the_allowed_rates_is_refused_unless_overridden(
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "1000" in err[0] and "allowed: 0.1 to 100.0 Hz" in err[0]
     assert main(["run", str(oscillator), "--stop-time", "1", "--rate", "50", "--out", str(tmp_path / "b")]) == 0
+
+
+def test_model_packages_contribute_commands_and_their_errors_are_one_line(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
+    import openemss.models as models
+
+    pkg = tmp_path / "zz_fake_model"
+    pkg.mkdir()
+    (pkg / "__init__.py").write_text("")
+    (pkg / "cli.py").write_text(
+        "class FakeError(Exception):\n    pass\n\n"
+        "def _go(args):\n    if args.x < 0:\n        raise FakeError(f'x = {args.x} must be >= 0')\n"
+        "    print('ok', args.x)\n    return 0\n\n"
+        "def register(sub):\n    p = sub.add_parser('fake', help='a fake model command')\n"
+        "    p.add_argument('--x', type=float, default=1.0)\n    p.set_defaults(handler=_go)\n"
+        "    return (FakeError,)\n")
+    monkeypatch.setattr(models, "__path__", [*models.__path__, str(tmp_path)])
+    assert main(["fake", "--x", "2"]) == 0
+    assert capsys.readouterr().out.strip() == "ok 2.0"
+    assert main(["fake", "--x", "-1"]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == ["emss fake: error: x = -1.0 must be >= 0"]

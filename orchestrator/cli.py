@@ -94,6 +94,7 @@ def _register_model_commands(sub: argparse._SubParsersAction) -> None:  # type: 
     """
     import openemss.models as models
 
+    USER_ERRORS.clear()
     for info in sorted(pkgutil.iter_modules(models.__path__), key=lambda i: i.name):
         if not info.ispkg:
             continue

@@ -397,7 +397,8 @@ def main(argv: list[str] | None = None) -> int:
               f"and one Boolean connection between neighbours, {steps} macro steps at {RATE_HZ:g} Hz, "
               f"best of {repeat}")
         print(f"Python {platform.python_version()}, fmpy {fmpy.__version__}, libcosimpy {cosim_version}, "
-              f"numpy {numpy.__version__}, {os.cpu_count()} CPUs, {platform.machine()}")
+              f"numpy {numpy.__version__}, {os.cpu_count()} CPUs, {platform.machine()}, "
+              f"load average {os.getloadavg()[0]:.2f}")
         print()
 
         rows = [
@@ -422,6 +423,15 @@ def main(argv: list[str] | None = None) -> int:
             return 1
         print_table(rows, bare.per_fmu_step_s, jacobi.per_fmu_step_s)
         print()
+        below = [r.runner for r in rows[1:] if r.per_fmu_step_s is not None
+                 and r.per_fmu_step_s < 0.97 * bare.per_fmu_step_s]
+        load = os.getloadavg()[0]
+        if below:  # no master can do less than the bare loop: something disturbed the timings
+            print(f"WARNING: {', '.join(below)} measured below the bare loop, which cannot be.")
+        if below or load > (os.cpu_count() or 1):
+            print(f"WARNING: load average {load:.2f} on {os.cpu_count()} CPUs: other work disturbed the timings; "
+                  "rerun on an idle machine, or with more --steps and --repeat.")
+            print()
 
         floor = bare.per_fmu_step_s
         worst = max(jacobi.per_fmu_step_s, gauss_seidel.per_fmu_step_s)

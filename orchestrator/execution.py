@@ -60,6 +60,37 @@ class TypeVectors:
     output_names: list[str] = field(default_factory=list)  # component.variable of each output
 
 
+class Transfer:
+    """Copy a contiguous range of inputs of one type from their sources, converting on the way.
+
+    One ``take`` (a bound method, looked up once) per call; Real connections with a
+    transformation or unit conversion add one multiply and one add over the range;
+    mapped Boolean/Integer/Enumeration connections are looked up one by one.
+    """
+
+    __slots__ = ("_take", "_idx", "_inputs", "_scale", "_offset", "_mapped")
+
+    def __init__(self, outputs: np.ndarray, idx: np.ndarray, inputs: np.ndarray, scale: np.ndarray,
+                 offset: np.ndarray, mapped: list[tuple[int, dict[int, int]]]) -> None:
+        self._take = outputs.take
+        self._idx = idx
+        self._inputs = inputs
+        identity = bool(np.all(scale == 1.0) and np.all(offset == 0.0))
+        self._scale = None if identity else scale
+        self._offset = None if identity else offset
+        self._mapped = mapped
+
+    def __call__(self) -> None:
+        inputs = self._inputs
+        self._take(self._idx, out=inputs)
+        if self._scale is not None:
+            np.multiply(inputs, self._scale, out=inputs)
+            np.add(inputs, self._offset, out=inputs)
+        for j, mapping in self._mapped:
+            v = int(inputs[j])
+            inputs[j] = mapping.get(v, v)
+
+
 def check_rate(rate_hz: float) -> float:
     """Return the communication step [s] for a rate [Hz] in the allowed range."""
     if not (isinstance(rate_hz, (int, float)) and math.isfinite(rate_hz)) or not \
@@ -202,12 +233,26 @@ class Execution:
                 a, _ = vec.out_range[i]
                 j = next(j for j, g in enumerate(gets[i][t]) if g.vr == v.vr)
                 self.signals.append(Signal(sys_.components[i].name, v, "outputs", a + j))
-        self._transfers = [(vec.outputs, vec.source_index, vec.inputs) for vec in self.vectors.values()
-                           if len(vec.inputs)]
-        self._slave_transfers = [
-            [(vec.outputs, vec.source_index[a:b], vec.inputs[a:b])
-             for vec in self.vectors.values() for a, b in [vec.in_range[i]] if b > a]
-            for i in range(n)]
+        self._transfers: list[Transfer] = []
+        self._slave_transfers: list[list[Transfer]] = [[] for _ in range(n)]
+        for t, vec in self.vectors.items():
+            scale = np.ones(len(vec.inputs))
+            offset = np.zeros(len(vec.inputs))
+            mapped: list[tuple[int, dict[int, int]]] = []
+            for i in range(n):
+                for j, v in enumerate(sets[i][t]):
+                    ln = linked_in[(i, t, v.vr)]
+                    k = vec.in_range[i][0] + j
+                    scale[k], offset[k] = ln.affine.scale, ln.affine.offset
+                    if ln.mapping is not None:
+                        mapped.append((k, ln.mapping))
+            if len(vec.inputs):
+                self._transfers.append(Transfer(vec.outputs, vec.source_index, vec.inputs, scale, offset, mapped))
+            for i, (a, b) in enumerate(vec.in_range):
+                if b > a:
+                    local = [(k - a, m) for k, m in mapped if a <= k < b]
+                    self._slave_transfers[i].append(Transfer(vec.outputs, vec.source_index[a:b], vec.inputs[a:b],
+                                                             scale[a:b], offset[a:b], local))
 
     # -- coupling interface used by the algorithms ---------------------------------------------
     def step_component(self, i: int, k: int) -> None:
@@ -221,12 +266,12 @@ class Execution:
         self.slaves[i].set_inputs()
 
     def transfer_to(self, i: int) -> None:
-        for outputs, idx, inputs in self._slave_transfers[i]:
-            np.take(outputs, idx, out=inputs)
+        for transfer in self._slave_transfers[i]:
+            transfer()
 
     def transfer_all(self) -> None:
-        for outputs, idx, inputs in self._transfers:
-            np.take(outputs, idx, out=inputs)
+        for transfer in self._transfers:
+            transfer()
 
     # -- running ----------------------------------------------------------------------------
     def initialize(self, stop_time_s: float | None = None) -> None:

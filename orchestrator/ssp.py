@@ -1,11 +1,15 @@
-"""Read and validate SSP 1.0 system descriptions: .ssd, .ssv and .ssp archives.
+"""Read and validate SSP 1.0 system descriptions: .ssd, .ssv, .ssm, .ssb and .ssp archives.
 
 fmpy ships the SSP 1.0 schemas and a reader (``fmpy.ssp.ssd``). We validate with
 its schemas, but parse ourselves, because its reader only opens zip archives,
 drops the source line of every element (we need it in error messages), skips
-``DefaultExperiment`` and ``SimulationInformation``, and silently ignores what it
-does not understand. Here, whatever the file holds that the orchestrator does not
-apply is reported as a problem naming the element and its line.
+``DefaultExperiment``, looks for ``LinearTransformation`` in the wrong namespace,
+leaves the mapping transformations as a TODO, and silently ignores what it does
+not understand. Here every element the orchestrator does not apply is reported
+as a problem naming the element and its line.
+
+The result of reading is a tree (``SystemNode``); ``flatten.flatten`` turns it
+into the flat list of FMU components and end-to-end connections the master runs.
 
 References
 ----------
@@ -23,6 +27,7 @@ from pathlib import Path, PurePosixPath
 from lxml import etree
 
 from .errors import Problem, SystemStructureError
+from .units import Unit, from_attributes
 
 NS = {
     "ssc": "http://ssp-standard.org/SSP1/SystemStructureCommon",
@@ -36,8 +41,9 @@ NS = {
 OSP_ANNOTATION_TYPE = "com.opensimulationplatform"
 SSD_FILE_NAME = "SystemStructure.ssd"
 FMU_MIME_TYPE = "application/x-fmu-sharedlibrary"
-SCALAR_TYPES = ("Real", "Integer", "Boolean", "String")
-CONNECTOR_KINDS = ("input", "output", "parameter", "calculatedParameter", "inout")
+SCALAR_TYPES = ("Real", "Integer", "Boolean", "String", "Enumeration")
+MAPPINGS = {"BooleanMappingTransformation": "Boolean", "IntegerMappingTransformation": "Integer",
+            "EnumerationMappingTransformation": "Enumeration"}
 
 
 def _q(prefix: str, local: str) -> str:
@@ -53,14 +59,46 @@ def _schema(file_name: str) -> etree.XMLSchema:
     return etree.XMLSchema(file=str(schema_dir / file_name))
 
 
+# -- the model of what the files say -------------------------------------------------------------
 @dataclass(frozen=True)
 class ConnectorDef:
-    """A connector of a component or system, as declared in the SSD."""
+    """A connector of a component, system or signal dictionary reference."""
 
     name: str
     kind: str
-    type_name: str | None  # Real, Integer, Boolean, String; None when the SSD leaves it out
+    type_name: str | None  # Real, Integer, Boolean, String, Enumeration; None when left out
     unit: str | None
+    where: str
+
+
+@dataclass(frozen=True)
+class LinearTransformationDef:
+    """``end = factor * start + offset`` (``ssc:LinearTransformation``)."""
+
+    factor: float = 1.0
+    offset: float = 0.0
+
+
+@dataclass(frozen=True)
+class MappingTransformationDef:
+    """A Boolean, Integer or Enumeration value map (``ssc:*MappingTransformation``), values as text."""
+
+    kind: str  # Boolean, Integer, Enumeration
+    entries: tuple[tuple[str, str], ...]
+    where: str
+
+
+Transformation = LinearTransformationDef | MappingTransformationDef
+
+
+@dataclass(frozen=True)
+class MappingEntryDef:
+    """One ``ssm:MappingEntry``: parameter ``source`` of the set goes to ``target``."""
+
+    source: str
+    target: str
+    transformation: Transformation | None
+    suppress_unit_conversion: bool
     where: str
 
 
@@ -77,16 +115,19 @@ class ParameterValue:
 
 @dataclass(frozen=True)
 class ParameterBindingDef:
-    """A ``ParameterBinding``: a parameter set applied to an element, names prefixed by ``prefix``."""
+    """A ``ParameterBinding``: a parameter set applied to an element, names prefixed by ``prefix``,
+    renamed and transformed by its parameter mapping, with the set's own unit definitions."""
 
     prefix: str
     values: tuple[ParameterValue, ...]
     where: str
+    mapping: tuple[MappingEntryDef, ...] = ()
+    units: dict[str, Unit] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
 class ComponentDef:
-    """A ``Component`` element: one FMU instance."""
+    """A ``Component`` element: one FMU instance (``name`` is its dotted path once flattened)."""
 
     name: str
     source: str
@@ -98,13 +139,90 @@ class ComponentDef:
 
 @dataclass(frozen=True)
 class ConnectionDef:
-    """A ``Connection`` from ``start_element.start_connector`` to ``end_element.end_connector``."""
+    """A ``Connection``; an empty element name means the enclosing system's own connector."""
 
     start_element: str
     start_connector: str
     end_element: str
     end_connector: str
     where: str
+    transformation: Transformation | None = None
+    suppress_unit_conversion: bool = False
+
+    @property
+    def start(self) -> str:
+        return f"{self.start_element}.{self.start_connector}" if self.start_element else self.start_connector
+
+    @property
+    def end(self) -> str:
+        return f"{self.end_element}.{self.end_connector}" if self.end_element else self.end_connector
+
+
+@dataclass(frozen=True)
+class DictionaryEntryDef:
+    """One signal of a signal dictionary."""
+
+    name: str
+    type_name: str | None
+    unit: str | None
+
+
+@dataclass(frozen=True)
+class SignalDictionaryDef:
+    """A ``SignalDictionary`` (inline or .ssb file): named signals shared across a system."""
+
+    name: str
+    entries: dict[str, DictionaryEntryDef]
+    units: dict[str, Unit]
+    where: str
+
+
+@dataclass(frozen=True)
+class DictionaryReferenceDef:
+    """A ``SignalDictionaryReference`` element: its connectors are signals of a dictionary."""
+
+    name: str
+    dictionary: str
+    connectors: tuple[ConnectorDef, ...]
+    where: str
+
+
+@dataclass(frozen=True)
+class SystemNode:
+    """A ``System`` element as written, before flattening."""
+
+    name: str
+    connectors: tuple[ConnectorDef, ...]
+    bindings: tuple[ParameterBindingDef, ...]
+    components: tuple[ComponentDef, ...]
+    systems: tuple[SystemNode, ...]
+    references: tuple[DictionaryReferenceDef, ...]
+    connections: tuple[ConnectionDef, ...]
+    dictionaries: tuple[SignalDictionaryDef, ...]
+    where: str
+
+
+@dataclass(frozen=True)
+class Hop:
+    """One connection on the way from an FMU output to an FMU input (through system connectors
+    and signal dictionaries), with the units at its two ends."""
+
+    transformation: Transformation | None
+    suppress_unit_conversion: bool
+    start_unit: str | None
+    end_unit: str | None
+    where: str
+
+
+@dataclass(frozen=True)
+class FlatConnection:
+    """An end-to-end connection between two FMU components of the flattened system."""
+
+    start_element: str
+    start_connector: str
+    end_element: str
+    end_connector: str
+    hops: tuple[Hop, ...]
 
     @property
     def start(self) -> str:
@@ -114,6 +232,10 @@ class ConnectionDef:
     def end(self) -> str:
         return f"{self.end_element}.{self.end_connector}"
 
+    @property
+    def where(self) -> str:
+        return self.hops[-1].where
+
 
 @dataclass(frozen=True)
 class SystemDef:
@@ -121,6 +243,14 @@ class SystemDef:
 
     Attributes
     ----------
+    components : tuple[ComponentDef, ...]
+        Every FMU component, named by its dotted path below the top system.
+    connections : tuple[FlatConnection, ...]
+        End-to-end connections between components.
+    bindings : tuple[ParameterBindingDef, ...]
+        System-level bindings (names ``path.to.component.variable``).
+    units : dict[str, Unit]
+        The SSD's unit definitions.
     start_time_s, stop_time_s : float | None
         From ``DefaultExperiment`` [s], None when absent.
     step_size_s : float | None
@@ -131,12 +261,14 @@ class SystemDef:
     name: str
     ssd_path: Path
     components: tuple[ComponentDef, ...]
-    connections: tuple[ConnectionDef, ...]
+    connections: tuple[FlatConnection, ...]
     bindings: tuple[ParameterBindingDef, ...]
+    units: dict[str, Unit] = field(default_factory=dict)
     start_time_s: float | None = None
     stop_time_s: float | None = None
     step_size_s: float | None = None
     archive_dir: tempfile.TemporaryDirectory[str] | None = field(default=None, compare=False, repr=False)
+    problems: tuple[Problem, ...] = ()  # found while flattening; bind_system reports them with its own
 
     def component(self, name: str) -> ComponentDef:
         """The component called ``name``; KeyError if there is none."""
@@ -146,6 +278,7 @@ class SystemDef:
         raise KeyError(name)
 
 
+# -- parsing ---------------------------------------------------------------------------------------
 def _where(path: Path, element: etree._Element) -> str:
     return f"{path}:{element.sourceline}"
 
@@ -179,6 +312,30 @@ def _typed_value(type_name: str, text: str) -> float | int | bool | str:
     return text
 
 
+def _units(element: etree._Element | None, prefix: str) -> dict[str, Unit]:
+    """``<prefix>:Units/ssc:Unit`` definitions below ``element``."""
+    if element is None:
+        return {}
+    out: dict[str, Unit] = {}
+    for u in element.iterfind(f"{prefix}:Units/ssc:Unit", NS):
+        base = u.find("ssc:BaseUnit", NS)
+        out[u.get("name")] = from_attributes(u.get("name"), dict(base.attrib) if base is not None else {})
+    return out
+
+
+def _transformation(element: etree._Element, path: Path) -> Transformation | None:
+    """The transformation child (ssc namespace) of a connection or mapping entry, if any."""
+    lin = element.find("ssc:LinearTransformation", NS)
+    if lin is not None:
+        return LinearTransformationDef(float(lin.get("factor", 1.0)), float(lin.get("offset", 0.0)))
+    for local, kind in MAPPINGS.items():
+        m = element.find(f"ssc:{local}", NS)
+        if m is not None:
+            entries = tuple((e.get("source"), e.get("target")) for e in m.iterfind("ssc:MapEntry", NS))
+            return MappingTransformationDef(kind, entries, _where(path, m))
+    return None
+
+
 def _parameter_set(root: etree._Element, path: Path, problems: list[Problem]) -> tuple[ParameterValue, ...]:
     values: list[ParameterValue] = []
     for p in root.iterfind("ssv:Parameters/ssv:Parameter", NS):
@@ -187,19 +344,17 @@ def _parameter_set(root: etree._Element, path: Path, problems: list[Problem]) ->
                 continue
             type_name = etree.QName(child).localname
             where = _where(path, child)
-            if type_name not in SCALAR_TYPES:
+            if type_name not in ("Real", "Integer", "Boolean", "String"):
                 problems.append(Problem(where, f"parameter '{p.get('name')}': type {type_name} is not supported "
-                                               f"(allowed: {', '.join(SCALAR_TYPES)})"))
+                                               "(allowed: Real, Integer, Boolean, String)"))
                 continue
             values.append(ParameterValue(p.get("name"), type_name, _typed_value(type_name, child.get("value")),
                                          child.get("unit"), where))
-    for u in root.iterfind("ssv:Units/ssc:Unit", NS):
-        problems.append(Problem(_where(path, u), "unit definitions in parameter sets are not applied yet"))
     return tuple(values)
 
 
-def read_ssv(path: Path) -> tuple[ParameterValue, ...]:
-    """Read an .ssv parameter set file.
+def read_ssv(path: Path) -> tuple[tuple[ParameterValue, ...], dict[str, Unit]]:
+    """Read an .ssv parameter set file: its values and its unit definitions.
 
     Raises
     ------
@@ -211,7 +366,22 @@ def read_ssv(path: Path) -> tuple[ParameterValue, ...]:
     values = _parameter_set(root, Path(path), problems) if root is not None else ()
     if problems:
         raise SystemStructureError(problems)
-    return values
+    return values, _units(root, "ssv")
+
+
+def _mapping_entries(root: etree._Element, path: Path) -> tuple[MappingEntryDef, ...]:
+    return tuple(MappingEntryDef(m.get("source"), m.get("target"), _transformation(m, path),
+                                 m.get("suppressUnitConversion", "false") in ("true", "1"), _where(path, m))
+                 for m in root.iterfind("ssm:MappingEntry", NS))
+
+
+def read_ssm(path: Path) -> tuple[MappingEntryDef, ...]:
+    """Read an .ssm parameter mapping file."""
+    problems: list[Problem] = []
+    root = _parse_xml(Path(path), "SystemStructureParameterMapping.xsd", problems)
+    if problems:
+        raise SystemStructureError(problems)
+    return _mapping_entries(root, Path(path))
 
 
 def _bindings(element: etree._Element, path: Path, base_dir: Path,
@@ -220,63 +390,98 @@ def _bindings(element: etree._Element, path: Path, base_dir: Path,
     for b in element.iterfind("ssd:ParameterBindings/ssd:ParameterBinding", NS):
         where = _where(path, b)
         values: list[ParameterValue] = []
+        units: dict[str, Unit] = {}
         btype = b.get("type", "application/x-ssp-parameter-set")
         if btype != "application/x-ssp-parameter-set":
             problems.append(Problem(where, f"parameter binding type '{btype}' is not supported "
                                            "(allowed: application/x-ssp-parameter-set)"))
+        if b.get("sourceBase", "SSD") != "SSD":
+            problems.append(Problem(where, "sourceBase 'component' is not supported (allowed: SSD)"))
         source = b.get("source")
         if source is not None:
-            ssv_path = base_dir / source
             try:
-                values.extend(read_ssv(ssv_path))
+                file_values, units = read_ssv(base_dir / source)
+                values.extend(file_values)
             except SystemStructureError as exc:
                 problems.extend(exc.problems)
         for s in b.iterfind("ssd:ParameterValues/ssv:ParameterSet", NS):
             values.extend(_parameter_set(s, path, problems))
+            units.update(_units(s, "ssv"))
+        mapping: list[MappingEntryDef] = []
         for m in b.iterfind("ssd:ParameterMapping", NS):
-            problems.append(Problem(_where(path, m), "ParameterMapping is not applied yet; remove it or "
-                                                     "rename the parameters in the parameter set"))
-        bindings.append(ParameterBindingDef(b.get("prefix", ""), tuple(values), where))
+            if m.get("source") is not None:
+                try:
+                    mapping.extend(read_ssm(base_dir / m.get("source")))
+                except SystemStructureError as exc:
+                    problems.extend(exc.problems)
+            for inline in m.iterfind("ssm:ParameterMapping", NS):
+                mapping.extend(_mapping_entries(inline, path))
+        bindings.append(ParameterBindingDef(b.get("prefix", ""), tuple(values), where, tuple(mapping), units))
     return tuple(bindings)
 
 
-def _connectors(element: etree._Element, path: Path, problems: list[Problem]) -> tuple[ConnectorDef, ...]:
+def _connectors(element: etree._Element, path: Path) -> tuple[ConnectorDef, ...]:
     connectors: list[ConnectorDef] = []
     for c in element.iterfind("ssd:Connectors/ssd:Connector", NS):
         type_name: str | None = None
         unit: str | None = None
         for child in c:
-            if not isinstance(child.tag, str):
-                continue
-            local = etree.QName(child).localname
-            if etree.QName(child).namespace == NS["ssc"] and local in SCALAR_TYPES + ("Enumeration", "Binary"):
-                if local not in SCALAR_TYPES:
-                    problems.append(Problem(_where(path, child), f"connector '{c.get('name')}': type {local} is "
-                                                                 f"not supported (allowed: {', '.join(SCALAR_TYPES)})"))
-                type_name = local
+            if isinstance(child.tag, str) and etree.QName(child).namespace == NS["ssc"] and \
+                    etree.QName(child).localname in SCALAR_TYPES + ("Binary",):
+                type_name = etree.QName(child).localname
                 unit = child.get("unit")
         connectors.append(ConnectorDef(c.get("name"), c.get("kind"), type_name, unit, _where(path, c)))
     return tuple(connectors)
 
 
-def _unsupported(root: etree._Element, path: Path, problems: list[Problem]) -> None:
-    """Report the SSP features this orchestrator does not apply, instead of silently dropping them."""
-    checks = (
-        ("ssd:System/ssd:Elements/ssd:System", "nested systems are not supported yet; flatten the system"),
-        ("ssd:System/ssd:Elements/ssd:SignalDictionaryReference", "signal dictionaries are not supported yet"),
-        ("ssd:System/ssd:SignalDictionaries", "signal dictionaries are not supported yet"),
-        ("ssd:System/ssd:Connectors/ssd:Connector", "system-level connectors are not supported yet"),
-        ("ssd:Enumerations", "enumeration definitions are not supported yet"),
-    )
-    for xpath, message in checks:
-        for e in root.iterfind(xpath, NS):
-            problems.append(Problem(_where(path, e), message))
-    for conn in root.iterfind("ssd:System/ssd:Connections/ssd:Connection", NS):
-        for child in conn:
-            if isinstance(child.tag, str) and child.tag != _q("ssc", "Annotations") and \
-                    etree.QName(child).localname.endswith("Transformation"):
-                problems.append(Problem(_where(path, child), f"connection transformation "
-                                                             f"{etree.QName(child).localname} is not applied yet"))
+def _dictionary(d: etree._Element, path: Path, base_dir: Path, problems: list[Problem]) -> SignalDictionaryDef | None:
+    source = d.get("source")
+    if source is not None:
+        dpath = base_dir / source
+        root = _parse_xml(dpath, "SystemStructureSignalDictionary.xsd", problems)
+    else:
+        dpath, root = path, d.find("ssb:SignalDictionary", NS)
+    if root is None:
+        return None
+    entries = {}
+    for e in root.iterfind("ssb:DictionaryEntry", NS):
+        type_name, unit = None, None
+        for child in e:
+            if isinstance(child.tag, str) and etree.QName(child).localname in SCALAR_TYPES:
+                type_name, unit = etree.QName(child).localname, child.get("unit")
+        entries[e.get("name")] = DictionaryEntryDef(e.get("name"), type_name, unit)
+    return SignalDictionaryDef(d.get("name"), entries, _units(root, "ssb"), _where(dpath, d))
+
+
+def _system(s: etree._Element, path: Path, base_dir: Path, problems: list[Problem]) -> SystemNode:
+    components: list[ComponentDef] = []
+    for c in s.iterfind("ssd:Elements/ssd:Component", NS):
+        where = _where(path, c)
+        ctype = c.get("type", FMU_MIME_TYPE)
+        if ctype != FMU_MIME_TYPE:
+            problems.append(Problem(where, f"component '{c.get('name')}': type '{ctype}' is not supported "
+                                           f"(allowed: {FMU_MIME_TYPE})"))
+        impl = c.get("implementation", "any")
+        if impl not in ("any", "CoSimulation"):
+            problems.append(Problem(where, f"component '{c.get('name')}': implementation '{impl}' is not "
+                                           "supported (allowed: CoSimulation)"))
+        source = c.get("source")
+        components.append(ComponentDef(c.get("name"), source, (base_dir / source).resolve(),
+                                       _connectors(c, path), _bindings(c, path, base_dir, problems), where))
+    references = tuple(DictionaryReferenceDef(r.get("name"), r.get("dictionary"), _connectors(r, path),
+                                              _where(path, r))
+                       for r in s.iterfind("ssd:Elements/ssd:SignalDictionaryReference", NS))
+    connections = tuple(
+        ConnectionDef(e.get("startElement", ""), e.get("startConnector"), e.get("endElement", ""),
+                      e.get("endConnector"), _where(path, e), _transformation(e, path),
+                      e.get("suppressUnitConversion", "false") in ("true", "1"))
+        for e in s.iterfind("ssd:Connections/ssd:Connection", NS))
+    dictionaries = tuple(d for d in (_dictionary(d, path, base_dir, problems)
+                                     for d in s.iterfind("ssd:SignalDictionaries/ssd:SignalDictionary", NS))
+                         if d is not None)
+    systems = tuple(_system(sub, path, base_dir, problems) for sub in s.iterfind("ssd:Elements/ssd:System", NS))
+    return SystemNode(s.get("name"), _connectors(s, path), _bindings(s, path, base_dir, problems),
+                      tuple(components), systems, references, connections, dictionaries, _where(path, s))
 
 
 def _osp_step_size(experiment: etree._Element | None, path: Path, problems: list[Problem]) -> float | None:
@@ -305,54 +510,40 @@ def _float_attr(element: etree._Element | None, name: str) -> float | None:
 
 
 def read_ssd(path: Path, archive_dir: tempfile.TemporaryDirectory[str] | None = None) -> SystemDef:
-    """Read and validate ``SystemStructure.ssd`` (a file path).
+    """Read, validate and flatten ``SystemStructure.ssd`` (a file path).
 
-    FMU sources and .ssv files are resolved relative to the SSD's folder.
+    FMU sources, .ssv, .ssm and .ssb files are resolved relative to the SSD's folder.
+    Problems of the file itself raise here; problems found while flattening the
+    connections are kept in ``SystemDef.problems`` and raised by ``bind_system``
+    together with those it finds against the FMUs, so that all are listed at once.
 
     Raises
     ------
     SystemStructureError
-        With every problem found.
+        With every problem found in the files.
     """
+    from .flatten import flatten
+
     path = Path(path)
     problems: list[Problem] = []
     root = _parse_xml(path, "SystemStructureDescription.xsd", problems)
     if root is None:
         raise SystemStructureError(problems)
-    base_dir = path.parent
-    _unsupported(root, path, problems)
-    system = root.find("ssd:System", NS)
-
-    components: list[ComponentDef] = []
-    for c in system.iterfind("ssd:Elements/ssd:Component", NS):
-        where = _where(path, c)
-        ctype = c.get("type", FMU_MIME_TYPE)
-        if ctype != FMU_MIME_TYPE:
-            problems.append(Problem(where, f"component '{c.get('name')}': type '{ctype}' is not supported "
-                                           f"(allowed: {FMU_MIME_TYPE})"))
-        impl = c.get("implementation", "any")
-        if impl not in ("any", "CoSimulation"):
-            problems.append(Problem(where, f"component '{c.get('name')}': implementation '{impl}' is not "
-                                           "supported (allowed: CoSimulation)"))
-        source = c.get("source")
-        components.append(ComponentDef(
-            name=c.get("name"), source=source, source_path=(base_dir / source).resolve(),
-            connectors=_connectors(c, path, problems), bindings=_bindings(c, path, base_dir, problems),
-            where=where))
-
-    connections = tuple(
-        ConnectionDef(e.get("startElement", ""), e.get("startConnector"), e.get("endElement", ""),
-                      e.get("endConnector"), _where(path, e))
-        for e in system.iterfind("ssd:Connections/ssd:Connection", NS))
+    if root.find("ssd:Enumerations", NS) is not None:
+        problems.append(Problem(_where(path, root.find("ssd:Enumerations", NS)),
+                                "SSD-level enumeration definitions are not applied; enumeration mappings use "
+                                "the FMUs' own enumeration types"))
+    tree = _system(root.find("ssd:System", NS), path, path.parent, problems)
     experiment = root.find("ssd:DefaultExperiment", NS)
     step_size_s = _osp_step_size(experiment, path, problems)
     if problems:
         raise SystemStructureError(problems)
+    components, connections, bindings = flatten(tree, problems)
     return SystemDef(
-        name=system.get("name"), ssd_path=path, components=tuple(components), connections=connections,
-        bindings=_bindings(system, path, base_dir, problems),
-        start_time_s=_float_attr(experiment, "startTime"), stop_time_s=_float_attr(experiment, "stopTime"),
-        step_size_s=step_size_s, archive_dir=archive_dir)
+        name=tree.name, ssd_path=path, components=components, connections=connections, bindings=bindings,
+        units=_units(root, "ssd"), start_time_s=_float_attr(experiment, "startTime"),
+        stop_time_s=_float_attr(experiment, "stopTime"), step_size_s=step_size_s, archive_dir=archive_dir,
+        problems=tuple(problems))
 
 
 def extract_archive(archive: Path) -> tempfile.TemporaryDirectory[str]:

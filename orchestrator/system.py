@@ -1,9 +1,10 @@
-"""Bind an SSP system description to its FMUs: variables, value references, checks.
+"""Bind an SSP system description to its FMUs: variables, value references, conversions, checks.
 
 ``bind_system`` reads every FMU's modelDescription.xml once, checks that the SSD
-agrees with it (connectors exist, kinds and types match, connections go from an
-output to an input, one connection per input, units agree) and resolves every
-parameter value to a value reference. All problems are collected before failing.
+agrees with it (connectors exist, kinds, types and units match, connections go
+from an output to an input), composes each connection's transformations and
+unit conversions, and resolves every parameter value to a value reference. All
+problems are collected before failing.
 """
 from __future__ import annotations
 
@@ -13,8 +14,10 @@ from pathlib import Path
 from fmpy import read_model_description
 from fmpy.model_description import ModelDescription
 
+from .conversion import ConversionError, discrete_path, real_path
 from .errors import Problem, SystemStructureError
-from .ssp import ComponentDef, ParameterBindingDef, ParameterValue, SystemDef, read_ssv
+from .ssp import ComponentDef, FlatConnection, ParameterBindingDef, SystemDef, read_ssv
+from .units import IDENTITY, Affine, Unit, from_attributes
 
 #: FMI 2.0 variable types as the orchestrator buffers them (Enumeration travels as Integer).
 BUFFER_TYPE = {"Real": "Real", "Integer": "Integer", "Enumeration": "Integer", "Boolean": "Boolean", "String": "String"}
@@ -26,13 +29,14 @@ class VariableInfo:
 
     name: str
     vr: int
-    type_name: str  # Real, Integer, Boolean, String (Enumeration mapped to Integer)
+    type_name: str  # Real, Integer, Boolean, String (Enumeration travels as Integer)
     causality: str
     variability: str
     initial: str | None
     start: float | int | bool | str | None
     unit: str | None
     description: str | None
+    enum_items: dict[str, int] | None = None  # for Enumeration variables: item name -> value
 
     @property
     def settable_before_init(self) -> bool:
@@ -49,6 +53,7 @@ class ComponentModel:
     definition: ComponentDef
     model_description: ModelDescription
     variables: dict[str, VariableInfo]
+    units: dict[str, Unit] = field(default_factory=dict)  # the FMU's UnitDefinitions
 
     @property
     def name(self) -> str:
@@ -58,16 +63,30 @@ class ComponentModel:
     def fmu_path(self) -> Path:
         return self.definition.source_path
 
+    def connector_unit(self, name: str) -> str | None:
+        """The unit of a connector: the SSD's if declared, else the FMU variable's."""
+        for k in self.definition.connectors:
+            if k.name == name and k.unit is not None:
+                return k.unit
+        v = self.variables.get(name)
+        return v.unit if v is not None else None
+
 
 @dataclass(frozen=True)
 class Link:
-    """A resolved connection: output of one component to input of another."""
+    """A resolved connection: output of one component to input of another.
+
+    ``affine`` converts Real values (transformations and units composed);
+    ``mapping`` maps Boolean/Integer/Enumeration values (None: unchanged).
+    """
 
     source: int  # component index
     source_var: VariableInfo
     target: int
     target_var: VariableInfo
     where: str
+    affine: Affine = IDENTITY
+    mapping: dict[int, int] | None = None
 
 
 @dataclass(frozen=True)
@@ -95,15 +114,21 @@ class BoundSystem:
                 return i
         raise KeyError(component_name)
 
+    def split(self, path: str) -> tuple[int, str] | None:
+        """Split ``component.variable`` at the longest component name (names may contain dots)."""
+        best: tuple[int, str] | None = None
+        for i, c in enumerate(self.components):
+            if path.startswith(c.name + ".") and (best is None or len(c.name) > len(self.components[best[0]].name)):
+                best = (i, path[len(c.name) + 1:])
+        return best
+
     def variable(self, path: str) -> tuple[int, VariableInfo]:
-        """Resolve ``component.variable`` (the variable name may itself contain dots)."""
-        comp, _, var = path.partition(".")
-        try:
-            i = self.index(comp)
-            return i, self.components[i].variables[var]
-        except KeyError:
-            raise SystemStructureError([Problem(path, "no such variable: expected component.variable "
-                                                      "with a component of this system")]) from None
+        """Resolve ``component.variable``."""
+        hit = self.split(path)
+        if hit is not None and hit[1] in self.components[hit[0]].variables:
+            return hit[0], self.components[hit[0]].variables[hit[1]]
+        raise SystemStructureError([Problem(path, "no such variable: expected component.variable "
+                                                  "with a component of this system")])
 
 
 def _variables(md: ModelDescription) -> dict[str, VariableInfo]:
@@ -112,9 +137,21 @@ def _variables(md: ModelDescription) -> dict[str, VariableInfo]:
         start = v.start
         if start is not None and v.type in ("Real", "Integer", "Enumeration", "Boolean"):
             start = {"Real": float, "Integer": int, "Enumeration": int}.get(v.type, lambda s: s in ("true", "1"))(start)
-        unit = v.unit if v.unit is not None else (v.declaredType.unit if v.declaredType is not None else None)
+        dt = v.declaredType
+        unit = v.unit if v.unit is not None else (dt.unit if dt is not None else None)
+        items = {i.name: int(i.value) for i in dt.items} if v.type == "Enumeration" and dt is not None else None
         out[v.name] = VariableInfo(v.name, v.valueReference, BUFFER_TYPE.get(v.type, v.type), v.causality,
-                                   v.variability, v.initial, start, unit, v.description)
+                                   v.variability, v.initial, start, unit, v.description, items)
+    return out
+
+
+def _fmu_units(md: ModelDescription) -> dict[str, Unit]:
+    out = {}
+    for u in md.unitDefinitions:
+        b = u.baseUnit
+        attrs = {} if b is None else {n: getattr(b, n) for n in ("kg", "m", "s", "A", "K", "mol", "cd", "rad",
+                                                                  "factor", "offset")}
+        out[u.name] = from_attributes(u.name, attrs)
     return out
 
 
@@ -139,7 +176,7 @@ def _load_component(c: ComponentDef, cache: dict[Path, ModelDescription], proble
     if md.coSimulation is None:
         problems.append(Problem(c.where, f"component '{c.name}': FMU has no co-simulation interface"))
         return None
-    model = ComponentModel(c, md, _variables(md))
+    model = ComponentModel(c, md, _variables(md), _fmu_units(md))
     for k in c.connectors:
         v = model.variables.get(k.name)
         if v is None:
@@ -150,117 +187,51 @@ def _load_component(c: ComponentDef, cache: dict[Path, ModelDescription], proble
         if not kind_ok:
             problems.append(Problem(k.where, f"connector '{c.name}.{k.name}' has kind '{k.kind}' but the FMU "
                                              f"variable has causality '{v.causality}'"))
-        if k.type_name is not None and k.type_name != v.type_name:
+        fmu_type = "Enumeration" if v.enum_items is not None else v.type_name
+        if k.type_name is not None and k.type_name != fmu_type:
             problems.append(Problem(k.where, f"connector '{c.name}.{k.name}' is {k.type_name} but the FMU "
-                                             f"variable is {v.type_name}"))
+                                             f"variable is {fmu_type}"))
         if k.unit is not None and v.unit is not None and k.unit != v.unit:
             problems.append(Problem(k.where, f"connector '{c.name}.{k.name}' has unit '{k.unit}' but the FMU "
                                              f"variable has unit '{v.unit}'"))
     return model
 
 
-def _connector_unit(c: ComponentModel, name: str) -> str | None:
-    for k in c.definition.connectors:
-        if k.name == name and k.unit is not None:
-            return k.unit
-    v = c.variables.get(name)
-    return v.unit if v is not None else None
+def _link(conn: FlatConnection, comps: dict[str, tuple[int, ComponentModel]], ssd_units: dict[str, Unit],
+          problems: list[Problem]) -> Link | None:
+    (si, sm), (ti, tm) = comps[conn.start_element], comps[conn.end_element]
+    sv, tv = sm.variables.get(conn.start_connector), tm.variables.get(conn.end_connector)
+    if sv is None or tv is None:
+        return None  # reported as a connector that is not in the FMU
+    ok = True
+    if sv.causality != "output":
+        problems.append(Problem(conn.where, f"connection {conn.start} -> {conn.end}: the start must be an "
+                                            f"output, '{conn.start}' is {sv.causality}"))
+        ok = False
+    if tv.causality != "input":
+        problems.append(Problem(conn.where, f"connection {conn.start} -> {conn.end}: the end must be an "
+                                            f"input, '{conn.end}' is {tv.causality}"))
+        ok = False
+    if sv.type_name != tv.type_name:
+        problems.append(Problem(conn.where, f"connection {conn.start} -> {conn.end}: type mismatch, "
+                                            f"{sv.type_name} to {tv.type_name}"))
+        return None
 
+    def lookup(name: str) -> Unit | None:
+        return ssd_units.get(name) or sm.units.get(name) or tm.units.get(name)
 
-def _links(sysdef: SystemDef, comps: dict[str, tuple[int, ComponentModel]], problems: list[Problem]) -> list[Link]:
-    links: list[Link] = []
-    seen_targets: dict[str, str] = {}
-    for conn in sysdef.connections:
-        ends: list[tuple[int, ComponentModel, VariableInfo] | None] = []
-        for elem, conn_name in ((conn.start_element, conn.start_connector), (conn.end_element, conn.end_connector)):
-            if elem not in comps:
-                problems.append(Problem(conn.where, f"connection {conn.start} -> {conn.end}: no component "
-                                                    f"named '{elem}'" if elem else
-                                        f"connection {conn.start} -> {conn.end}: system connectors are not "
-                                        "supported yet"))
-                ends.append(None)
-                continue
-            idx, model = comps[elem]
-            if not any(k.name == conn_name for k in model.definition.connectors):
-                problems.append(Problem(conn.where, f"connection {conn.start} -> {conn.end}: component '{elem}' "
-                                                    f"declares no connector '{conn_name}'"))
-            var = model.variables.get(conn_name)
-            if var is None:
-                ends.append(None)
-                continue
-            ends.append((idx, model, var))
-        if ends[0] is None or ends[1] is None:
-            continue
-        (si, sm, sv), (ti, tm, tv) = ends  # type: ignore[misc]
-        if sv.causality != "output":
-            problems.append(Problem(conn.where, f"connection {conn.start} -> {conn.end}: the start must be an "
-                                                f"output, '{conn.start}' is {sv.causality}"))
-        if tv.causality != "input":
-            problems.append(Problem(conn.where, f"connection {conn.start} -> {conn.end}: the end must be an "
-                                                f"input, '{conn.end}' is {tv.causality}"))
-        if sv.type_name != tv.type_name:
-            problems.append(Problem(conn.where, f"connection {conn.start} -> {conn.end}: type mismatch, "
-                                                f"{sv.type_name} to {tv.type_name}"))
-        su, tu = _connector_unit(sm, sv.name), _connector_unit(tm, tv.name)
-        if su is not None and tu is not None and su != tu:
-            problems.append(Problem(conn.where, f"connection {conn.start} -> {conn.end}: units differ "
-                                                f"('{su}' to '{tu}') and unit conversion is not applied yet"))
-        if conn.end in seen_targets:
-            problems.append(Problem(conn.where, f"input '{conn.end}' has two incoming connections (the other at "
-                                                f"{seen_targets[conn.end]}); an input takes exactly one"))
-        else:
-            seen_targets[conn.end] = conn.where
-        links.append(Link(si, sv, ti, tv, conn.where))
-    return links
-
-
-def _coerce(value: ParameterValue, var: VariableInfo) -> float | int | bool | str | None:
-    """The value converted to the variable's type, or None if the types are incompatible."""
-    if value.type_name == var.type_name:
-        return value.value
-    if var.type_name == "Real" and value.type_name == "Integer":
-        return float(value.value)
-    return None
-
-
-def _resolve_parameters(bindings: list[tuple[ParameterBindingDef, int | None]], models: list[ComponentModel],
-                        problems: list[Problem]) -> list[ParameterAssignment]:
-    """Resolve parameter values to variables; later bindings override earlier ones."""
-    by_name = {m.name: i for i, m in enumerate(models)}
-    resolved: dict[tuple[int, str, int], ParameterAssignment] = {}
-    for binding, owner in bindings:
-        for pv in binding.values:
-            full = binding.prefix + pv.name
-            if owner is None:
-                comp, _, var_name = full.partition(".")
-                if comp not in by_name:
-                    problems.append(Problem(pv.where, f"parameter '{full}': no component '{comp}' in the system "
-                                                      "(system-level names are component.variable)"))
-                    continue
-                idx = by_name[comp]
-            else:
-                idx, var_name = owner, full
-            var = models[idx].variables.get(var_name)
-            if var is None:
-                problems.append(Problem(pv.where, f"parameter '{full}': '{models[idx].name}' has no variable "
-                                                  f"'{var_name}'"))
-                continue
-            if not var.settable_before_init:
-                problems.append(Problem(pv.where, f"parameter '{full}': variable '{models[idx].name}.{var_name}' "
-                                                  f"({var.causality}, {var.variability}, initial={var.initial}) "
-                                                  "cannot be set by the master"))
-                continue
-            value = _coerce(pv, var)
-            if value is None:
-                problems.append(Problem(pv.where, f"parameter '{full}': {pv.type_name} value for a "
-                                                  f"{var.type_name} variable"))
-                continue
-            if pv.unit is not None and var.unit is not None and pv.unit != var.unit:
-                problems.append(Problem(pv.where, f"parameter '{full}': unit '{pv.unit}' but the variable's "
-                                                  f"unit is '{var.unit}' (unit conversion is not applied yet)"))
-                continue
-            resolved[(idx, var.type_name, var.vr)] = ParameterAssignment(idx, var, value, pv.where)
-    return list(resolved.values())
+    try:
+        if sv.type_name == "Real":
+            affine = real_path(conn.hops, sm.connector_unit(sv.name), tm.connector_unit(tv.name), lookup)
+            return Link(si, sv, ti, tv, conn.where, affine=affine) if ok else None
+        kind = "Enumeration" if sv.enum_items is not None else sv.type_name
+        mapping = discrete_path(conn.hops, kind, sv.enum_items, tv.enum_items)
+        if kind == "Enumeration" and mapping is None and sv.enum_items != tv.enum_items:
+            raise ConversionError("the two enumerations differ; add an EnumerationMappingTransformation")
+        return Link(si, sv, ti, tv, conn.where, mapping=mapping) if ok else None
+    except ConversionError as exc:
+        problems.append(Problem(conn.where, f"connection {conn.start} -> {conn.end}: {exc}"))
+        return None
 
 
 def bind_system(sysdef: SystemDef, parameter_files: list[Path] | tuple[Path, ...] = ()) -> BoundSystem:
@@ -271,7 +242,9 @@ def bind_system(sysdef: SystemDef, parameter_files: list[Path] | tuple[Path, ...
     SystemStructureError
         With every problem found in the SSD, the FMUs and the parameter files.
     """
-    problems: list[Problem] = []
+    from .parameters import resolve_parameters
+
+    problems: list[Problem] = list(sysdef.problems)
     cache: dict[Path, ModelDescription] = {}
     names: set[str] = set()
     models: list[ComponentModel] = []
@@ -283,17 +256,22 @@ def bind_system(sysdef: SystemDef, parameter_files: list[Path] | tuple[Path, ...
         if m is not None:
             models.append(m)
     comps = {m.name: (i, m) for i, m in enumerate(models)}
-    links = _links(sysdef, comps, problems)
+    links = [ln for conn in sysdef.connections
+             if conn.start_element in comps and conn.end_element in comps
+             for ln in [_link(conn, comps, sysdef.units, problems)] if ln is not None]
     bindings: list[tuple[ParameterBindingDef, int | None]] = []
     for i, m in enumerate(models):
         bindings.extend((b, i) for b in m.definition.bindings)
     bindings.extend((b, None) for b in sysdef.bindings)
     for f in parameter_files:
         try:
-            bindings.append((ParameterBindingDef("", read_ssv(Path(f)), str(f)), None))
+            values, units = read_ssv(Path(f))
+            bindings.append((ParameterBindingDef("", values, str(f), (), units), None))
         except SystemStructureError as exc:
             problems.extend(exc.problems)
-    parameters = _resolve_parameters(bindings, models, problems) if len(models) == len(sysdef.components) else []
+    bound = BoundSystem(sysdef, models, links)
+    if len(models) == len(sysdef.components):
+        bound.parameters = resolve_parameters(bound, bindings, problems)
     if problems:
         raise SystemStructureError(problems)
-    return BoundSystem(sysdef, models, links, parameters)
+    return bound

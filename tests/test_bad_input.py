@@ -170,7 +170,7 @@ def test_validate_lists_every_problem_and_exits_with_their_count(
     out = capsys.readouterr().out.strip().splitlines()
     assert rc == 4 == len(out), out
     joined = "\n".join(out)
-    for fragment in ("type mismatch", "two incoming connections", "no component named 'x'", "Missing.fmu"):
+    for fragment in ("type mismatch", "two incoming connections", "no element 'x'", "Missing.fmu"):
         assert fragment in joined
 
 

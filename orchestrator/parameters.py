@@ -1,0 +1,124 @@
+"""Resolve parameter bindings to FMU variables: prefixes, parameter mappings (.ssm), units.
+
+Order of application (later wins): each component's own bindings, then the
+system-level bindings (nested systems' bindings with their path as prefix), then
+the ``--params`` files. Within a binding, a name is first prefixed, then looked
+up in the binding's parameter mapping: a mapped parameter goes to the mapping
+entry's target, through its transformation; an unmapped one keeps its name. A
+value whose unit differs from the variable's is converted (unless the mapping
+entry suppresses unit conversion), after the transformation, as on connections.
+"""
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import TYPE_CHECKING
+
+from .conversion import ConversionError, unit_step
+from .errors import Problem
+from .ssp import (
+    LinearTransformationDef,
+    MappingEntryDef,
+    MappingTransformationDef,
+    ParameterBindingDef,
+    ParameterValue,
+)
+from .units import Unit
+
+if TYPE_CHECKING:
+    from .system import BoundSystem, ParameterAssignment, VariableInfo
+
+
+def _coerce(value: float | int | bool | str, type_name: str, var: VariableInfo) -> float | int | bool | str | None:
+    """The value converted to the variable's type, or None if the types are incompatible."""
+    if type_name == var.type_name:
+        return value
+    if var.type_name == "Real" and type_name == "Integer":
+        return float(value)
+    return None
+
+
+def _transform(pv: ParameterValue, t: LinearTransformationDef | MappingTransformationDef | None) \
+        -> tuple[float | int | bool | str, str]:
+    """Apply a mapping entry's transformation to a parameter value; returns (value, type name)."""
+    if t is None:
+        return pv.value, pv.type_name
+    if isinstance(t, LinearTransformationDef):
+        if pv.type_name not in ("Real", "Integer"):
+            raise ConversionError(f"LinearTransformation on a {pv.type_name} parameter")
+        return t.factor * float(pv.value) + t.offset, "Real"
+    text = ("true" if pv.value else "false") if pv.type_name == "Boolean" else str(pv.value)
+    for source, target in t.entries:
+        if source == text:
+            text = target
+            break
+    if t.kind == "Boolean":
+        return text in ("true", "1"), "Boolean"
+    if t.kind == "Integer":
+        return int(text), "Integer"
+    return text, "String"  # enumeration item name, resolved against the variable below
+
+
+def _lookup(*scopes: dict[str, Unit]) -> Callable[[str], Unit | None]:
+    """Find a unit by name in the first scope that defines it."""
+    def find(name: str) -> Unit | None:
+        return next((s[name] for s in scopes if name in s), None)
+    return find
+
+
+def resolve_parameters(bound: BoundSystem, bindings: list[tuple[ParameterBindingDef, int | None]],
+                       problems: list[Problem]) -> list[ParameterAssignment]:
+    """Resolve every parameter value of every binding; later bindings override earlier ones."""
+    from .system import ParameterAssignment
+
+    models = bound.components
+    ssd_units = bound.definition.units
+    resolved: dict[tuple[int, str, int], ParameterAssignment] = {}
+    for binding, owner in bindings:
+        mapping: dict[str, list[MappingEntryDef]] = {}
+        for entry in binding.mapping:
+            mapping.setdefault(entry.source, []).append(entry)
+        for pv in binding.values:
+            full = binding.prefix + pv.name
+            targets = mapping.get(full) or [MappingEntryDef(full, full, None, False, pv.where)]
+            for entry in targets:
+                name = entry.target
+                if owner is None:
+                    hit = bound.split(name)
+                    if hit is None:
+                        problems.append(Problem(pv.where, f"parameter '{name}': no component of the system "
+                                                          "matches (system-level names are component.variable)"))
+                        continue
+                    idx, var_name = hit
+                else:
+                    idx, var_name = owner, name
+                model = models[idx]
+                var = model.variables.get(var_name)
+                if var is None:
+                    problems.append(Problem(pv.where, f"parameter '{name}': '{model.name}' has no variable "
+                                                      f"'{var_name}'"))
+                    continue
+                if not var.settable_before_init:
+                    problems.append(Problem(pv.where, f"parameter '{name}': variable '{model.name}.{var_name}' "
+                                                      f"({var.causality}, {var.variability}, initial={var.initial}) "
+                                                      "cannot be set by the master"))
+                    continue
+                try:
+                    value, type_name = _transform(pv, entry.transformation)
+                    if type_name == "String" and var.enum_items is not None:
+                        if value not in var.enum_items:
+                            raise ConversionError(f"'{value}' is not an item of the variable's enumeration "
+                                                  f"(allowed: {', '.join(sorted(var.enum_items))})")
+                        value, type_name = var.enum_items[value], "Integer"  # type: ignore[index]
+                    if type_name == "Real" and not entry.suppress_unit_conversion:
+                        lookup = _lookup(binding.units, ssd_units, model.units)
+                        value = unit_step(pv.unit, var.unit, lookup)(float(value))
+                except ConversionError as exc:
+                    problems.append(Problem(pv.where, f"parameter '{name}': {exc}"))
+                    continue
+                coerced = _coerce(value, type_name, var)
+                if coerced is None:
+                    problems.append(Problem(pv.where, f"parameter '{name}': {type_name} value for a "
+                                                      f"{var.type_name} variable"))
+                    continue
+                resolved[(idx, var.type_name, var.vr)] = ParameterAssignment(idx, var, coerced, pv.where)
+    return list(resolved.values())

@@ -1,0 +1,237 @@
+"""Design parameters of the turbojet and the turbofan, and their parameter files.
+
+A parameter file is JSON: an object with ``"engine": "turbofan"`` or
+``"turbojet"``, the design parameters below by name (SI units, names carry
+the unit), an optional ``"bleeds"`` list of bleed objects (:class:`.bleed.BleedSpec`
+fields) and free-text ``"sources"`` / ``"notes"`` entries that document where
+each number comes from. Unknown keys are an error (a misspelt parameter must
+not silently fall back to its default). Presets live in ``presets/``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+from typing import Any
+
+from .bleed import BleedSpec
+from .errors import ModelError, OutOfRangeError
+from .gas import HC_RATIO_JET_A, LHV_JET_A_J_KG
+from .thermo import T_REF_K
+
+__all__ = ["PRESETS_DIR", "TurbojetParams", "TurbofanParams", "EngineParams", "load_params",
+           "preset_path", "params_from_dict"]
+
+#: Folder of the shipped parameter files.
+PRESETS_DIR: Path = Path(__file__).resolve().parent / "presets"
+_DOC_KEYS = ("engine", "sources", "notes", "name")
+
+
+@dataclass(frozen=True)
+class _Common:
+    """Parameters shared by both engines (see the engine classes for the meaning)."""
+
+    name: str = "engine"
+    alt_m: float = 0.0
+    Mach: float = 0.0
+    dT_isa_K: float = 0.0
+    W2_kg_s: float | None = None
+    Fn_target_N: float | None = None
+    inlet_pi: float = 1.0
+    Tt4_K: float = 1400.0
+    eta_burner: float = 1.0
+    dPqP_burner: float = 0.0
+    T_fuel_K: float = T_REF_K
+    LHV_J_kg: float = LHV_JET_A_J_KG
+    hc_ratio: float = HC_RATIO_JET_A
+    nozzle_type: str = "convergent"
+    bleeds: tuple[BleedSpec, ...] = field(default_factory=tuple)
+
+    def __post_init__(self) -> None:
+        if (self.W2_kg_s is None) == (self.Fn_target_N is None):
+            raise OutOfRangeError(f"{self.name}: give exactly one of W2_kg_s and Fn_target_N")
+        if self.W2_kg_s is not None and not self.W2_kg_s > 0.0:
+            raise OutOfRangeError(f"{self.name}: W2_kg_s={self.W2_kg_s!r} must be > 0")
+        if self.Fn_target_N is not None and not self.Fn_target_N > 0.0:
+            raise OutOfRangeError(f"{self.name}: Fn_target_N={self.Fn_target_N!r} must be > 0")
+        if self.nozzle_type not in ("convergent", "ideal"):
+            raise OutOfRangeError(f"{self.name}: nozzle_type={self.nozzle_type!r} must be 'convergent' or 'ideal'")
+
+
+@dataclass(frozen=True)
+class TurbojetParams(_Common):
+    """Single-spool turbojet design parameters.
+
+    Attributes
+    ----------
+    alt_m, Mach, dT_isa_K : float
+        Flight condition: geopotential altitude [m], Mach [-], ISA deviation [K].
+    W2_kg_s, Fn_target_N : float or None
+        Inlet mass flow [kg/s] or net-thrust target [N] (exactly one).
+    inlet_pi : float
+        Inlet recovery Pt2/Pt0 without shocks [-].
+    PR_c, eta_c : float
+        Compressor pressure ratio [-] and isentropic efficiency [-].
+    Tt4_K, eta_burner, dPqP_burner, T_fuel_K : float
+        Burner exit temperature [K], combustion efficiency [-], pressure loss [-], fuel temperature [K].
+    eta_t : float
+        Turbine isentropic efficiency [-].
+    eta_mech, offtake_W : float
+        Mechanical efficiency [-] and shaft power offtake [W].
+    dPqP_jetpipe : float
+        Pressure loss turbine exit -> nozzle [-].
+    Cv, Cd : float
+        Nozzle velocity and discharge coefficients [-].
+    nozzle_type : str
+        ``"convergent"`` or ``"ideal"`` (CD, ideally expanded).
+    N_rpm : float
+        Design spool speed [rpm] (for the corrected speeds of map scaling).
+    LHV_J_kg, hc_ratio : float
+        Fuel lower heating value [J/kg] and H/C atom ratio [-].
+    bleeds : tuple of BleedSpec
+        Compressor bleeds (frac_W of the compressor inlet flow).
+    """
+
+    PR_c: float = 10.0
+    eta_c: float = 0.85
+    eta_t: float = 0.88
+    eta_mech: float = 1.0
+    offtake_W: float = 0.0
+    dPqP_jetpipe: float = 0.0
+    Cv: float = 1.0
+    Cd: float = 1.0
+    N_rpm: float = 10000.0
+
+
+@dataclass(frozen=True)
+class TurbofanParams(_Common):
+    """Two-spool separate-flow turbofan design parameters (SPEC.md).
+
+    Attributes
+    ----------
+    BPR : float
+        Bypass ratio W13/W21 at the splitter [-].
+    PR_fan_outer, eta_fan_outer : float
+        Fan bypass (outer) pressure ratio and isentropic efficiency [-].
+    PR_fan_inner, eta_fan_inner : float
+        Fan core (inner) pressure ratio and isentropic efficiency [-].
+    PR_booster, eta_booster : float
+        Booster (LPC on the LP spool, core stream) pressure ratio and efficiency [-]; PR 1 = none.
+    dPqP_21_24, dPqP_24_25 : float
+        Core duct losses before and after the booster [-].
+    PR_hpc, eta_hpc : float
+        HPC pressure ratio and isentropic efficiency [-].
+    hpc_stages, handling_bleed_stage : int
+        Number of HPC stages and the stage behind which the handling bleed is taken.
+    handling_bleed_frac : float
+        Handling bleed W/W25 [-] into the bypass (0 at design: it opens below ~60 % N2).
+    customer_bleed_frac : float
+        Customer bleed W/W25 from the HPC exit, overboard [-].
+    eta_hpt, eta_lpt : float
+        Turbine isentropic efficiencies [-].
+    dPqP_44_45, dPqP_5_7, dPqP_13_17 : float
+        Inter-turbine duct, jet pipe and bypass duct losses [-].
+    bypass_bleed_frac : float
+        Overboard bleed from the bypass stream, W/W13 [-].
+    eta_mech_hp, eta_mech_lp : float
+        Mechanical efficiencies of the spools [-].
+    offtake_hp_W, offtake_lp_W : float
+        Shaft power offtakes [W].
+    Cv_core, Cd_core, Cv_bypass, Cd_bypass : float
+        Nozzle coefficients [-].
+    N1_rpm, N2_rpm : float
+        Design LP and HP spool speeds [rpm].
+    """
+
+    BPR: float = 1.0
+    PR_fan_outer: float = 2.0
+    eta_fan_outer: float = 0.86
+    PR_fan_inner: float = 2.0
+    eta_fan_inner: float = 0.86
+    PR_booster: float = 1.0
+    eta_booster: float = 1.0
+    dPqP_21_24: float = 0.0
+    dPqP_24_25: float = 0.0
+    PR_hpc: float = 5.0
+    eta_hpc: float = 0.84
+    hpc_stages: int = 4
+    handling_bleed_stage: int = 2
+    handling_bleed_frac: float = 0.0
+    customer_bleed_frac: float = 0.0
+    eta_hpt: float = 0.88
+    eta_lpt: float = 0.89
+    dPqP_44_45: float = 0.0
+    dPqP_5_7: float = 0.0
+    dPqP_13_17: float = 0.0
+    bypass_bleed_frac: float = 0.0
+    eta_mech_hp: float = 1.0
+    eta_mech_lp: float = 1.0
+    offtake_hp_W: float = 0.0
+    offtake_lp_W: float = 0.0
+    Cv_core: float = 1.0
+    Cd_core: float = 1.0
+    Cv_bypass: float = 1.0
+    Cd_bypass: float = 1.0
+    N1_rpm: float = 10000.0
+    N2_rpm: float = 20000.0
+
+
+EngineParams = TurbojetParams | TurbofanParams
+
+
+def params_from_dict(data: dict[str, Any], where: str = "parameters") -> EngineParams:
+    """Engine parameters from a parsed parameter file; `where` names it in error messages."""
+    kinds = {"turbofan": TurbofanParams, "turbojet": TurbojetParams}
+    kind = data.get("engine")
+    if kind not in kinds:
+        raise ModelError(f"{where}: 'engine' must be one of {sorted(kinds)}, found {kind!r}")
+    cls = kinds[kind]
+    allowed = {f.name for f in fields(cls)}
+    kw: dict[str, Any] = {}
+    for k, v in data.items():
+        if k in ("engine", "sources", "notes"):
+            continue
+        if k not in allowed:
+            raise ModelError(f"{where}: unknown parameter {k!r} for a {kind}; allowed: {', '.join(sorted(allowed))}")
+        kw[k] = v
+    try:
+        if "bleeds" in kw:
+            kw["bleeds"] = tuple(BleedSpec(**b) for b in kw["bleeds"])
+        for f in fields(cls):
+            if f.name in kw and f.type in ("float", "float | None") and isinstance(kw[f.name], int):
+                kw[f.name] = float(kw[f.name])
+        return cls(**kw)
+    except TypeError as exc:
+        raise ModelError(f"{where}: {exc}") from None
+    except OutOfRangeError as exc:
+        raise OutOfRangeError(f"{where}: {exc}") from None
+
+
+def load_params(path: str | Path) -> EngineParams:
+    """Read a parameter file (JSON) into :class:`TurbofanParams` or :class:`TurbojetParams`."""
+    p = Path(path)
+    try:
+        data = json.loads(p.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise ModelError(f"parameter file {p} does not exist") from None
+    except json.JSONDecodeError as exc:
+        raise ModelError(f"{p}:{exc.lineno}: invalid JSON: {exc.msg}") from None
+    if not isinstance(data, dict):
+        raise ModelError(f"{p}: a parameter file must hold a JSON object")
+    return params_from_dict(data, str(p))
+
+
+def preset_path(name: str) -> Path:
+    """Path of the shipped preset `name` (file stem in ``presets/``)."""
+    p = PRESETS_DIR / f"{name}.json"
+    if not p.is_file():
+        known = sorted(q.stem for q in PRESETS_DIR.glob("*.json"))
+        raise ModelError(f"no preset {name!r}; known: {', '.join(known)}")
+    return p
+
+
+def replace(params: EngineParams, **changes: Any) -> EngineParams:
+    """A copy of `params` with some fields changed (validated again)."""
+    return dataclasses.replace(params, **changes)

@@ -1,0 +1,160 @@
+"""Turbine at a given pressure ratio or for a given power, with cooling flows.
+
+The primary flow expands from Pt_in to Pt_out = Pt_in/PR with isentropic
+efficiency eta_is (real gas, entropy function phi of :mod:`.gas`):
+
+    phi(Tt_is) = phi(Tt_in) - R ln PR,
+    ht_out = ht_in - eta_is (ht_in - h(Tt_is)),   P = W (ht_in - ht_out).
+
+Cooling air (:mod:`.bleed`, sink ``"hpt"``/``"lpt"``) re-enters at the pressure
+Pt_c = Pt_out + frac_P (Pt_in - Pt_out): air entering at the inlet (frac_P = 1)
+expands through the whole turbine and does work, air entering at the exit
+(frac_P = 0) does none. Each cooling stream expands from Pt_c to Pt_out with
+the same efficiency, and all streams mix at the exit, conserving mass, air,
+fuel and enthalpy (the pyCycle/NPSS convention). Station 41 (rotor inlet) is
+reported as the burner exit mixed with the inlet cooling air (frac_P = 1).
+
+For a given power (design point) the PR follows in closed form without
+cooling, and by a secant iteration on ln PR with it.
+
+References
+----------
+P. P. Walsh, P. Fletcher, "Gas Turbine Performance", 2nd ed., 2004, sec. 5.3
+(turbine efficiency, real-gas expansion) and 5.13 (cooling flows).
+E. S. Hendricks, J. S. Gray, "pyCycle", Aerospace 6(87), 2019 (cooling flows
+entering at a fraction of the turbine pressure drop).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Sequence
+
+from .errors import ConvergenceError, OutOfRangeError
+from .flow import FlowStation, flow_hP, mix
+from .gas import DEFAULT_GAS, GasModel
+
+__all__ = ["Cooling", "TurbineResult", "turbine", "turbine_for_power"]
+
+
+@dataclass(frozen=True, slots=True)
+class Cooling:
+    """A cooling stream entering a turbine.
+
+    Attributes
+    ----------
+    flow : FlowStation
+        The cooling air as delivered by its bleed port.
+    frac_P : float
+        Where it enters, as a fraction of the turbine pressure drop [-]; 1 inlet, 0 exit.
+    """
+
+    flow: FlowStation
+    frac_P: float
+
+
+@dataclass(frozen=True, slots=True)
+class TurbineResult:
+    """Result of a turbine calculation.
+
+    Attributes
+    ----------
+    rotor_in : FlowStation
+        Inlet flow mixed with the inlet cooling (frac_P = 1) air: station 41.
+    out : FlowStation
+        Exit flow with all cooling air mixed in.
+    power_W : float
+        Shaft power delivered [W].
+    PR : float
+        Total pressure ratio Pt_in/Pt_out [-], >= 1.
+    eta_is : float
+        Isentropic efficiency [-].
+    Wp_in : float
+        Flow parameter W sqrt(Tt)/Pt at the inlet [kg/s sqrt(K)/Pa], primary flow.
+    """
+
+    rotor_in: FlowStation
+    out: FlowStation
+    power_W: float
+    PR: float
+    eta_is: float
+    Wp_in: float
+
+
+def _expand(fs: FlowStation, Pt_from: float, Pt_to: float, eta: float, gas: GasModel) -> float:
+    """Exit enthalpy [J/kg] of `fs` expanded from Pt_from to Pt_to with efficiency eta."""
+    T_is = gas.T_isentropic(fs.Tt_K, Pt_to / Pt_from, fs.FAR, fs.Tt_K * (Pt_to / Pt_from) ** 0.25)
+    return fs.ht_J_kg - eta * (fs.ht_J_kg - gas.h(T_is, fs.FAR))
+
+
+def _check(PR: float, eta_is: float) -> None:
+    if not (PR >= 1.0):
+        raise OutOfRangeError(f"turbine: PR={PR!r} must be >= 1")
+    if not (0.0 < eta_is <= 1.0):
+        raise OutOfRangeError(f"turbine: eta_is={eta_is!r} is outside the valid range (0, 1]")
+
+
+def turbine(fs_in: FlowStation, PR: float, eta_is: float, cooling: Sequence[Cooling] = (),
+            gas: GasModel = DEFAULT_GAS) -> TurbineResult:
+    """Expand `fs_in` by `PR` [-] with isentropic efficiency `eta_is` [-], mixing in `cooling`.
+
+    Raises
+    ------
+    OutOfRangeError
+        For PR < 1, eta_is outside (0, 1], or a cooling stream whose pressure
+        is below that of its entry point (it could not flow in).
+    """
+    _check(PR, eta_is)
+    Pt_in, Pt_out = fs_in.Pt_Pa, fs_in.Pt_Pa / PR
+    ht_out = _expand(fs_in, Pt_in, Pt_out, eta_is, gas) if PR > 1.0 else fs_in.ht_J_kg
+    power = fs_in.W_kg_s * (fs_in.ht_J_kg - ht_out)
+    exits = [flow_hP(fs_in.W_kg_s, ht_out, Pt_out, fs_in.FAR, gas, fs_in.Tt_K / PR ** 0.25)]
+    for c in cooling:
+        Pt_c = Pt_out + c.frac_P * (Pt_in - Pt_out)
+        if c.flow.Pt_Pa < Pt_c * (1.0 - 1e-12):
+            raise OutOfRangeError(f"turbine: cooling air at Pt={c.flow.Pt_Pa:.6g} Pa cannot enter at "
+                                  f"{Pt_c:.6g} Pa (frac_P={c.frac_P})")
+        h_c = _expand(c.flow, Pt_c, Pt_out, eta_is, gas) if Pt_c > Pt_out else c.flow.ht_J_kg
+        power += c.flow.W_kg_s * (c.flow.ht_J_kg - h_c)
+        exits.append(FlowStation(c.flow.W_kg_s, c.flow.Tt_K, Pt_out, c.flow.FAR, h_c))
+    out = mix(exits, Pt_out, gas) if len(exits) > 1 else exits[0]
+    front = [c.flow.with_Pt(Pt_in) for c in cooling if c.frac_P == 1.0]
+    rotor_in = mix([fs_in, *front], Pt_in, gas) if front else fs_in
+    return TurbineResult(rotor_in, out, power, PR, eta_is, fs_in.W_kg_s * math.sqrt(fs_in.Tt_K) / Pt_in)
+
+
+def turbine_for_power(fs_in: FlowStation, power_W: float, eta_is: float, cooling: Sequence[Cooling] = (),
+                      gas: GasModel = DEFAULT_GAS, tol_rel: float = 1e-12) -> TurbineResult:
+    """Turbine that delivers `power_W` [W] at isentropic efficiency `eta_is` [-]; PR is the unknown.
+
+    Without cooling: ht_is = ht_in - P/(W eta_is), PR = exp((phi(Tt_in) - phi(T_is))/R).
+    With cooling: secant iteration on ln PR until |P(PR) - P| < tol_rel P.
+
+    Raises
+    ------
+    OutOfRangeError
+        If the power cannot be delivered (the required expansion leaves the gas tables).
+    ConvergenceError
+        If the secant iteration does not converge in 30 steps.
+    """
+    if not (power_W >= 0.0):
+        raise OutOfRangeError(f"turbine_for_power: power_W={power_W!r} must be >= 0")
+    _check(1.0, eta_is)
+    f, W = fs_in.FAR, fs_in.W_kg_s
+    h_is = fs_in.ht_J_kg - power_W / (W * eta_is)
+    T_is = gas.T_from_h(h_is, f, fs_in.Tt_K * 0.8)
+    PR0 = math.exp((gas.phi(fs_in.Tt_K, f) - gas.phi(T_is, f)) / gas.R(f))
+    if not cooling or power_W == 0.0:
+        return turbine(fs_in, PR0, eta_is, cooling, gas)
+    x0, r0 = math.log(PR0), turbine(fs_in, PR0, eta_is, cooling, gas).power_W - power_W
+    x1 = x0 * 0.9
+    for _ in range(30):
+        res = turbine(fs_in, math.exp(x1), eta_is, cooling, gas)
+        r1 = res.power_W - power_W
+        if abs(r1) <= tol_rel * power_W:
+            return res
+        x0, x1, r0 = x1, x1 - r1 * (x1 - x0) / (r1 - r0), r1
+        x1 = max(x1, 1e-9)
+    raise ConvergenceError(f"turbine_for_power: no convergence for power_W={power_W!r} W; "
+                           f"last power residual {r1!r} W")

@@ -111,7 +111,7 @@ def resolve_parameters(bound: BoundSystem, bindings: list[tuple[ParameterBinding
                         value, type_name = var.enum_items[value], "Integer"  # type: ignore[index]
                     if type_name == "Real" and not entry.suppress_unit_conversion:
                         lookup = _lookup(binding.units, ssd_units, model.units)
-                        value = unit_step(pv.unit, var.unit, lookup)(float(value))
+                        value = unit_step(pv.unit, model.connector_unit(var.name), lookup)(float(value))
                 except ConversionError as exc:
                     problems.append(Problem(pv.where, f"parameter '{name}': {exc}"))
                     continue

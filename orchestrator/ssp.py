@@ -69,6 +69,7 @@ class ConnectorDef:
     type_name: str | None  # Real, Integer, Boolean, String, Enumeration; None when left out
     unit: str | None
     where: str
+    enumeration: str | None = None  # for Enumeration connectors: the SSD enumeration's name
 
 
 @dataclass(frozen=True)
@@ -251,6 +252,8 @@ class SystemDef:
         System-level bindings (names ``path.to.component.variable``).
     units : dict[str, Unit]
         The SSD's unit definitions.
+    enumerations : dict[str, dict[str, int]]
+        The SSD's enumeration definitions (item name -> value), checked against the FMUs'.
     start_time_s, stop_time_s : float | None
         From ``DefaultExperiment`` [s], None when absent.
     step_size_s : float | None
@@ -264,6 +267,7 @@ class SystemDef:
     connections: tuple[FlatConnection, ...]
     bindings: tuple[ParameterBindingDef, ...]
     units: dict[str, Unit] = field(default_factory=dict)
+    enumerations: dict[str, dict[str, int]] = field(default_factory=dict)
     start_time_s: float | None = None
     stop_time_s: float | None = None
     step_size_s: float | None = None
@@ -425,12 +429,14 @@ def _connectors(element: etree._Element, path: Path) -> tuple[ConnectorDef, ...]
     for c in element.iterfind("ssd:Connectors/ssd:Connector", NS):
         type_name: str | None = None
         unit: str | None = None
+        enumeration: str | None = None
         for child in c:
             if isinstance(child.tag, str) and etree.QName(child).namespace == NS["ssc"] and \
                     etree.QName(child).localname in SCALAR_TYPES + ("Binary",):
                 type_name = etree.QName(child).localname
                 unit = child.get("unit")
-        connectors.append(ConnectorDef(c.get("name"), c.get("kind"), type_name, unit, _where(path, c)))
+                enumeration = child.get("name") if type_name == "Enumeration" else None
+        connectors.append(ConnectorDef(c.get("name"), c.get("kind"), type_name, unit, _where(path, c), enumeration))
     return tuple(connectors)
 
 
@@ -529,10 +535,8 @@ def read_ssd(path: Path, archive_dir: tempfile.TemporaryDirectory[str] | None = 
     root = _parse_xml(path, "SystemStructureDescription.xsd", problems)
     if root is None:
         raise SystemStructureError(problems)
-    if root.find("ssd:Enumerations", NS) is not None:
-        problems.append(Problem(_where(path, root.find("ssd:Enumerations", NS)),
-                                "SSD-level enumeration definitions are not applied; enumeration mappings use "
-                                "the FMUs' own enumeration types"))
+    enumerations = {e.get("name"): {i.get("name"): int(i.get("value")) for i in e.iterfind("ssc:Item", NS)}
+                    for e in root.iterfind("ssd:Enumerations/ssc:Enumeration", NS)}
     tree = _system(root.find("ssd:System", NS), path, path.parent, problems)
     experiment = root.find("ssd:DefaultExperiment", NS)
     step_size_s = _osp_step_size(experiment, path, problems)
@@ -541,7 +545,7 @@ def read_ssd(path: Path, archive_dir: tempfile.TemporaryDirectory[str] | None = 
     components, connections, bindings = flatten(tree, problems)
     return SystemDef(
         name=tree.name, ssd_path=path, components=components, connections=connections, bindings=bindings,
-        units=_units(root, "ssd"), start_time_s=_float_attr(experiment, "startTime"),
+        units=_units(root, "ssd"), enumerations=enumerations, start_time_s=_float_attr(experiment, "startTime"),
         stop_time_s=_float_attr(experiment, "stopTime"), step_size_s=step_size_s, archive_dir=archive_dir,
         problems=tuple(problems))
 

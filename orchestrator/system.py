@@ -155,8 +155,8 @@ def _fmu_units(md: ModelDescription) -> dict[str, Unit]:
     return out
 
 
-def _load_component(c: ComponentDef, cache: dict[Path, ModelDescription], problems: list[Problem]) \
-        -> ComponentModel | None:
+def _load_component(c: ComponentDef, cache: dict[Path, ModelDescription], enumerations: dict[str, dict[str, int]],
+                    problems: list[Problem]) -> ComponentModel | None:
     if not c.source_path.is_file():
         problems.append(Problem(c.where, f"component '{c.name}': FMU file '{c.source}' not found "
                                          f"(looked for {c.source_path})"))
@@ -191,6 +191,10 @@ def _load_component(c: ComponentDef, cache: dict[Path, ModelDescription], proble
         if k.type_name is not None and k.type_name != fmu_type:
             problems.append(Problem(k.where, f"connector '{c.name}.{k.name}' is {k.type_name} but the FMU "
                                              f"variable is {fmu_type}"))
+        if k.enumeration in enumerations and v.enum_items is not None and enumerations[k.enumeration] != v.enum_items:
+            problems.append(Problem(k.where, f"connector '{c.name}.{k.name}': enumeration '{k.enumeration}' of the "
+                                             f"SSD differs from the FMU's ({enumerations[k.enumeration]} against "
+                                             f"{v.enum_items})"))
         if k.unit is not None and v.unit is not None and k.unit != v.unit:
             problems.append(Problem(k.where, f"connector '{c.name}.{k.name}' has unit '{k.unit}' but the FMU "
                                              f"variable has unit '{v.unit}'"))
@@ -215,6 +219,10 @@ def _link(conn: FlatConnection, comps: dict[str, tuple[int, ComponentModel]], ss
     if sv.type_name != tv.type_name:
         problems.append(Problem(conn.where, f"connection {conn.start} -> {conn.end}: type mismatch, "
                                             f"{sv.type_name} to {tv.type_name}"))
+        return None
+    if sv.type_name not in ("Real", "Integer", "Boolean"):
+        problems.append(Problem(conn.where, f"connection {conn.start} -> {conn.end}: {sv.type_name} connections "
+                                            "are not supported (allowed: Real, Integer, Boolean, Enumeration)"))
         return None
 
     def lookup(name: str) -> Unit | None:
@@ -252,7 +260,7 @@ def bind_system(sysdef: SystemDef, parameter_files: list[Path] | tuple[Path, ...
         if c.name in names:
             problems.append(Problem(c.where, f"two components are named '{c.name}'; names must be unique"))
         names.add(c.name)
-        m = _load_component(c, cache, problems)
+        m = _load_component(c, cache, sysdef.enumerations, problems)
         if m is not None:
             models.append(m)
     comps = {m.name: (i, m) for i, m in enumerate(models)}

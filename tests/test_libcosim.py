@@ -63,3 +63,28 @@ def test_libcosim_and_our_jacobi_master_agree(oscillator: Path) -> None:
         assert diff < 1e-9, (n, diff)
     # and something actually moved: not two flat lines agreeing
     assert np.ptp(theirs["mass2.x2_m"]) > 1e-3
+
+
+def test_linear_transformation_agrees_with_libcosim(tmp_path: Path, fmu_dir: Path) -> None:
+    """libcosim applies ssc:LinearTransformation on connections (it converts no units, so none are used here)."""
+    from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
+    from libcosimpy.CosimObserver import CosimObserver
+    from test_ssp_features import connection, final, gain, make, system_xml
+
+    lin = '<ssc:LinearTransformation factor="3.0" offset="1.0"/>'
+    xml = system_xml(gain("a", u_real=2.0) + gain("b") + gain("c"),
+                     connection("a.y_real", "b.u_real", lin) + connection("b.y_real", "c.u_real", lin))
+    folder = make(tmp_path, fmu_dir, xml)
+    log_output_level(CosimLogLevel.ERROR)
+    ex = libcosim.CosimExecution.from_ssp_file(str(folder), step_size=100_000_000)
+    observer = CosimObserver.create_last_value()
+    ex.add_observer(observer)
+    ex.step(3)
+    theirs = {}
+    for comp in ("b", "c"):
+        idx = ex.slave_index_from_instance_name(comp)
+        ref = next(v.reference for v in ex.slave_variables(idx) if v.name.decode() == "u_real")
+        theirs[comp] = observer.last_real_values(idx, [ref])[0]
+    ours = final(folder, "b.u_real", "c.u_real")
+    assert theirs["b"] == ours["b.u_real"] == pytest.approx(7.0)       # 3*2 + 1
+    assert theirs["c"] == ours["c.u_real"] == pytest.approx(22.0)      # 3*7 + 1

@@ -247,7 +247,8 @@ def test_nested_systems_are_flattened_through_their_connectors(tmp_path: Path, f
 
 
 def test_signal_dictionary_carries_a_signal_across_systems(tmp_path: Path, fmu_dir: Path) -> None:
-    dictionary = """<ssd:SignalDictionaries><ssd:SignalDictionary name="bus" source="bus.ssb"/></ssd:SignalDictionaries>"""
+    dictionary = ('<ssd:SignalDictionaries><ssd:SignalDictionary name="bus" source="bus.ssb"/>'
+                  '</ssd:SignalDictionaries>')
     ssb = ('<?xml version="1.0" encoding="UTF-8"?>\n'
            '<ssb:SignalDictionary xmlns:ssb="http://ssp-standard.org/SSP1/SystemStructureSignalDictionary" '
            'xmlns:ssc="http://ssp-standard.org/SSP1/SystemStructureCommon" version="1.0">'

@@ -36,7 +36,7 @@ from .burner import burner_to_temperature
 from .compressor import CompressorResult, compressor
 from .design_params import EngineParams, TurbofanParams, TurbojetParams
 from .duct import duct
-from .errors import ConvergenceError, ModelError
+from .errors import ConvergenceError, ModelError, OutOfRangeError
 from .flow import T_STD_K, FlowStation, mix
 from .gas import GasModel
 from .inlet import inlet
@@ -270,7 +270,10 @@ def _turbofan(p: TurbofanParams, W2: float, gas: GasModel) -> DesignPoint:
 
 
 def _run(p: EngineParams, W2: float, gas: GasModel) -> DesignPoint:
-    return _turbofan(p, W2, gas) if isinstance(p, TurbofanParams) else _turbojet(p, W2, gas)
+    try:
+        return _turbofan(p, W2, gas) if isinstance(p, TurbofanParams) else _turbojet(p, W2, gas)
+    except OutOfRangeError as exc:
+        raise OutOfRangeError(f"design of {p.name!r}: {exc}") from None
 
 
 def design(params: EngineParams, gas: GasModel | None = None) -> DesignPoint:

@@ -33,7 +33,7 @@ from typing import Sequence
 
 from .errors import ConvergenceError, OutOfRangeError
 from .flow import FlowStation, flow_hP, mix
-from .gas import DEFAULT_GAS, GasModel
+from .gas import DEFAULT_GAS, T_MIN_K, GasModel
 
 __all__ = ["Cooling", "TurbineResult", "turbine", "turbine_for_power"]
 
@@ -143,6 +143,10 @@ def turbine_for_power(fs_in: FlowStation, power_W: float, eta_is: float, cooling
     _check(1.0, eta_is)
     f, W = fs_in.FAR, fs_in.W_kg_s
     h_is = fs_in.ht_J_kg - power_W / (W * eta_is)
+    if h_is <= gas.h(T_MIN_K, f):
+        raise OutOfRangeError(f"turbine_for_power: delivering power_W={power_W:.6g} W from {W:.6g} kg/s at "
+                              f"Tt={fs_in.Tt_K:.6g} K needs an expansion below {T_MIN_K} K: the turbine "
+                              f"cannot drive its load")
     T_is = gas.T_from_h(h_is, f, fs_in.Tt_K * 0.8)
     PR0 = math.exp((gas.phi(fs_in.Tt_K, f) - gas.phi(T_is, f)) / gas.R(f))
     if not cooling or power_W == 0.0:

@@ -1,0 +1,367 @@
+"""SI adapter over ``jsbsim.FGFDMExec`` flying UPERA on an engine computed outside JSBSim.
+
+The only place where the airframe converts between JSBSim's English units and SI.
+Thrust enters as the external force ``external_reactions/thrust`` (along the engine
+axis, at the nozzle); fuel flow is integrated here and written to the tank each
+JSBSim step, so the mass falls exactly as the integral of the fuel flow.
+
+Controls (normalised): elevator, aileron, rudder in [-1, 1] (elevator > 0 trailing
+edge down, nose down; aileron > 0 rolls right; rudder > 0 yaws the nose right),
+each through a rate-limited JSBSim actuator; flaps in [0, 1]; gear 1 down, 0 up;
+brakes in [0, 1]; nose-wheel steering in [-1, 1] (> 0 turns right).
+
+References
+----------
+.. [1] Berndt, J. S., and the JSBSim team, *JSBSim Reference Manual*, properties and
+   external reactions, https://jsbsim-team.github.io/jsbsim-reference-manual/
+"""
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+from .errors import AirframeError, OutOfEnvelopeError
+from .geometry import load_geometry
+
+__all__ = ["Airframe", "AirframeState", "JSBSIM_ROOT", "DEFAULT_RATE_HZ"]
+
+JSBSIM_ROOT = Path(__file__).resolve().parent / "jsbsim"
+DEFAULT_RATE_HZ = 120.0
+SETTLE_S = 2.0  # time the aircraft rests on its gear (brakes on) before time zero of a runway start
+
+FT = 0.3048  # [m/ft]
+LBF = 4.4482216152605  # [N/lbf]
+LBM = 0.45359237  # [kg/lbm]
+SLUG = 14.593902937206364  # [kg/slug]
+PSF = 47.880258980335840  # [Pa/psf]
+RANKINE = 5.0 / 9.0  # [K/R]
+SLUG_FT3 = SLUG / FT ** 3  # [kg/m^3 per slug/ft^3]
+KT = 1852.0 / 3600.0  # [m/s/kt]
+
+# Read by state(): (property, factor to SI); order = AirframeState fields after time_s.
+_STATE_PROPS: tuple[tuple[str, float], ...] = (
+    ("position/lat-geod-deg", 1.0), ("position/long-gc-deg", 1.0),
+    ("position/h-sl-ft", FT), ("position/h-agl-ft", FT),
+    ("velocities/vtrue-fps", FT), ("velocities/vc-fps", FT), ("velocities/vg-fps", FT),
+    ("velocities/mach", 1.0), ("aero/alpha-rad", 1.0), ("aero/beta-rad", 1.0),
+    ("attitude/phi-rad", 1.0), ("attitude/theta-rad", 1.0), ("attitude/psi-rad", 1.0),
+    ("velocities/p-rad_sec", 1.0), ("velocities/q-rad_sec", 1.0), ("velocities/r-rad_sec", 1.0),
+    ("accelerations/Nz", 1.0), ("velocities/h-dot-fps", FT),
+    ("atmosphere/P-psf", PSF), ("atmosphere/T-R", RANKINE), ("atmosphere/rho-slugs_ft3", SLUG_FT3),
+)
+
+
+@dataclass(frozen=True)
+class AirframeState:
+    """The aircraft's state in SI units.
+
+    Attributes
+    ----------
+    time_s : simulation time [s]
+    lat_deg, lon_deg : geodetic latitude, longitude [deg]
+    alt_msl_m, alt_agl_m : altitude above mean sea level, above ground [m]
+    tas_m_s, cas_m_s, gs_m_s : true, calibrated airspeed, ground speed [m/s]
+    mach : Mach number [-]
+    alpha_rad, beta_rad : angle of attack, sideslip [rad]
+    phi_rad, theta_rad, psi_rad : roll, pitch, heading (true) [rad]
+    p_rad_s, q_rad_s, r_rad_s : body roll, pitch, yaw rates [rad/s]
+    load_factor : normal load factor Nz [-] (1 in level flight)
+    vs_m_s : vertical speed, positive up [m/s]
+    p_Pa, T_K, rho_kg_m3 : ambient static pressure [Pa], temperature [K], density [kg/m^3]
+    on_ground : any wheel carries weight
+    mass_kg, fuel_kg : total mass, fuel mass [kg]
+    """
+
+    time_s: float
+    lat_deg: float
+    lon_deg: float
+    alt_msl_m: float
+    alt_agl_m: float
+    tas_m_s: float
+    cas_m_s: float
+    gs_m_s: float
+    mach: float
+    alpha_rad: float
+    beta_rad: float
+    phi_rad: float
+    theta_rad: float
+    psi_rad: float
+    p_rad_s: float
+    q_rad_s: float
+    r_rad_s: float
+    load_factor: float
+    vs_m_s: float
+    p_Pa: float
+    T_K: float
+    rho_kg_m3: float
+    on_ground: bool
+    mass_kg: float
+    fuel_kg: float
+
+
+def _check(name: str, value: float, lo: float, hi: float, unit: str = "") -> float:
+    v = float(value)
+    if not (lo <= v <= hi) or math.isnan(v):
+        raise OutOfEnvelopeError(f"{name} = {value}{unit} is outside the valid range [{lo}, {hi}]{unit}")
+    return v
+
+
+class Airframe:
+    """UPERA in JSBSim with SI inputs and outputs.
+
+    Parameters
+    ----------
+    rate_hz : float
+        Internal JSBSim rate [Hz] (default 120).
+    isa_dev_K : float
+        ISA temperature deviation [K].
+    wind_ned_m_s : tuple of float
+        Steady wind towards north, east, down [m/s].
+    turbulence_severity : int
+        MIL-F-8785C turbulence probability-of-exceedance index 0 (off) to 7.
+    turbulence_wind_20ft_m_s : float
+        Wind speed at 20 ft for low-altitude turbulence [m/s].
+    seed : int
+        Random seed of the turbulence model.
+
+    Examples
+    --------
+    >>> af = Airframe()
+    >>> af.start_runway(48.3539, 11.7860, 263.0, 453.0)
+    >>> af.set_thrust(13000.0); af.step(0.05); af.state().gs_m_s  # doctest: +SKIP
+    """
+
+    def __init__(self, rate_hz: float = DEFAULT_RATE_HZ, isa_dev_K: float = 0.0,
+                 wind_ned_m_s: tuple[float, float, float] = (0.0, 0.0, 0.0), turbulence_severity: int = 0,
+                 turbulence_wind_20ft_m_s: float = 0.0, seed: int = 0) -> None:
+        self.rate_hz = _check("rate_hz", rate_hz, 10.0, 2000.0, " Hz")
+        self.dt_s = 1.0 / self.rate_hz
+        os.environ.setdefault("JSBSIM_DEBUG", "0")
+        import jsbsim  # imported here so the model package loads without JSBSim for table work
+
+        fdm = jsbsim.FGFDMExec(str(JSBSIM_ROOT), None)
+        fdm.set_debug_level(0)
+        fdm.set_aircraft_path("aircraft")
+        fdm.set_engine_path("engine")
+        fdm.set_systems_path("systems")
+        fdm["simulation/randomseed"] = int(seed)
+        if not fdm.load_model("UPERA"):
+            raise AirframeError(f"JSBSim could not load the UPERA aircraft from {JSBSIM_ROOT}")
+        fdm.set_dt(self.dt_s)
+        self._fdm = fdm
+        self.geometry = load_geometry()
+        self._fuel_kg = self.geometry.fuel_capacity_kg
+        self._wf_kg_s = 0.0
+        self._steps = 0  # JSBSim steps since time zero
+        self._t0_s = 0.0
+        pm = fdm.get_property_manager()
+        self._nodes = tuple((pm.get_node(p), k) for p, k in _STATE_PROPS)
+        self._wow = pm.get_node("gear/wow")
+        self._mass = pm.get_node("inertia/mass-slugs")
+        self._tank = pm.get_node("propulsion/tank[0]/contents-lbs")
+        self._thrust = pm.get_node("external_reactions/thrust/magnitude")
+        self._time = pm.get_node("simulation/sim-time-sec")
+        self.set_atmosphere(isa_dev_K, wind_ned_m_s, turbulence_severity, turbulence_wind_20ft_m_s)
+        self._started = False
+
+    # -- environment --------------------------------------------------------
+    def set_atmosphere(self, isa_dev_K: float = 0.0, wind_ned_m_s: tuple[float, float, float] = (0.0, 0.0, 0.0),
+                       turbulence_severity: int = 0, turbulence_wind_20ft_m_s: float = 0.0) -> None:
+        """ISA deviation [K], steady wind north/east/down [m/s], MIL-F-8785C turbulence (0 = off)."""
+        f = self._fdm
+        f["atmosphere/delta-T"] = _check("isa_dev_K", isa_dev_K, -60.0, 60.0, " K") * 1.8
+        n, e, d = (float(v) for v in wind_ned_m_s)
+        f["atmosphere/wind-north-fps"] = n / FT
+        f["atmosphere/wind-east-fps"] = e / FT
+        f["atmosphere/wind-down-fps"] = d / FT
+        sev = int(_check("turbulence_severity", turbulence_severity, 0, 7))
+        f["atmosphere/turb-type"] = 3 if sev > 0 else 0  # 3: MIL-F-8785C / Tustin
+        f["atmosphere/turbulence/milspec/severity"] = sev
+        f["atmosphere/turbulence/milspec/windspeed_at_20ft_AGL-fps"] = float(turbulence_wind_20ft_m_s) / FT
+
+    # -- initial conditions -------------------------------------------------
+    def _begin(self, fuel_kg: float | None) -> None:
+        cap = self.geometry.fuel_capacity_kg
+        self._fuel_kg = cap if fuel_kg is None else _check("fuel_kg", fuel_kg, 0.0, cap, " kg")
+        self._tank.set_double_value(self._fuel_kg / LBM)
+        self._wf_kg_s = 0.0
+        self._thrust.set_double_value(0.0)
+
+    def _run_ic(self) -> None:
+        # Trim status on: actuators and kinematic components start at their commands.
+        f = self._fdm
+        f.set_trim_status(True)
+        ok = f.run_ic()
+        f.set_trim_status(False)
+        if not ok:
+            raise AirframeError("JSBSim rejected the initial condition")
+
+    def start_runway(self, lat_deg: float, lon_deg: float, heading_deg: float, elevation_m: float,
+                     fuel_kg: float | None = None) -> AirframeState:
+        """Place the aircraft at rest on a runway, gear down, brakes on, flaps up.
+
+        It rests on its gear for ``SETTLE_S`` seconds before time zero, so the
+        struts start compressed under the aircraft's weight.
+        """
+        f = self._fdm
+        self._begin(fuel_kg)
+        f["ic/lat-geod-deg"] = _check("lat_deg", lat_deg, -89.0, 89.0, " deg")
+        f["ic/long-gc-deg"] = _check("lon_deg", lon_deg, -180.0, 180.0, " deg")
+        f["ic/terrain-elevation-ft"] = _check("elevation_m", elevation_m, -500.0, 5000.0, " m") / FT
+        gear = self.geometry.section("gear")
+        f["ic/h-agl-ft"] = (-gear["contact_z_m"] + self.geometry.z_cg_m - 0.5 * gear["main_static_deflection_m"]) / FT
+        f["ic/psi-true-deg"] = float(heading_deg) % 360.0
+        for p in ("ic/u-fps", "ic/v-fps", "ic/w-fps", "ic/p-rad_sec", "ic/q-rad_sec", "ic/r-rad_sec",
+                  "ic/phi-deg", "ic/theta-deg"):
+            f[p] = 0.0
+        self._set_controls_at_rest(gear_down=True)
+        self.set_brakes(1.0, 1.0)
+        self._run_ic()
+        for _ in range(int(round(SETTLE_S * self.rate_hz))):
+            self._fdm.run()
+        self.set_brakes(0.0, 0.0)
+        return self._zero_time()
+
+    def start_air(self, alt_m: float, tas_m_s: float, heading_deg: float, lat_deg: float = 48.3539,
+                  lon_deg: float = 11.7860, alpha_rad: float = 0.0, elevator: float = 0.0, thrust_N: float = 0.0,
+                  flaps: float = 0.0, gear_down: bool = False, fuel_kg: float | None = None,
+                  ground_elevation_m: float = 0.0, flight_path_rad: float = 0.0) -> AirframeState:
+        """Start in wings-level flight at altitude ``alt_m`` [m] MSL and true airspeed ``tas_m_s`` [m/s]
+        (no sideslip, the given angle of attack [rad] and flight-path angle [rad])."""
+        f = self._fdm
+        self._begin(fuel_kg)
+        f["ic/lat-geod-deg"] = _check("lat_deg", lat_deg, -89.0, 89.0, " deg")
+        f["ic/long-gc-deg"] = _check("lon_deg", lon_deg, -180.0, 180.0, " deg")
+        f["ic/terrain-elevation-ft"] = float(ground_elevation_m) / FT
+        f["ic/h-sl-ft"] = _check("alt_m", alt_m, -400.0, 12000.0, " m") / FT
+        f["ic/psi-true-deg"] = float(heading_deg) % 360.0
+        f["ic/phi-deg"] = 0.0
+        f["ic/beta-rad"] = 0.0
+        for p in ("ic/p-rad_sec", "ic/q-rad_sec", "ic/r-rad_sec"):
+            f[p] = 0.0
+        f["ic/vt-fps"] = _check("tas_m_s", tas_m_s, 0.0, 400.0, " m/s") / FT
+        f["ic/alpha-rad"] = _check("alpha_rad", alpha_rad, -0.5, 0.8, " rad")
+        f["ic/gamma-rad"] = float(flight_path_rad)
+        self._set_controls_at_rest(gear_down=gear_down)
+        self.set_surfaces(elevator=elevator)
+        self.set_flaps(flaps)
+        self.set_thrust(thrust_N)
+        self._run_ic()
+        return self._zero_time()
+
+    def _set_controls_at_rest(self, gear_down: bool) -> None:
+        self.set_surfaces(0.0, 0.0, 0.0)
+        self.set_flaps(0.0)
+        self.set_gear(gear_down)
+        self.set_brakes(0.0, 0.0)
+        self.set_steering(0.0)
+
+    def _zero_time(self) -> AirframeState:
+        self._fdm.set_sim_time(0.0)
+        self._steps = 0
+        self._started = True
+        return self.state()
+
+    # -- inputs -------------------------------------------------------------
+    def set_surfaces(self, aileron: float | None = None, elevator: float | None = None,
+                     rudder: float | None = None) -> None:
+        """Command the control surfaces, normalised to [-1, 1] (values beyond are clipped)."""
+        f = self._fdm
+        if aileron is not None:
+            f["fcs/aileron-cmd-norm"] = min(max(float(aileron), -1.0), 1.0)
+        if elevator is not None:
+            f["fcs/elevator-cmd-norm"] = min(max(float(elevator), -1.0), 1.0)
+        if rudder is not None:
+            f["fcs/rudder-cmd-norm"] = min(max(float(rudder), -1.0), 1.0)
+
+    def set_flaps(self, flaps: float) -> None:
+        """Flap command [0, 1] (1 = fully down)."""
+        self._fdm["fcs/flap-cmd-norm"] = min(max(float(flaps), 0.0), 1.0)
+
+    def set_gear(self, down: bool | float) -> None:
+        """Gear command: True/1 down, False/0 up."""
+        self._fdm["gear/gear-cmd-norm"] = 1.0 if float(down) >= 0.5 else 0.0
+
+    def set_brakes(self, left: float, right: float | None = None) -> None:
+        """Wheel brakes [0, 1] on the left and right main wheels (right defaults to left)."""
+        r = left if right is None else right
+        self._fdm["fcs/left-brake-cmd-norm"] = min(max(float(left), 0.0), 1.0)
+        self._fdm["fcs/right-brake-cmd-norm"] = min(max(float(r), 0.0), 1.0)
+
+    def set_steering(self, steering: float) -> None:
+        """Nose-wheel steering [-1, 1] (1 = full right)."""
+        self._fdm["fcs/steer-cmd-norm"] = min(max(float(steering), -1.0), 1.0)
+
+    def set_thrust(self, thrust_N: float) -> None:
+        """Net thrust [N] along the engine axis (negative for reverse)."""
+        self._thrust.set_double_value(float(thrust_N) / LBF)
+
+    def set_fuel_flow(self, wf_kg_s: float) -> None:
+        """Fuel flow [kg/s] (>= 0), burnt from the tank during the following steps."""
+        wf = float(wf_kg_s)
+        if not wf >= 0.0:
+            raise OutOfEnvelopeError(f"fuel flow = {wf_kg_s} kg/s is outside the valid range [0, inf) kg/s")
+        self._wf_kg_s = wf
+
+    # -- stepping -----------------------------------------------------------
+    def step(self, dt_s: float) -> None:
+        """Advance by ``dt_s`` [s], a whole number of internal steps (1/rate_hz)."""
+        n = round(dt_s * self.rate_hz)
+        if n < 1 or abs(n * self.dt_s - dt_s) > 1e-9 * max(1.0, dt_s):
+            raise AirframeError(f"step of {dt_s} s is not a positive multiple of the internal step "
+                                f"{self.dt_s:.6g} s (rate {self.rate_hz:g} Hz)")
+        if not self._started:
+            raise AirframeError("start the aircraft first (start_runway or start_air)")
+        run = self._fdm.run
+        tank = self._tank.set_double_value
+        burn = self._wf_kg_s * self.dt_s
+        fuel = self._fuel_kg
+        for _ in range(n):
+            if burn > 0.0:
+                fuel = fuel - burn if fuel > burn else 0.0
+                tank(fuel / LBM)
+            run()
+        self._fuel_kg = fuel
+        self._steps += n
+
+    # -- outputs ------------------------------------------------------------
+    @property
+    def time_s(self) -> float:
+        """Simulation time since the start [s] (steps x internal step, no accumulated rounding)."""
+        return self._steps * self.dt_s
+
+    @property
+    def fuel_kg(self) -> float:
+        """Fuel on board [kg]."""
+        return self._fuel_kg
+
+    @property
+    def mass_kg(self) -> float:
+        """Total mass [kg] as JSBSim uses it."""
+        return self._mass.get_double_value() * SLUG
+
+    def state(self) -> AirframeState:
+        """The current state in SI units."""
+        vals = [n.get_double_value() * k for n, k in self._nodes]
+        return AirframeState(self.time_s, *vals, self._wow.get_double_value() > 0.5,
+                             self._mass.get_double_value() * SLUG, self._fuel_kg)
+
+    def values(self) -> list[float]:
+        """The state as a flat list in AirframeState order (booleans as 0/1), for fast FMU output."""
+        vals = [self.time_s]
+        vals.extend(n.get_double_value() * k for n, k in self._nodes)
+        vals.append(1.0 if self._wow.get_double_value() > 0.5 else 0.0)
+        vals.append(self._mass.get_double_value() * SLUG)
+        vals.append(self._fuel_kg)
+        return vals
+
+    def get_property(self, name: str) -> float:
+        """Raw JSBSim property (English units), for diagnostics and tests."""
+        return float(self._fdm[name])
+
+    @property
+    def fdm(self):  # noqa: ANN201
+        """The underlying ``jsbsim.FGFDMExec`` (for diagnostics; SI conversion is the caller's then)."""
+        return self._fdm

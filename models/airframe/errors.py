@@ -1,0 +1,21 @@
+"""Errors raised by the airframe model.
+
+Every error of the airframe is an :class:`AirframeError`, so a caller (the FMU,
+the CLI) can catch them all at once. Messages say what was wrong, where, and
+what is allowed.
+"""
+from __future__ import annotations
+
+__all__ = ["AirframeError", "OutOfEnvelopeError", "TrimError"]
+
+
+class AirframeError(Exception):
+    """Base class of every error raised by the airframe model."""
+
+
+class OutOfEnvelopeError(AirframeError, ValueError):
+    """An input lies outside the range in which the model is valid (names the range)."""
+
+
+class TrimError(AirframeError):
+    """The trim solver found no steady level flight at the requested condition."""

@@ -20,7 +20,8 @@ from typing import Any, NoReturn
 from .build import PACKAGE_ROOT, ensure_built
 from .errors import ConfigurationError, EmssError, Problem, SystemStructureError
 from .execution import DEFAULT_RATE_HZ, MAX_RATE_HZ, MIN_RATE_HZ, Execution
-from .observers import CsvRecorder, Progress, RunRecord
+from .manipulators import ScenarioManipulator, load_scenario
+from .observers import CsvRecorder, Progress, RealTimePacer, RunRecord
 from .ssp import load_system
 from .system import BoundSystem, bind_system
 
@@ -64,6 +65,13 @@ def build_parser() -> argparse.ArgumentParser:
                      help="variables to record, component.variable, wildcards and commas allowed "
                           "(default: every connector)")
     run.add_argument("--record-every", type=int, default=1, metavar="N", help="record every N-th step")
+    run.add_argument("--scenario", type=Path, metavar="FILE",
+                     help="YAML file of timed events: set, ramp, hold, release inputs and tunable parameters")
+    run.add_argument("--realtime", type=float, default=0.0, metavar="FACTOR",
+                     help="pace against the wall clock: 1.0 = real time, 2.0 = twice as fast; 0 = as fast as "
+                          "possible (default)")
+    run.add_argument("--stats", action="store_true",
+                     help="print the time each component spent in doStep, get and set")
     run.add_argument("--json", action="store_true", help="print the run summary as JSON")
 
     info = sub.add_parser("info", help="describe a system: components, connections, parameters, step order")
@@ -155,25 +163,54 @@ def cmd_run(args: argparse.Namespace) -> int:
         raise ConfigurationError(f"--record-every {args.record_every}: must be an integer >= 1")
     ex = Execution(bound, rate_hz=args.rate, algorithm=args.algorithm, multiples=_multiples(args.step_multiple),
                    record=_record_paths(bound, args.record))
+    if args.scenario is not None:
+        ex.add_manipulator(ScenarioManipulator(load_scenario(args.scenario)))
+    if not (args.realtime >= 0 and args.realtime == args.realtime):
+        raise ConfigurationError(f"--realtime {args.realtime}: must be >= 0 (0 = as fast as possible)")
+    pacer = RealTimePacer(args.realtime) if args.realtime > 0 else None
     out = args.out or Path("results") / f"{sysdef.name}-{time.strftime('%Y%m%d-%H%M%S')}"
     csv = CsvRecorder(out / "timeseries.csv", every=args.record_every)
-    record = RunRecord(out / "run.json", str(system), [str(p) for p in args.params], {"stop_time_s": stop})
-    for o in (csv, record, Progress(stop)):
-        ex.add_observer(o)
+    record = RunRecord(out / "run.json", str(system), [str(p) for p in args.params],
+                       {"stop_time_s": stop, "scenario": str(args.scenario) if args.scenario else None},
+                       reporters=[pacer] if pacer else [])
+    for o in (pacer, csv, record, Progress(stop)):
+        if o is not None:
+            ex.add_observer(o)
     try:
         ex.run(stop)
     except EmssError as exc:
         raise EmssError(f"{exc} (results so far in {out})") from None
     summary = {k: record.info.get(k) for k in ("status", "algorithm", "rate_hz", "stop_time_s", "steps",
-                                                "wall_time_s", "realtime_factor")}
+                                                "wall_time_s", "realtime_factor", "realtime")}
     summary.update(system=sysdef.name, out=str(out), rows=csv.rows_written)
+    if args.stats:
+        summary["step_statistics"] = ex.stats()
     if args.json:
         print(json.dumps(summary, indent=2))
-    else:
-        print(f"{sysdef.name}: {summary['steps']} steps of {ex.step_size_s:g} s ({args.algorithm}) to "
-              f"t = {stop:g} s in {summary['wall_time_s']:.3f} s wall, {summary['realtime_factor']:.1f}x "
-              f"real time; results in {out}")
+        return 0
+    print(f"{sysdef.name}: {summary['steps']} steps of {ex.step_size_s:g} s ({args.algorithm}) to "
+          f"t = {stop:g} s in {summary['wall_time_s']:.3f} s wall, {summary['realtime_factor']:.1f}x "
+          f"real time; results in {out}")
+    if pacer is not None:
+        rt = summary["realtime"]
+        print(f"paced at {rt['target_factor']:g}x real time: achieved {rt['achieved_factor']:.3f}x, "
+              f"{rt['overruns']} overrun(s), largest lag {rt['max_lag_s'] * 1e3:.1f} ms")
+    if args.stats:
+        print(_stats_table(ex.stats()))
     return 0
+
+
+def _stats_table(stats: dict[str, dict[str, float]]) -> str:
+    """Per component: steps, and total [s] and mean [us] per step in doStep, get and set."""
+    head = f"{'component':<24} {'steps':>8} {'doStep s':>10} {'us/step':>9} {'get s':>9} {'us/step':>9} " \
+           f"{'set s':>9} {'us/step':>9}"
+    lines = [head, "-" * len(head)]
+    for name, st in stats.items():
+        n = max(int(st["steps"]), 1)
+        lines.append(f"{name:<24} {int(st['steps']):>8} {st['do_step_s']:>10.4f} {st['do_step_s'] / n * 1e6:>9.2f} "
+                     f"{st['get_s']:>9.4f} {st['get_s'] / n * 1e6:>9.2f} {st['set_s']:>9.4f} "
+                     f"{st['set_s'] / n * 1e6:>9.2f}")
+    return "\n".join(lines)
 
 
 def _describe(bound: BoundSystem) -> dict[str, Any]:

@@ -26,6 +26,15 @@ IO_TYPES = ("Real", "Integer", "Boolean")
 _DTYPE = {"Real": np.float64, "Integer": np.int32, "Boolean": np.int32}
 
 
+class Manipulator(Protocol):
+    """Changes inputs during a run (scenarios, fault injection): attached after initialization;
+    ``apply`` is called with the time of every macro step before the step, and returns the
+    overrides of connected inputs (vector, index, value) to re-apply after every transfer."""
+
+    def attach(self, execution: Execution) -> None: ...
+    def apply(self, time_s: float) -> list[tuple[np.ndarray, int, float]]: ...
+
+
 class Observer(Protocol):
     """Watches an execution: called after initialization and after every macro step."""
 
@@ -156,6 +165,9 @@ class Execution:
         self.vectors: dict[str, TypeVectors] = {}
         self._record = record
         self._initialized = False
+        self.manipulators: list[Manipulator] = []
+        self._overrides: list[tuple[np.ndarray, int, float]] = []
+        self._linked_inputs: dict[tuple[int, str, int], int] = {}  # (component, type, vr) -> index in inputs
 
     # -- set-up -----------------------------------------------------------------------------
     def time_at(self, k: int) -> float:
@@ -168,6 +180,42 @@ class Execution:
 
     def add_observer(self, observer: Observer) -> None:
         self.observers.append(observer)
+
+    def add_manipulator(self, manipulator: Manipulator) -> None:
+        self.manipulators.append(manipulator)
+
+    def input_slot(self, path: str, where: str) -> tuple[str, int] | tuple[Slave, VariableInfo]:
+        """Where a manipulator writes ``component.variable``: ``(type, index)`` in the input vectors
+        for a connected input, else ``(slave, variable)`` to be set directly (an unconnected input
+        or a tunable parameter).
+
+        Raises
+        ------
+        ConfigurationError
+            If the variable does not exist or may not be changed during a run.
+        """
+        try:
+            i, var = self.system.variable(path)
+        except EmssError:
+            raise ConfigurationError(f"{where}: no variable '{path}' (write component.variable)") from None
+        if not (var.causality == "input" or (var.causality == "parameter" and var.variability == "tunable")):
+            raise ConfigurationError(f"{where}: '{path}' is {var.causality} ({var.variability}); only inputs and "
+                                     "tunable parameters can be changed during a run")
+        if var.type_name not in IO_TYPES:
+            raise ConfigurationError(f"{where}: '{path}' is a {var.type_name}; allowed: {', '.join(IO_TYPES)}")
+        key = (i, var.type_name, var.vr)
+        if key in self._linked_inputs:
+            return var.type_name, self._linked_inputs[key]
+        return self.slaves[i], var
+
+    def output_slot(self, path: str) -> tuple[np.ndarray, int] | None:
+        """Where the current value of a variable the slaves get is kept, if it is gotten."""
+        i, var = self.system.variable(path)
+        vec = self.vectors.get(var.type_name)
+        if vec is None:
+            return None
+        name = f"{self.system.components[i].name}.{var.name}"
+        return (vec.outputs, vec.output_names.index(name)) if name in vec.output_names else None
 
     def _recorded_paths(self) -> list[str]:
         if self._record is not None:
@@ -233,6 +281,9 @@ class Execution:
                 a, _ = vec.out_range[i]
                 j = next(j for j, g in enumerate(gets[i][t]) if g.vr == v.vr)
                 self.signals.append(Signal(sys_.components[i].name, v, "outputs", a + j))
+        self._linked_inputs = {
+            (i, t, v.vr): self.vectors[t].in_range[i][0] + j
+            for t in IO_TYPES for i in range(n) for j, v in enumerate(sets[i][t])}
         self._transfers: list[Transfer] = []
         self._slave_transfers: list[list[Transfer]] = [[] for _ in range(n)]
         for t, vec in self.vectors.items():
@@ -268,10 +319,20 @@ class Execution:
     def transfer_to(self, i: int) -> None:
         for transfer in self._slave_transfers[i]:
             transfer()
+        for vec, j, value in self._overrides:
+            vec[j] = value
 
     def transfer_all(self) -> None:
         for transfer in self._transfers:
             transfer()
+        for vec, j, value in self._overrides:
+            vec[j] = value
+
+    def _manipulate(self, time_s: float) -> None:
+        had = bool(self._overrides)
+        self._overrides = [o for m in self.manipulators for o in m.apply(time_s)]
+        if had:  # a released input must get its connection's value back now, not one step later
+            self.transfer_all()
 
     # -- running ----------------------------------------------------------------------------
     def initialize(self, stop_time_s: float | None = None) -> None:
@@ -298,6 +359,9 @@ class Execution:
             s.get_outputs()
         self.transfer_all()
         self._initialized = True
+        for m in self.manipulators:
+            m.attach(self)
+        self._manipulate(self.start_time_s)
         for o in self.observers:
             o.start(self)
         for o in self.observers:
@@ -340,10 +404,13 @@ class Execution:
             n_steps = math.ceil((stop_time_s - self.start_time_s) / self.step_size_s - 1e-9)
             step = self.algorithm.step
             observers = [o.sample for o in self.observers]
+            manipulate = self._manipulate if self.manipulators else None
             for k in range(self.k, n_steps):
                 step(self, k)
                 self.k = k + 1
                 t = self.time_at(k + 1)
+                if manipulate is not None:
+                    manipulate(t)
                 for sample in observers:
                     sample(k + 1, t)
         except BaseException as exc:

@@ -182,10 +182,11 @@ class RunRecord:
     """
 
     def __init__(self, path: Path, system_location: str, parameter_files: list[str],
-                 extra: dict[str, Any] | None = None) -> None:
+                 extra: dict[str, Any] | None = None, reporters: list[Any] | None = None) -> None:
         self.path = Path(path)
         self.info: dict[str, Any] = {"system": system_location, "parameter_files": parameter_files,
                                      **(extra or {})}
+        self.reporters = list(reporters or [])  # objects with report() -> dict, merged in at the end
         self._wall0 = time.perf_counter()
 
     def _write(self) -> None:
@@ -227,7 +228,62 @@ class RunRecord:
             "realtime_factor": sim / wall if wall > 0 else None,
             "step_statistics": execution.stats(),
         })
+        for r in self.reporters:
+            self.info.update(r.report())
         self._write()
+
+
+class RealTimePacer:
+    """Paces a run against the wall clock: ``factor`` simulated seconds per wall second.
+
+    After every macro step it sleeps until the wall clock reaches the step's
+    simulated time divided by ``factor``; a step that ends more than
+    ``tolerance_s`` late is an overrun. ``report()`` gives the achieved factor,
+    the overruns and the largest lag, for run.json.
+
+    Parameters
+    ----------
+    factor : float
+        1.0 is real time, 2.0 twice as fast; must be > 0 (0 means "do not pace": use no pacer).
+    """
+
+    def __init__(self, factor: float, tolerance_s: float = 0.005) -> None:
+        if not factor > 0:
+            raise ValueError(f"real-time factor {factor} must be > 0")
+        self.factor = factor
+        self.tolerance_s = tolerance_s
+        self.overruns = 0
+        self.max_lag_s = 0.0
+        self._wall0 = 0.0
+        self._sim0 = 0.0
+        self._last_t = 0.0
+        self._wall_end = 0.0
+        self._sleep = time.sleep
+
+    def start(self, execution: Execution) -> None:
+        self._sim0 = self._last_t = execution.time_s
+        self._wall0 = time.perf_counter()
+
+    def sample(self, k: int, time_s: float) -> None:
+        target = self._wall0 + (time_s - self._sim0) / self.factor
+        now = time.perf_counter()
+        if now < target:
+            self._sleep(target - now)
+        else:
+            lag = now - target
+            if lag > self.tolerance_s:
+                self.overruns += 1
+                self.max_lag_s = max(self.max_lag_s, lag)
+        self._last_t = time_s
+
+    def finish(self, execution: Execution, error: BaseException | None) -> None:
+        self._wall_end = time.perf_counter()
+
+    def report(self) -> dict[str, Any]:
+        wall = (self._wall_end or time.perf_counter()) - self._wall0
+        sim = self._last_t - self._sim0
+        return {"realtime": {"target_factor": self.factor, "achieved_factor": sim / wall if wall > 0 else None,
+                             "overruns": self.overruns, "max_lag_s": self.max_lag_s}}
 
 
 class Progress:

@@ -25,10 +25,11 @@ class ExactLinearStep:
 
     def step(self, x_m: float, v_m_s: float, force_N: float, dt_s: float) -> tuple[float, float]:
         """Return ``(x [m], v [m/s])`` after ``dt_s`` [s]."""
-        phi = self._cache.get(dt_s)
+        key = round(dt_s, 12)  # steps t[k+1] - t[k] differ in the last bits; one matrix per step size
+        phi = self._cache.get(key)
         if phi is None:
             phi = expm(self._a * dt_s)
-            self._cache[dt_s] = phi
+            self._cache[key] = phi
         x_new = phi[0, 0] * x_m + phi[0, 1] * v_m_s + phi[0, 2] * force_N
         v_new = phi[1, 0] * x_m + phi[1, 1] * v_m_s + phi[1, 2] * force_N
         return float(x_new), float(v_new)

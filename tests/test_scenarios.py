@@ -1,0 +1,129 @@
+"""Scenarios (timed overrides), real-time pacing and step statistics."""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from openemss.orchestrator.cli import main
+from openemss.orchestrator.errors import ConfigurationError
+from openemss.orchestrator.execution import Execution
+from openemss.orchestrator.manipulators import ScenarioError, ScenarioManipulator, load_scenario
+from openemss.orchestrator.observers import MemoryRecorder
+from openemss.orchestrator.ssp import load_system
+from openemss.orchestrator.system import bind_system
+from systems import GAIN_CONNECTORS, Comp, write_system
+
+SCENARIO = """description: override, ramp and release a connected input; set an unconnected one and a parameter
+events:
+  - at: 2.0
+    set: {b.u_real: 5.0}
+  - from: 4.0
+    to: 6.0
+    ramp: {b.u_real: [0.0, 10.0]}
+  - at: 8.0
+    release: [b.u_real]
+  - at: 3.0
+    set: {a.u_real: 2.0, c.k: 4.0, c.u_bool: true}
+  - at: 9.0
+    hold: [a.u_real]
+"""
+
+
+def expected_b_input(t: np.ndarray) -> np.ndarray:
+    """b.u_real by hand: a.y_real = a.k * a.u_real = 1 (2 from t = 3 s) unless overridden."""
+    base = np.where(t < 3.0 - 1e-9, 1.0, 2.0)
+    out = base.copy()
+    out[(t >= 2.0 - 1e-9) & (t < 4.0 - 1e-9)] = 5.0
+    ramp = (t >= 4.0 - 1e-9) & (t < 8.0 - 1e-9)
+    out[ramp] = np.minimum(10.0, 10.0 * (t[ramp] - 4.0) / 2.0)
+    return out
+
+
+@pytest.fixture()
+def system(tmp_path: Path, fmu_dir: Path) -> Path:
+    write_system(tmp_path / "sys", fmu_dir, [Comp("a", "Gain.fmu", GAIN_CONNECTORS, {"u_real": 1.0}),
+                                             Comp("b", "Gain.fmu", GAIN_CONNECTORS),
+                                             Comp("c", "Gain.fmu", GAIN_CONNECTORS, {"u_real": 1.0})],
+                 [("a.y_real", "b.u_real")], stop_time=10.0)
+    (tmp_path / "scenario.yaml").write_text(SCENARIO)
+    return tmp_path / "sys"
+
+
+@pytest.mark.parametrize("algorithm", ["jacobi", "gauss-seidel"])
+def test_overrides_and_ramps_appear_exactly_in_the_recorded_inputs(system: Path, algorithm: str) -> None:
+    ex = Execution(bind_system(load_system(system)), rate_hz=10.0, algorithm=algorithm,
+                   record=["a.u_real", "b.u_real", "b.y_real", "c.y_real", "c.y_bool"])
+    ex.add_manipulator(ScenarioManipulator(load_scenario(system.parent / "scenario.yaml")))
+    rec = MemoryRecorder()
+    ex.add_observer(rec)
+    ex.run(10.0)
+    r = rec.result()
+    t = r["time_s"]
+    assert np.max(np.abs(r["b.u_real"] - expected_b_input(t))) < 1e-12
+    # what b made of it: its output at t + h is k * (its input at t), whatever the algorithm
+    assert np.max(np.abs(r["b.y_real"][1:] - r["b.u_real"][:-1])) < 1e-12
+    # unconnected input set at 3 s and held from 9 s; tunable parameter c.k and Boolean input c.u_bool set at 3 s
+    assert np.all(r["a.u_real"][t >= 3.0 - 1e-9] == 2.0) and np.all(r["a.u_real"][t < 3.0 - 1e-9] == 1.0)
+    assert r["c.y_real"][-1] == 4.0 and r["c.y_bool"][-1] == 0  # not True
+
+
+@pytest.mark.parametrize("text, fragment, line", [
+    ("events:\n  - at: 1\n    sett: {b.u_real: 1}\n", "unknown key 'sett'", 2),
+    ("events:\n  - set: {b.u_real: 1}\n", "'set' needs 'at'", 2),
+    ("events:\n  - from: 3\n    to: 2\n    ramp: {b.u_real: [0, 1]}\n", "'to' > 'from'", 2),
+    ("events:\n  - at: 1\n    set: {b.u_real: fast}\n", "must be a number or true/false", 3),
+    ("events:\n  - at: 1\n    ramp: {b.u_real: [0, 1]}\n", "a ramp needs 'from' and 'to'", 2),
+    ("events: [\n", "not valid YAML", 2),
+    ("events:\n  - at: one\n    set: {b.u_real: 1}\n", "'at' must be a number", 2),
+])
+def test_bad_scenario_files_name_the_line(tmp_path: Path, text: str, fragment: str, line: int) -> None:
+    f = tmp_path / "bad.yaml"
+    f.write_text(text)
+    with pytest.raises(ScenarioError) as info:
+        load_scenario(f)
+    assert fragment in str(info.value) and f"bad.yaml:{line}:" in str(info.value), str(info.value)
+
+
+@pytest.mark.parametrize("variable, fragment", [("b.nope", "no variable 'b.nope'"),
+                                                ("b.y_real", "only inputs and tunable parameters")])
+def test_scenario_on_a_variable_that_cannot_be_changed(system: Path, tmp_path: Path, variable: str,
+                                                       fragment: str, capsys: pytest.CaptureFixture[str]) -> None:
+    f = tmp_path / "s.yaml"
+    f.write_text(f"events:\n  - at: 1\n    set: {{{variable}: 1}}\n")
+    with pytest.raises(ConfigurationError, match=fragment):
+        ex = Execution(bind_system(load_system(system)), rate_hz=10.0)
+        ex.add_manipulator(ScenarioManipulator(load_scenario(f)))
+        ex.run(1.0)
+    rc = main(["run", str(system), "--scenario", str(f), "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 1 and len(err) == 1 and "s.yaml:3" in err[0] and fragment in err[0]
+
+
+def test_realtime_pacing_and_as_fast_as_possible(system: Path, tmp_path: Path) -> None:
+    assert main(["run", str(system), "--stop-time", "3", "--rate", "20", "--realtime", "1.0",
+                 "--out", str(tmp_path / "rt")]) == 0
+    paced = json.loads((tmp_path / "rt" / "run.json").read_text())
+    achieved = paced["realtime"]["achieved_factor"]
+    # pacing never runs ahead of the wall clock; 10 % slack for a loaded 2-core machine
+    assert 0.90 <= achieved <= 1.001, paced["realtime"]
+    assert main(["run", str(system), "--stop-time", "3", "--rate", "20", "--out", str(tmp_path / "fast")]) == 0
+    free = json.loads((tmp_path / "fast" / "run.json").read_text())
+    assert free["realtime_factor"] > 20 * achieved and "realtime" not in free
+
+
+def test_negative_realtime_factor_is_refused(system: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["run", str(system), "--realtime", "-1", "--out", str(tmp_path / "o")]) == 1
+    assert "--realtime -1.0: must be >= 0" in capsys.readouterr().err
+
+
+def test_step_statistics_printed_and_in_run_json(system: Path, tmp_path: Path,
+                                                 capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["run", str(system), "--stop-time", "1", "--rate", "10", "--stats", "--out", str(tmp_path / "o")]) == 0
+    out = capsys.readouterr().out
+    assert "doStep s" in out and all(f"\n{c} " in out for c in ("a", "b", "c"))
+    stats = json.loads((tmp_path / "o" / "run.json").read_text())["step_statistics"]
+    assert {c: s["steps"] for c, s in stats.items()} == {"a": 10, "b": 10, "c": 10}
+    assert all(s["do_step_s"] > 0 and s["get_s"] > 0 for s in stats.values())

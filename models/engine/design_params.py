@@ -58,6 +58,36 @@ class _Common:
             raise OutOfRangeError(f"{self.name}: Fn_target_N={self.Fn_target_N!r} must be > 0")
         if self.nozzle_type not in ("convergent", "ideal"):
             raise OutOfRangeError(f"{self.name}: nozzle_type={self.nozzle_type!r} must be 'convergent' or 'ideal'")
+        for f in fields(self):
+            v = getattr(self, f.name)
+            rule = _rule(f.name)
+            if rule is None or v is None or isinstance(v, (str, tuple)):
+                continue
+            ok, allowed = rule
+            if not (isinstance(v, (int, float)) and ok(v)):
+                raise OutOfRangeError(f"{self.name}: {f.name}={v!r} is outside the valid range {allowed}")
+        if isinstance(self, TurbofanParams) and not (1 <= self.handling_bleed_stage <= self.hpc_stages):
+            raise OutOfRangeError(f"{self.name}: handling_bleed_stage={self.handling_bleed_stage!r} must lie in "
+                                  f"1..hpc_stages={self.hpc_stages}")
+
+
+def _rule(name: str) -> tuple[Any, str] | None:
+    """Validity rule (predicate, description) of a parameter, from its name."""
+    if name.startswith("eta_") or name in ("inlet_pi", "Cv", "Cd") or name.startswith(("Cv_", "Cd_")):
+        return (lambda v: 0.0 < v <= 1.0), "(0, 1]"
+    if name.startswith("PR_"):
+        return (lambda v: 1.0 <= v <= 100.0), "[1, 100]"
+    if name.startswith("dPqP") or name.endswith("_frac"):
+        return (lambda v: 0.0 <= v < 1.0), "[0, 1)"
+    if name == "BPR" or name.startswith("offtake"):
+        return (lambda v: v >= 0.0), "[0, inf)"
+    if name == "Tt4_K":
+        return (lambda v: 300.0 < v <= 2200.0), "(300, 2200] K"
+    if name.endswith("_rpm"):
+        return (lambda v: v > 0.0), "(0, inf) rpm"
+    if name == "T_fuel_K":
+        return (lambda v: 220.0 <= v <= 550.0), "[220, 550] K"
+    return None
 
 
 @dataclass(frozen=True)
@@ -191,7 +221,7 @@ def params_from_dict(data: dict[str, Any], where: str = "parameters") -> EngineP
     allowed = {f.name for f in fields(cls)}
     kw: dict[str, Any] = {}
     for k, v in data.items():
-        if k in ("engine", "sources", "notes"):
+        if k in _DOC_KEYS and k != "name":
             continue
         if k not in allowed:
             raise ModelError(f"{where}: unknown parameter {k!r} for a {kind}; allowed: {', '.join(sorted(allowed))}")
@@ -220,6 +250,7 @@ def load_params(path: str | Path) -> EngineParams:
         raise ModelError(f"{p}:{exc.lineno}: invalid JSON: {exc.msg}") from None
     if not isinstance(data, dict):
         raise ModelError(f"{p}: a parameter file must hold a JSON object")
+    data.setdefault("name", p.stem)
     return params_from_dict(data, str(p))
 
 

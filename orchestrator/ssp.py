@@ -341,9 +341,17 @@ def read_ssd(path: Path, archive_dir: tempfile.TemporaryDirectory[str] | None = 
     if problems:
         raise SystemStructureError(problems)
     components, connections, bindings = flatten(tree, problems)
+    units = _units(root, "ssd")
+    pending = [tree]
+    while pending:  # units defined by signal dictionaries serve where the SSD defines none of that name
+        node = pending.pop()
+        for d in node.dictionaries:
+            for name, unit in d.units.items():
+                units.setdefault(name, unit)
+        pending.extend(node.systems)
     return SystemDef(
         name=tree.name, ssd_path=path, components=components, connections=connections, bindings=bindings,
-        units=_units(root, "ssd"), enumerations=enumerations, start_time_s=_float_attr(experiment, "startTime"),
+        units=units, enumerations=enumerations, start_time_s=_float_attr(experiment, "startTime"),
         stop_time_s=_float_attr(experiment, "stopTime"), step_size_s=step_size_s, archive_dir=archive_dir,
         problems=tuple(problems))
 

@@ -252,7 +252,9 @@ def test_signal_dictionary_carries_a_signal_across_systems(tmp_path: Path, fmu_d
     ssb = ('<?xml version="1.0" encoding="UTF-8"?>\n'
            '<ssb:SignalDictionary xmlns:ssb="http://ssp-standard.org/SSP1/SystemStructureSignalDictionary" '
            'xmlns:ssc="http://ssp-standard.org/SSP1/SystemStructureCommon" version="1.0">'
-           '<ssb:DictionaryEntry name="speed"><ssc:Real unit="kn"/></ssb:DictionaryEntry></ssb:SignalDictionary>\n')
+           '<ssb:DictionaryEntry name="speed"><ssc:Real unit="kn"/></ssb:DictionaryEntry>'
+           '<ssb:Units><ssc:Unit name="kn"><ssc:BaseUnit m="1" s="-1" factor="0.5144444444444445"/></ssc:Unit>'
+           '</ssb:Units></ssb:SignalDictionary>\n')
     ref_out = ('<ssd:SignalDictionaryReference name="busw" dictionary="bus"><ssd:Connectors>'
                '<ssd:Connector name="speed" kind="input"><ssc:Real unit="kn"/></ssd:Connector>'
                '</ssd:Connectors></ssd:SignalDictionaryReference>')
@@ -261,8 +263,10 @@ def test_signal_dictionary_carries_a_signal_across_systems(tmp_path: Path, fmu_d
               '</ssd:Connectors></ssd:SignalDictionaryReference>')
     inner = (f'<ssd:System name="S"><ssd:Elements>{gain("b", units=("m/s", None))}{ref_in}</ssd:Elements>'
              f'<ssd:Connections>{connection("busr.speed", "b.u_real")}</ssd:Connections></ssd:System>')
+    units = UNITS.replace('<ssc:Unit name="kn"><ssc:BaseUnit m="1" s="-1" factor="0.5144444444444445"/></ssc:Unit>',
+                          "")  # knots are defined by the dictionary's own Units here
     xml = system_xml(gain("a", u_real=100.0, units=(None, "kn")) + ref_out + inner,
-                     connection("a.y_real", "busw.speed"), extra=dictionary)
+                     connection("a.y_real", "busw.speed"), extra=dictionary, units=units)
     out = final(make(tmp_path, fmu_dir, xml, {"bus.ssb": ssb}), "S.b.u_real")
     assert out["S.b.u_real"] == pytest.approx(51.44444444444445)  # 100 kn in m/s
 

@@ -1,0 +1,162 @@
+"""Steady level flight of UPERA with an external thrust: angle of attack, elevator and thrust.
+
+JSBSim's own trim adjusts its engines' throttles, which UPERA does not have (the
+thrust is an external force), so this module solves the steady equations itself:
+wings level, no sideslip, flight-path angle zero, pitch angle = angle of attack,
+no rotation, and the three body-axis accelerations u', w', q' that JSBSim
+computes at that state (aerodynamics, gravity, thrust at the engine's position)
+set to zero with :func:`scipy.optimize.root`.
+
+References
+----------
+.. [1] Stevens, B. L., Lewis, F. L., Johnson, E. N., *Aircraft Control and Simulation*,
+   3rd ed., Wiley, 2016, sect. 3.6 (steady-state flight and trim).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+import numpy as np
+from scipy.optimize import root
+
+from .adapter import FT, LBF, PSF, Airframe
+from .aero import aero_model
+from .errors import OutOfEnvelopeError, TrimError
+from .geometry import G0
+
+__all__ = ["TrimResult", "trim_level", "ALT_RANGE_M", "MACH_RANGE"]
+
+ALT_RANGE_M = (0.0, 8000.0)
+MACH_RANGE = (0.1, 0.85)
+TOL_ACC = 1e-7  # [m/s^2] and [rad/s^2] residual accepted as converged
+
+
+@dataclass(frozen=True)
+class TrimResult:
+    """A trimmed level-flight condition.
+
+    Attributes
+    ----------
+    alt_m : altitude MSL [m]; mach [-]; mass_kg [kg]; tas_m_s : true airspeed [m/s]
+    alpha_rad : angle of attack = pitch angle [rad]
+    elevator : normalised elevator command [-] (> 0 trailing edge down)
+    thrust_N : net thrust [N]
+    lift_N, drag_N : aerodynamic lift and drag [N]
+    CL, CD : lift and drag coefficients on the wing area [-]
+    qbar_Pa : dynamic pressure [Pa]; re_mac : Reynolds number on the MAC [-]
+    residual : largest remaining acceleration [m/s^2 or rad/s^2]
+    """
+
+    alt_m: float
+    mach: float
+    mass_kg: float
+    tas_m_s: float
+    alpha_rad: float
+    elevator: float
+    thrust_N: float
+    lift_N: float
+    drag_N: float
+    CL: float
+    CD: float
+    qbar_Pa: float
+    re_mac: float
+    residual: float
+
+    @property
+    def alpha_deg(self) -> float:
+        """Angle of attack [deg]."""
+        return math.degrees(self.alpha_rad)
+
+    def as_dict(self) -> dict[str, float]:
+        """Fields plus ``alpha_deg``, for printing and JSON."""
+        d = asdict(self)
+        d["alpha_deg"] = self.alpha_deg
+        return d
+
+
+def _check_range(name: str, value: float, rng: tuple[float, float], unit: str) -> float:
+    v = float(value)
+    if not (rng[0] <= v <= rng[1]):
+        raise OutOfEnvelopeError(f"{name} = {value:g}{unit} is outside the valid range "
+                                 f"{rng[0]:g} to {rng[1]:g}{unit}")
+    return v
+
+
+def trim_level(alt_m: float, mach: float, mass_kg: float | None = None, airframe: Airframe | None = None,
+               flaps: float = 0.0, gear_down: bool = False, heading_deg: float = 0.0) -> TrimResult:
+    """Trim UPERA in steady level flight.
+
+    Parameters
+    ----------
+    alt_m : float
+        Altitude above mean sea level [m], 0 to 8000.
+    mach : float
+        Mach number [-], 0.1 to 0.85.
+    mass_kg : float, optional
+        Aircraft mass [kg] between the operating empty mass and MTOM (the
+        difference is fuel); default MTOM.
+    airframe : Airframe, optional
+        The adapter to trim (its atmosphere settings apply); a new one by default.
+        On return it is initialised at the trimmed state.
+    flaps : float
+        Flap setting [0, 1]. gear_down : bool, gear extended.
+
+    Raises
+    ------
+    OutOfEnvelopeError
+        Altitude, Mach or mass out of range.
+    TrimError
+        No solution, or one that needs more than full elevator or lies past the stall.
+    """
+    af = airframe or Airframe()
+    g = af.geometry
+    alt = _check_range("altitude", alt_m, ALT_RANGE_M, " m")
+    m = _check_range("Mach", mach, MACH_RANGE, "")
+    mass = g.mtom_kg if mass_kg is None else _check_range("mass", mass_kg, (g.oem_kg, g.mtom_kg), " kg")
+    fuel = mass - g.oem_kg
+    weight = mass * G0
+    a = aero_model()
+    fdm = af.fdm
+    # Speed of sound from JSBSim's own atmosphere at this altitude.
+    af.start_air(alt, 100.0, heading_deg, fuel_kg=fuel, ground_elevation_m=min(0.0, alt - 1000.0))
+    tas = m * af.get_property("atmosphere/a-fps") * FT
+    q = 0.5 * af.state().rho_kg_m3 * tas ** 2
+    s = g.wing.area_m2
+    cl_req = weight / (q * s)
+    cla = float(a.cl_alpha(m))
+    alpha0 = (cl_req - float(a.cl_linear(0.0, m))) / cla
+    x0 = np.array([alpha0, 0.0, 0.05])
+
+    ground = min(0.0, alt - 1000.0)  # terrain well below, so no contact point touches it
+
+    def residual(x: np.ndarray) -> np.ndarray:
+        # Twice: JSBSim's alpha-dot comes from the accelerations of the previous frame; the
+        # second evaluation makes the residual a function of x alone (alpha-dot = 0 at the solution).
+        for _ in range(2):
+            af.start_air(alt, tas, heading_deg, alpha_rad=float(x[0]), elevator=float(x[1]),
+                         thrust_N=float(x[2]) * weight, flaps=flaps, gear_down=gear_down, fuel_kg=fuel,
+                         ground_elevation_m=ground)
+        return np.array([fdm["accelerations/udot-ft_sec2"] * FT / G0,
+                         fdm["accelerations/wdot-ft_sec2"] * FT / G0,
+                         fdm["accelerations/qdot-rad_sec2"]])
+
+    sol = root(residual, x0, method="hybr", options={"xtol": 1e-12})
+    res = residual(sol.x)
+    worst = float(np.max(np.abs(res[:2])) * G0)
+    worst = max(worst, float(abs(res[2])))
+    where = f"at {alt:g} m, Mach {m:g}, {mass:g} kg"
+    if not sol.success and worst > TOL_ACC * 100:
+        raise TrimError(f"trim did not converge {where}: {sol.message} (residual {worst:.3g})")
+    alpha, elev, thrust = float(sol.x[0]), float(sol.x[1]), float(sol.x[2]) * weight
+    if abs(elev) > 1.0:
+        raise TrimError(f"trim {where} needs elevator {elev:+.2f}, beyond full deflection [-1, 1]")
+    if alpha > a.alpha_stall(m):
+        raise TrimError(f"trim {where} needs angle of attack {math.degrees(alpha):.1f} deg, past the stall "
+                        f"({math.degrees(a.alpha_stall(m)):.1f} deg); fly faster or lower")
+    qbar = fdm["aero/qbar-psf"] * PSF
+    lift = fdm["forces/fwz-aero-lbs"] * LBF  # JSBSim: wind-axis lift and drag, positive as named
+    drag = fdm["forces/fwx-aero-lbs"] * LBF
+    return TrimResult(alt_m=alt, mach=m, mass_kg=af.mass_kg, tas_m_s=tas, alpha_rad=alpha, elevator=elev,
+                      thrust_N=thrust, lift_N=lift, drag_N=drag, CL=lift / (qbar * s), CD=drag / (qbar * s),
+                      qbar_Pa=qbar, re_mac=fdm["aero/Re"], residual=worst)

@@ -5,8 +5,8 @@ station by station (:mod:`.stations`) with the components of this package;
 each spool's turbine delivers the power its compressors and offtakes need
 (:mod:`.shaft`), which fixes the turbine pressure ratios. With a thrust
 target the inlet mass flow is solved with :func:`scipy.optimize.brentq` (the
-cycle is linear in W except for absolute power offtakes, so a bracket of
-+-5 % around the linear estimate holds the root).
+cycle is linear in W except for absolute power offtakes, so two linear
+steps give a tight bracket around the root).
 
 The result carries every station, thrust, ram drag, fuel flow, SFC, the
 nozzle areas that the off-design calculation keeps, and the design values
@@ -306,7 +306,26 @@ def design(params: EngineParams, gas: GasModel | None = None) -> DesignPoint:
     if not F_ref > 0.0:
         raise ConvergenceError(f"{params.name}: the cycle gives no positive net thrust "
                                f"(Fn={F_ref:.6g} N at W2={W_ref} kg/s); no mass flow meets Fn_target_N={F!r}")
-    W_lin = W_ref * F / F_ref
-    lo, hi = 0.95 * W_lin, 1.05 * W_lin
-    W = brentq(lambda w: _run(params, w, g).Fn_N - F, lo, hi, xtol=1e-12 * W_lin, rtol=1e-13)
-    return _run(params, W, g)
+    # Fn is linear in W2 but for absolute offtakes: one linear step lands within a
+    # fraction of a percent; brentq then polishes inside a bracket around it.
+    W1 = W_ref * F / F_ref
+    seen: dict[float, DesignPoint] = {}
+
+    def resid(w: float) -> float:
+        if w not in seen:
+            seen[w] = _run(params, w, g)
+        return seen[w].Fn_N - F
+
+    r1 = resid(W1)
+    W2 = W1 * F / (r1 + F)
+    delta = 4.0 * abs(W2 - W1) + 1e-9 * W1
+    for _ in range(20):
+        lo, hi = W2 - delta, W2 + delta
+        if lo > 0.0 and resid(lo) * resid(hi) <= 0.0:
+            break
+        delta *= 4.0
+    else:
+        raise ConvergenceError(f"{params.name}: no mass flow found that meets Fn_target_N={F!r} "
+                               f"(searched {lo:.6g} to {hi:.6g} kg/s)")
+    W = brentq(resid, lo, hi, xtol=1e-12 * W1, rtol=1e-13)
+    return seen[W] if W in seen else _run(params, W, g)

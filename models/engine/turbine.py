@@ -124,6 +124,17 @@ def turbine(fs_in: FlowStation, PR: float, eta_is: float, cooling: Sequence[Cool
     return TurbineResult(rotor_in, out, power, PR, eta_is, fs_in.W_kg_s * math.sqrt(fs_in.Tt_K) / Pt_in)
 
 
+def _power(fs_in: FlowStation, PR: float, eta: float, cooling: Sequence[Cooling], gas: GasModel) -> float:
+    """Shaft power [W] of :func:`turbine` without building the exit stations."""
+    Pt_in, Pt_out = fs_in.Pt_Pa, fs_in.Pt_Pa / PR
+    P = fs_in.W_kg_s * (fs_in.ht_J_kg - _expand(fs_in, Pt_in, Pt_out, eta, gas))
+    for c in cooling:
+        Pt_c = Pt_out + c.frac_P * (Pt_in - Pt_out)
+        if Pt_c > Pt_out:
+            P += c.flow.W_kg_s * (c.flow.ht_J_kg - _expand(c.flow, Pt_c, Pt_out, eta, gas))
+    return P
+
+
 def turbine_for_power(fs_in: FlowStation, power_W: float, eta_is: float, cooling: Sequence[Cooling] = (),
                       gas: GasModel = DEFAULT_GAS, tol_rel: float = 1e-12) -> TurbineResult:
     """Turbine that delivers `power_W` [W] at isentropic efficiency `eta_is` [-]; PR is the unknown.
@@ -151,14 +162,13 @@ def turbine_for_power(fs_in: FlowStation, power_W: float, eta_is: float, cooling
     PR0 = math.exp((gas.phi(fs_in.Tt_K, f) - gas.phi(T_is, f)) / gas.R(f))
     if not cooling or power_W == 0.0:
         return turbine(fs_in, PR0, eta_is, cooling, gas)
-    x0, r0 = math.log(PR0), turbine(fs_in, PR0, eta_is, cooling, gas).power_W - power_W
-    x1 = x0 * 0.9
+    x0 = math.log(PR0)
+    r0 = _power(fs_in, PR0, eta_is, cooling, gas) - power_W
+    x1 = x0 * power_W / (r0 + power_W)           # power ~ proportional to ln PR
     for _ in range(30):
-        res = turbine(fs_in, math.exp(x1), eta_is, cooling, gas)
-        r1 = res.power_W - power_W
+        r1 = _power(fs_in, math.exp(x1), eta_is, cooling, gas) - power_W
         if abs(r1) <= tol_rel * power_W:
-            return res
-        x0, x1, r0 = x1, x1 - r1 * (x1 - x0) / (r1 - r0), r1
-        x1 = max(x1, 1e-9)
+            return turbine(fs_in, math.exp(x1), eta_is, cooling, gas)
+        x0, x1, r0 = x1, max(x1 - r1 * (x1 - x0) / (r1 - r0), 1e-9), r1
     raise ConvergenceError(f"turbine_for_power: no convergence for power_W={power_W!r} W; "
                            f"last power residual {r1!r} W")

@@ -16,11 +16,11 @@ import argparse
 import statistics
 import time
 
+from openemss.models.engine.compressor import compressor
 from openemss.models.engine.cycle_design import design
 from openemss.models.engine.design_params import PRESETS_DIR, load_params
-from openemss.models.engine.gas import DEFAULT_GAS
 from openemss.models.engine.flow import flow_TP
-from openemss.models.engine.compressor import compressor
+from openemss.models.engine.gas import DEFAULT_GAS
 
 
 def _time(fn, number: int, repeat: int) -> tuple[float, float]:
@@ -43,7 +43,7 @@ def main() -> None:
     for path in sorted(PRESETS_DIR.glob("*.json")):
         p = load_params(path)
         mode = "W2 given" if p.W2_kg_s is not None else "Fn target"
-        med, best = _time(lambda: design(p), a.number, a.repeat)
+        med, best = _time(lambda p=p: design(p), a.number, a.repeat)
         print(f"{path.stem:<26} {mode:<10} {med * 1e3:10.3f} {best * 1e3:9.3f} {'< 5 ms':>8}")
 
     print("\nbuilding blocks (median us per call)")

@@ -42,7 +42,7 @@ ALT_MAX_M: float = 32000.0
 
 def _base_pressures() -> tuple[float, ...]:
     p = [_P0_PA]
-    for (H0, T0, L), (H1, _, _) in zip(_LAYERS[:-1], _LAYERS[1:]):
+    for (H0, T0, L), (H1, _, _) in zip(_LAYERS[:-1], _LAYERS[1:], strict=True):
         p.append(_p_in_layer(p[-1], H1 - H0, T0, L))
     return tuple(p)
 

@@ -25,8 +25,8 @@ E. S. Hendricks, J. S. Gray, "pyCycle", Aerospace 6(87), 2019 (bleed work fracti
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Sequence
 
 from .bleed import BleedSpec, bleed_station
 from .errors import OutOfRangeError
@@ -96,7 +96,7 @@ def compressor(fs_in: FlowStation, PR: float, eta_is: float, bleeds: Sequence[Bl
     ht_out = fs_in.ht_J_kg + (gas.h(Tt_is, f) - fs_in.ht_J_kg) / eta_is
     full = flow_hP(fs_in.W_kg_s, ht_out, fs_in.Pt_Pa * PR, f, gas, Tt_is)
     streams = tuple(bleed_station(b, fs_in, full, gas) for b in bleeds)
-    W_inter = sum(s.W_kg_s for b, s in zip(bleeds, streams) if not b.at_exit)
+    W_inter = sum(s.W_kg_s for b, s in zip(bleeds, streams, strict=True) if not b.at_exit)
     W_all = sum(s.W_kg_s for s in streams)
     if W_all >= fs_in.W_kg_s:
         raise OutOfRangeError(f"compressor: bleeds take {W_all!r} kg/s of {fs_in.W_kg_s!r} kg/s")

@@ -24,9 +24,10 @@ J. D. Mattingly, "Elements of Propulsion: Gas Turbines and Rockets", AIAA,
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Any, Mapping
+from typing import Any
 
 from scipy.optimize import brentq
 
@@ -188,9 +189,11 @@ def _turbojet(p: TurbojetParams, W2: float, gas: GasModel) -> DesignPoint:
     st: dict[str, FlowStation] = {"0": fr.station(W2, gas)}
     st["2"] = inlet(st["0"], p.Mach, p.inlet_pi)
     c = compressor(st["2"], p.PR_c, p.eta_c, p.bleeds, gas)
-    bl = {b.name: s for b, s in zip(p.bleeds, c.bleeds)}
+    bl = {b.name: s for b, s in zip(p.bleeds, c.bleeds, strict=True)}
+    if len(bl) != len(p.bleeds):
+        raise ModelError(f"{p.name}: bleed names must be unique, got {[b.name for b in p.bleeds]}")
     st["3"] = c.out
-    st["31"] = c.out.with_W(c.out.W_kg_s - sum(s.W_kg_s for b, s in zip(p.bleeds, c.bleeds) if b.at_exit))
+    st["31"] = c.out.with_W(c.out.W_kg_s - sum(bl[b.name].W_kg_s for b in p.bleeds if b.at_exit))
     bu = burner_to_temperature(st["31"], p.Tt4_K, p.eta_burner, p.dPqP_burner, p.T_fuel_K, gas)
     st["4"] = bu.out
     P_t = turbine_power_required([c.power_W], p.offtake_W, p.eta_mech)
@@ -231,7 +234,7 @@ def _turbofan(p: TurbofanParams, W2: float, gas: GasModel) -> DesignPoint:
         specs.append(BleedSpec("customer", p.customer_bleed_frac, 1.0, 1.0, "overboard"))
     specs_t = tuple(specs)
     hc = compressor(st["25"], p.PR_hpc, p.eta_hpc, specs_t, gas)
-    bl = {b.name: s for b, s in zip(specs_t, hc.bleeds)}
+    bl = {b.name: s for b, s in zip(specs_t, hc.bleeds, strict=True)}
     if len(bl) != len(specs_t):
         raise ModelError(f"{p.name}: bleed names must be unique, got {[b.name for b in specs_t]}")
     st["3"] = hc.out

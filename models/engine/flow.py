@@ -23,8 +23,8 @@ Turbine Engine Cycles", Aerospace 6(87), 2019 (flow-station concept).
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import Iterable
 
 from .errors import OutOfRangeError
 from .gas import DEFAULT_GAS, GasModel

@@ -19,7 +19,7 @@ and ch. 8 (shaft power balance, transient spool acceleration).
 from __future__ import annotations
 
 import math
-from typing import Iterable
+from collections.abc import Iterable
 
 from .errors import OutOfRangeError
 

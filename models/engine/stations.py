@@ -14,8 +14,8 @@ P. P. Walsh, P. Fletcher, "Gas Turbine Performance", 2nd ed., 2004, ch. 5.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from types import MappingProxyType
-from typing import Mapping
 
 __all__ = ["STATIONS", "TURBOFAN_STATIONS", "TURBOJET_STATIONS", "describe"]
 

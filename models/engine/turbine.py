@@ -28,8 +28,8 @@ entering at a fraction of the turbine pressure drop).
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Sequence
 
 from .errors import ConvergenceError, OutOfRangeError
 from .flow import FlowStation, flow_hP, mix

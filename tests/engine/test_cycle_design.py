@@ -16,8 +16,13 @@ import pytest
 from openemss.models.engine.bleed import BleedSpec
 from openemss.models.engine.combustion import h_fuel_liquid
 from openemss.models.engine.cycle_design import DesignPoint, design, gas_of
-from openemss.models.engine.design_params import (TurbofanParams, TurbojetParams, load_params,
-                                                  params_from_dict, preset_path)
+from openemss.models.engine.design_params import (
+    TurbofanParams,
+    TurbojetParams,
+    load_params,
+    params_from_dict,
+    preset_path,
+)
 from openemss.models.engine.errors import ModelError, OutOfRangeError
 from openemss.models.engine.stations import TURBOFAN_STATIONS, TURBOJET_STATIONS
 

@@ -30,7 +30,8 @@ from dataclasses import dataclass
 from typing import Literal
 
 from .errors import ModelError
-from .maps import CompressorMap, CompressorPoint, CompressorPointD, TurbineMap, TurbinePoint, TurbinePointD
+from .map_points import CompressorPoint, CompressorPointD, TurbinePoint, TurbinePointD
+from .maps import CompressorMap, TurbineMap
 
 __all__ = ["ScaledCompressorMap", "ScaledTurbineMap"]
 

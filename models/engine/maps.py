@@ -47,14 +47,16 @@ from __future__ import annotations
 
 import json
 import math
+from bisect import bisect_right
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from types import MappingProxyType
-from typing import Any, Literal, NamedTuple
+from typing import Any, Literal
 
 from .errors import ModelError, OutOfRangeError
 from .map_interp import BicubicTable
+from .map_points import CompressorPoint, CompressorPointD, TurbinePoint, TurbinePointD
 
 __all__ = [
     "MAP_DIR", "T_REF_K", "P_REF_PA", "LBM_TO_KG", "WP_TO_WC", "DEFAULT_EXTRAPOLATION",
@@ -76,51 +78,6 @@ RANKINE_PER_K: float = 1.8
 WP_TO_WC: float = LBM_TO_KG * (P_REF_PA / PSI_TO_PA) / math.sqrt(T_REF_K * RANKINE_PER_K)
 #: Default extrapolation margin, as a fraction of each axis span.
 DEFAULT_EXTRAPOLATION: float = 0.1
-
-
-class CompressorPoint(NamedTuple):
-    """Compressor map output: corrected flow [kg/s], pressure ratio [-], isentropic efficiency [-]."""
-
-    Wc_kg_s: float
-    PR: float
-    eff: float
-
-
-class CompressorPointD(NamedTuple):
-    """Compressor map output with partial derivatives with respect to speed and beta.
-
-    ``d*_dnc`` are per unit of the speed argument (``nc_rel`` for a
-    :class:`CompressorMap`, ``Nc`` for a :class:`ScaledCompressorMap`);
-    ``d*_dbeta`` per unit beta. Flow derivatives in kg/s per unit.
-    """
-
-    Wc_kg_s: float
-    PR: float
-    eff: float
-    dWc_dnc: float
-    dWc_dbeta: float
-    dPR_dnc: float
-    dPR_dbeta: float
-    deff_dnc: float
-    deff_dbeta: float
-
-
-class TurbinePoint(NamedTuple):
-    """Turbine map output: corrected flow [kg/s], isentropic efficiency [-]."""
-
-    Wc_kg_s: float
-    eff: float
-
-
-class TurbinePointD(NamedTuple):
-    """Turbine map output with partial derivatives with respect to speed and pressure ratio."""
-
-    Wc_kg_s: float
-    eff: float
-    dWc_dnc: float
-    dWc_dpr: float
-    deff_dnc: float
-    deff_dpr: float
 
 
 @dataclass(frozen=True, slots=True)
@@ -240,6 +197,7 @@ def _margins(x: tuple[float, ...], y: tuple[float, ...], extrapolation: float) -
     return extrapolation * (x[-1] - x[0]), extrapolation * (y[-1] - y[0])
 
 
+@dataclass(frozen=True, slots=True, eq=False, repr=False)
 class CompressorMap:
     """Compressor map over relative corrected speed and beta (0 on the surge line).
 
@@ -260,25 +218,47 @@ class CompressorMap:
         Beta lines [-], 0 (surge) to 1.
     nc_rel_design, beta_design : float
         The map's own design point (from the data file), where scaling is done by default.
+
+    Notes
+    -----
+    Immutable (frozen dataclass); the interpolation table ``_table`` is built
+    once and shared by the scaled maps of :mod:`.map_scaled`.
     """
 
-    def __init__(self, data: MapData, extrapolation: float = DEFAULT_EXTRAPOLATION) -> None:
+    data: MapData
+    extrapolation: float = DEFAULT_EXTRAPOLATION
+    name: str = field(init=False)
+    nc_rel: tuple[float, ...] = field(init=False)
+    beta: tuple[float, ...] = field(init=False)
+    nc_rel_design: float = field(init=False)
+    beta_design: float = field(init=False)
+    _table: BicubicTable = field(init=False)
+    _surge_x: tuple[float, ...] = field(init=False)
+    _surge_w: tuple[float, ...] = field(init=False)
+
+    def __post_init__(self) -> None:
+        data = self.data
         if data.kind != "compressor":
             raise ModelError(f"map {data.name!r} is a {data.kind} map, not a compressor map")
         r = data.line_values
         if data.line_surge is None or data.line_surge != r[0]:
             raise ModelError(f"compressor map {data.name!r}: the surge R-line ({data.line_surge}) "
                              f"must be the first R-line ({r[0]})")
-        self.name, self.data = data.name, data
-        self.nc_rel = tuple(v / data.speed_design for v in data.speed_values)
-        self.beta = tuple((v - r[0]) / (r[-1] - r[0]) for v in r)
-        self.nc_rel_design = 1.0
-        self.beta_design = self.beta_of_rline(data.line_design)
+        nc_rel = tuple(v / data.speed_design for v in data.speed_values)
+        beta = tuple((v - r[0]) / (r[-1] - r[0]) for v in r)
         wc = [[v * LBM_TO_KG for v in row] for row in data.tables["WcMap"]]
-        mx, my = _margins(self.nc_rel, self.beta, extrapolation)
-        self._table = BicubicTable(self.nc_rel, self.beta, [wc, data.tables["PRmap"], data.tables["effMap"]],
-                                   mx, my, ("nc_rel", "beta"), f"compressor map {data.name!r}",
-                                   monotone=(True, True, False))
+        mx, my = _margins(nc_rel, beta, self.extrapolation)
+        table = BicubicTable(nc_rel, beta, [wc, data.tables["PRmap"], data.tables["effMap"]],
+                             mx, my, ("nc_rel", "beta"), f"compressor map {data.name!r}",
+                             monotone=(True, True, False))
+        surge_x = (table.x_min, *nc_rel, table.x_max)
+        surge_w = tuple(table.values(x, 0.0)[0] for x in surge_x)
+        if any(b <= a for a, b in zip(surge_w[:-1], surge_w[1:], strict=True)):
+            raise ModelError(f"compressor map {data.name!r}: corrected flow on the surge line must rise with speed")
+        for key, value in (("name", data.name), ("nc_rel", nc_rel), ("beta", beta), ("nc_rel_design", 1.0),
+                           ("beta_design", (data.line_design - r[0]) / (r[-1] - r[0])), ("_table", table),
+                           ("_surge_x", surge_x), ("_surge_w", surge_w)):
+            object.__setattr__(self, key, value)
 
     def beta_of_rline(self, rline: float) -> float:
         """Beta [-] of a source R-line value [-]."""
@@ -326,8 +306,9 @@ class CompressorMap:
     def surge_nc_rel_at_flow(self, Wc_kg_s: float) -> float:
         """Relative speed [-] at which the surge line passes through corrected flow Wc_kg_s [kg/s].
 
-        Safeguarded Newton iteration (bisection fallback) on the surge line,
-        whose flow rises with speed on every map shipped.
+        Newton iteration on the surge line, safeguarded by bisection and
+        started by linear interpolation between the speed lines; the surge
+        flow must rise with speed (checked when the map is built).
 
         Raises
         ------
@@ -335,14 +316,14 @@ class CompressorMap:
             If the flow is not reached on the surge line within the speed range
             (map plus extrapolation margin).
         """
-        lo, hi = self.nc_rel_range
-        f_lo = self._table.values(lo, 0.0)[0] - Wc_kg_s
-        f_hi = self._table.values(hi, 0.0)[0] - Wc_kg_s
-        if f_lo * f_hi > 0.0:
+        xs, ws = self._surge_x, self._surge_w
+        if not ws[0] <= Wc_kg_s <= ws[-1]:
             raise OutOfRangeError(
                 f"compressor map {self.name!r}: corrected flow {Wc_kg_s!r} kg/s is not on the surge line "
-                f"between nc_rel = {lo:g} and {hi:g} (surge flow {f_lo + Wc_kg_s:g} to {f_hi + Wc_kg_s:g} kg/s)")
-        x = lo + (hi - lo) * (-f_lo) / (f_hi - f_lo)
+                f"between nc_rel = {xs[0]:g} and {xs[-1]:g} (surge flow {ws[0]:g} to {ws[-1]:g} kg/s)")
+        k = min(max(bisect_right(ws, Wc_kg_s) - 1, 0), len(ws) - 2)
+        lo, hi, f_lo = xs[k], xs[k + 1], ws[k] - Wc_kg_s
+        x = lo + (hi - lo) * (Wc_kg_s - ws[k]) / (ws[k + 1] - ws[k])
         for _ in range(60):
             (w, _p, _e), (w_n, _pn, _en), _ = self._table.values_and_gradients(x, 0.0)
             f = w - Wc_kg_s
@@ -393,6 +374,7 @@ class CompressorMap:
         return f"CompressorMap({self.name!r}, nc_rel {self.nc_rel[0]:g}..{self.nc_rel[-1]:g}, beta 0..1)"
 
 
+@dataclass(frozen=True, slots=True, eq=False, repr=False)
 class TurbineMap:
     """Turbine map: corrected flow and efficiency over relative corrected speed and pressure ratio.
 
@@ -413,17 +395,27 @@ class TurbineMap:
         The map's own design point (from the data file).
     """
 
-    def __init__(self, data: MapData, extrapolation: float = DEFAULT_EXTRAPOLATION) -> None:
+    data: MapData
+    extrapolation: float = DEFAULT_EXTRAPOLATION
+    name: str = field(init=False)
+    nc_rel: tuple[float, ...] = field(init=False)
+    pr: tuple[float, ...] = field(init=False)
+    nc_rel_design: float = field(init=False)
+    pr_design: float = field(init=False)
+    _table: BicubicTable = field(init=False)
+
+    def __post_init__(self) -> None:
+        data = self.data
         if data.kind != "turbine":
             raise ModelError(f"map {data.name!r} is a {data.kind} map, not a turbine map")
-        self.name, self.data = data.name, data
-        self.nc_rel = tuple(v / data.speed_design for v in data.speed_values)
-        self.pr = data.line_values
-        self.nc_rel_design, self.pr_design = 1.0, data.line_design
+        nc_rel = tuple(v / data.speed_design for v in data.speed_values)
         wc = [[v * WP_TO_WC for v in row] for row in data.tables["WpMap"]]
-        mx, my = _margins(self.nc_rel, self.pr, extrapolation)
-        self._table = BicubicTable(self.nc_rel, self.pr, [wc, data.tables["effMap"]], mx, my,
-                                   ("nc_rel", "pr"), f"turbine map {data.name!r}", monotone=(True, False))
+        mx, my = _margins(nc_rel, data.line_values, self.extrapolation)
+        table = BicubicTable(nc_rel, data.line_values, [wc, data.tables["effMap"]], mx, my,
+                             ("nc_rel", "pr"), f"turbine map {data.name!r}", monotone=(True, False))
+        for key, value in (("name", data.name), ("nc_rel", nc_rel), ("pr", data.line_values), ("nc_rel_design", 1.0),
+                           ("pr_design", data.line_design), ("_table", table)):
+            object.__setattr__(self, key, value)
 
     @property
     def nc_rel_range(self) -> tuple[float, float]:

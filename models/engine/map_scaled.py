@@ -18,7 +18,7 @@ as ``PR - 1`` keeps ``PR = 1`` (no work) at ``PR_map = 1``.
 References
 ----------
 P. P. Walsh, P. Fletcher, *Gas Turbine Performance*, 2nd ed., Blackwell, 2004,
-ch. 5.3 (scaling of component maps).
+ch. 5 (scaling of component maps).
 E. S. Hendricks, J. S. Gray, "pyCycle: A Tool for Efficient Optimization of
 Gas Turbine Engine Cycles", Aerospace 6(8), 87, 2019 (``MapScalars``,
 ``ScaledMapValues`` in ``pycycle/elements/compressor_map.py`` and ``turbine_map.py``).

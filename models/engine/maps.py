@@ -24,7 +24,7 @@ margin (default 10 % of each axis span) and raises
 :class:`~.errors.OutOfRangeError` beyond it.
 
 Scaling to a cycle's design point follows pyCycle (``MapScalars``,
-``ScaledMapValues`` in ``pycycle/elements/compressor_map.py``) and NPSS::
+``ScaledMapValues`` in ``pycycle/elements/compressor_map.py``)::
 
     s_Nc  = Nc_design / nc_rel_map             Nc  = s_Nc  * nc_rel
     s_Wc  = Wc_design / Wc_map(design point)   Wc  = s_Wc  * Wc_map
@@ -37,8 +37,8 @@ References
 ----------
 P. P. Walsh, P. Fletcher, *Gas Turbine Performance*, 2nd ed., Blackwell, 2004,
 ch. 5 (component maps, beta lines, scaling, surge margin).
-SAE ARP1420 Rev. C, *Gas Turbine Engine Inlet Flow Distortion Guidelines*,
-2017 (surge margin at constant corrected flow).
+SAE ARP1420, *Gas Turbine Engine Inlet Flow Distortion Guidelines*, SAE International
+(surge margin at constant corrected flow).
 E. S. Hendricks, J. S. Gray, "pyCycle: A Tool for Efficient Optimization of
 Gas Turbine Engine Cycles", Aerospace 6(8), 87, 2019.
 """

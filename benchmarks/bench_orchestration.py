@@ -1,10 +1,21 @@
 """Orchestration overhead per FMU-step: our master beside fmpy's SSP runner, libcosim and a bare loop.
 
-The system is a chain of N trivial ``Gain`` FMUs (``tests/fmus/gain.py``, built with
-pythonfmu): component i feeds component i+1 on a Real, an Integer and a Boolean
-connection, so every exchanged type is set, got and transferred each step. The
-FMUs do almost nothing, so what is measured is what the master spends around
-them, plus the unavoidable cost of the FMI calls into pythonfmu.
+The system is a chain of N trivial ``Gain`` FMUs: component i feeds component i+1
+on a Real, an Integer and a Boolean connection, so every exchanged type is set,
+got and transferred each step. The FMUs do almost nothing, so what is measured is
+what the master spends around them, plus the unavoidable cost of the FMI calls.
+
+The chain is run twice, with two builds of the same FMU (``--fmu python|c|both``):
+
+* ``Gain`` (``tests/fmus/gain.py``, built with pythonfmu by the project's
+  build-fmus): each FMI call enters the Python interpreter (about 1.8 us), which
+  sets a floor close to half of fmpy's runner;
+* ``CGain`` (``benchmarks/c_gain/gain.c`` + ``modelDescription.xml``): the same
+  variables, value references, start values and behaviour in plain C, compiled
+  here with gcc against the FMI 2.0 headers fmpy ships and zipped into
+  ``CGain.fmu``. Its FMI calls cost what a ctypes call costs, so the master's own
+  cost dominates and issue 2's ratio target means something. Without gcc the C
+  table is skipped, with a message.
 
 It is a chain, not a closed ring: Gain's outputs depend directly on its inputs
 (``y_int = u_int + 1``, ``y_bool = not u_bool``), so a closed ring is an algebraic
@@ -18,7 +29,12 @@ Runners, all in this one process on the same built FMU and the same SSD:
   fmi2SetReal/Integer/Boolean (not for g0), fmi2DoStep, fmi2GetReal/Integer/Boolean
   through fmpy's raw ctypes functions with prebuilt arrays; the input array of FMU
   i+1 *is* the output array of FMU i, so transfers cost nothing. Only the stepping
-  loop is timed.
+  loop is timed. This is the floor of a master that calls the FMUs as ours and
+  fmpy's do; libcosim (C++) is not bound by it.
+* ``bare loop, no argtypes``: the same loop through function pointers without the
+  ``argtypes`` fmpy declares, with every argument prebuilt as a ctypes object. It is
+  not a floor for the others; it shows what ctypes' per-call argument conversion
+  costs (about 0.45 us per call).
 * ``ours``: :class:`openemss.orchestrator.execution.Execution`, Jacobi and
   Gauss-Seidel without observers, and Jacobi with a ``MemoryRecorder`` of every
   connector (fmpy's runner records every connector too). ``initialize()`` is called
@@ -40,7 +56,7 @@ really moved the values along the chain (the last FMU must end with
 ``y_int = N``). Nothing is asserted: the verdict against the targets of issue 2
 is printed.
 
-Run ``python benchmarks/bench_orchestration.py [--fmus N] [--steps S] [--repeat R]``.
+Run ``python benchmarks/bench_orchestration.py [--fmus N] [--steps S] [--repeat R] [--fmu python|c|both]``.
 """
 from __future__ import annotations
 
@@ -60,6 +76,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 GAIN_SOURCE = ROOT / "tests" / "fmus"
+C_GAIN_SOURCE = Path(__file__).resolve().parent / "c_gain"  # gain.c + modelDescription.xml
 RATE_HZ = 100.0  # the fastest rate the orchestrator allows; the rate does not change the cost per step
 STEP_S = 1.0 / RATE_HZ
 STEP_NS = 10_000_000
@@ -86,14 +103,52 @@ def build_gain(work: Path) -> Path:
     return fmu
 
 
+class NoCompiler(Exception):
+    """The C FMU cannot be built here (no gcc); its table is skipped, which is not a failure."""
+
+
+def build_c_gain(work: Path) -> Path:
+    """Compile ``benchmarks/c_gain/gain.c`` with gcc and zip it with its modelDescription into ``CGain.fmu``.
+
+    ``gcc -shared -fPIC -O2 -I<fmpy>/c-code gain.c -o binaries/<platform>/CGain<ext>``, with the
+    FMI 2.0 headers that fmpy ships. Raises :class:`NoCompiler` when gcc is missing and
+    ``RuntimeError`` (with gcc's message) when the compilation fails.
+    """
+    import subprocess
+
+    import fmpy
+
+    gcc = shutil.which("gcc")
+    if gcc is None:
+        raise NoCompiler("gcc not found on PATH")
+    headers = Path(fmpy.__file__).resolve().parent / "c-code"
+    staging = work / "c_gain_build"
+    shutil.rmtree(staging, ignore_errors=True)
+    binaries = staging / "binaries" / fmpy.platform
+    binaries.mkdir(parents=True)
+    shutil.copy2(C_GAIN_SOURCE / "modelDescription.xml", staging / "modelDescription.xml")
+    library = binaries / f"CGain{fmpy.sharedLibraryExtension}"
+    cmd = [gcc, "-shared", "-fPIC", "-O2", f"-I{headers}", str(C_GAIN_SOURCE / "gain.c"), "-o", str(library)]
+    done = subprocess.run(cmd, capture_output=True, text=True)
+    if done.returncode != 0:
+        raise RuntimeError(f"{' '.join(cmd)} failed:\n{done.stderr.strip()}")
+    (work / "fmus").mkdir(parents=True, exist_ok=True)
+    fmu = work / "fmus" / "CGain.fmu"
+    with zipfile.ZipFile(fmu, "w", zipfile.ZIP_DEFLATED) as zf:
+        for f in sorted(staging.rglob("*")):
+            if f.is_file():
+                zf.write(f, f.relative_to(staging).as_posix())
+    return fmu
+
+
 def write_chain(folder: Path, fmu: Path, n: int, types: tuple[str, ...] = ALL_TYPES) -> Path:
-    """Write ``folder/SystemStructure.ssd``: ``n`` Gain FMUs in a chain g0 -> g1 -> ... over the given types.
+    """Write ``folder/SystemStructure.ssd``: ``n`` copies of ``fmu`` in a chain g0 -> g1 -> ... over the given types.
 
     Written here rather than with the tests' helper so that the benchmark stands alone.
     """
     (folder / "resources").mkdir(parents=True, exist_ok=True)
     shutil.copy2(fmu, folder / "resources" / fmu.name)
-    parts = [SSD_HEAD.format(name=f"GainChain{n}"), "    <ssd:Elements>\n"]
+    parts = [SSD_HEAD.format(name=f"{fmu.stem}Chain{n}"), "    <ssd:Elements>\n"]
     for i in range(n):
         parts.append(f'      <ssd:Component name="g{i}" source="resources/{fmu.name}">\n'
                      '        <ssd:Connectors>\n')
@@ -175,8 +230,16 @@ def by_difference(repeat: int, run: Callable[[int], Run], steps: int) -> Measure
 
 
 # -- runners ---------------------------------------------------------------------------------------
-def bare_loop(fmu: Path, n: int, steps: int, repeat: int) -> Measured:
-    """The least a master must do: 7 raw FMI calls per FMU-step with prebuilt arrays."""
+def bare_loop(fmu: Path, n: int, steps: int, repeat: int, no_argtypes: bool = False) -> Measured:
+    """The least a master must do: 7 raw FMI calls per FMU-step with prebuilt arrays.
+
+    By default through fmpy's ctypes functions (``FMU2Slave._functions``), as our master
+    and fmpy's call the FMU. fmpy declares ``argtypes`` on them, so ctypes checks and
+    converts every argument on every call. With ``no_argtypes``, the same calls go through
+    fresh function pointers of the same library without ``argtypes``, with every argument
+    prebuilt as a ctypes object (the component as ``c_void_p``, the count as ``c_size_t``,
+    one ``c_double`` for the time per macro step): what a master in Python could get down to.
+    """
     from fmpy import extract, read_model_description
     from fmpy.fmi2 import FMU2Slave
 
@@ -198,38 +261,61 @@ def bare_loop(fmu: Path, n: int, steps: int, repeat: int) -> Measured:
             # One value array per connection, shared by the producer's get and the consumer's set.
             wires = [[(ct * 1)() for ct in (ctypes.c_double, ctypes.c_int, ctypes.c_int)] for _ in range(n)]
             vrs = {name: (ctypes.c_uint * 1)(vr[name]) for name in vr}
-            c0, step0 = slaves[0].component, slaves[0]._functions["fmi2DoStep"]  # g0: no connected inputs
+            if no_argtypes:
+                def functions(s: FMU2Slave) -> dict[str, Callable[..., int]]:
+                    fns = {}
+                    for name in ("fmi2SetReal", "fmi2SetInteger", "fmi2SetBoolean", "fmi2DoStep",
+                               "fmi2GetReal", "fmi2GetInteger", "fmi2GetBoolean"):
+                        fns[name] = s.dll[name]  # [] makes a new function pointer, without fmpy's argtypes
+                        fns[name].restype = ctypes.c_int
+                    return fns
+
+                def component(s: FMU2Slave) -> object:
+                    return ctypes.c_void_p(s.component)
+                one, h, yes = ctypes.c_size_t(1), ctypes.c_double(STEP_S), ctypes.c_int(1)
+            else:
+                def functions(s: FMU2Slave) -> dict[str, Callable[..., int]]:
+                    return s._functions
+
+                def component(s: FMU2Slave) -> object:
+                    return s.component
+                one, h, yes = 1, STEP_S, 1
+            c0, step0 = component(slaves[0]), functions(slaves[0])["fmi2DoStep"]  # g0: no connected inputs
             stepped, got = [], []
             for i, s in enumerate(slaves):
-                f = s._functions
+                f, c = functions(s), component(s)
                 if i > 0:
                     w = wires[i - 1]
-                    stepped.append((s.component, f["fmi2SetReal"], vrs["u_real"], w[0], f["fmi2SetInteger"],
+                    stepped.append((c, f["fmi2SetReal"], vrs["u_real"], w[0], f["fmi2SetInteger"],
                                     vrs["u_int"], w[1], f["fmi2SetBoolean"], vrs["u_bool"], w[2], f["fmi2DoStep"]))
                 w = wires[i]
-                got.append((s.component, f["fmi2GetReal"], vrs["y_real"], w[0], f["fmi2GetInteger"], vrs["y_int"],
+                got.append((c, f["fmi2GetReal"], vrs["y_real"], w[0], f["fmi2GetInteger"], vrs["y_int"],
                             w[1], f["fmi2GetBoolean"], vrs["y_bool"], w[2]))
             # Jacobi: every FMU sets its inputs and steps, then every FMU's outputs are read;
             # reading into the shared wires only after all steps keeps the Jacobi semantics.
-            h = STEP_S
             t0 = time.perf_counter()
             for k in range(steps):
-                t = k * h
-                if step0(c0, t, h, 1) > 1:
+                t = k * STEP_S
+                if no_argtypes:
+                    t = ctypes.c_double(t)  # once per macro step, shared by all FMUs
+                if step0(c0, t, h, yes) > 1:
                     raise RuntimeError(f"fmi2DoStep failed at t = {t} s")
                 for c, sr, vr_r, r, si, vr_i, i_, sb, vr_b, b, step in stepped:
-                    if sr(c, vr_r, 1, r) > 1 or si(c, vr_i, 1, i_) > 1 or sb(c, vr_b, 1, b) > 1 \
-                            or step(c, t, h, 1) > 1:
+                    if sr(c, vr_r, one, r) > 1 or si(c, vr_i, one, i_) > 1 or sb(c, vr_b, one, b) > 1 \
+                            or step(c, t, h, yes) > 1:
                         raise RuntimeError(f"FMI set or fmi2DoStep failed at t = {t} s")
                 for c, gr, vr_r, r, gi, vr_i, i_, gb, vr_b, b in got:
-                    if gr(c, vr_r, 1, r) > 1 or gi(c, vr_i, 1, i_) > 1 or gb(c, vr_b, 1, b) > 1:
+                    if gr(c, vr_r, one, r) > 1 or gi(c, vr_i, one, i_) > 1 or gb(c, vr_b, one, b) > 1:
                         raise RuntimeError(f"FMI get failed at t = {t} s")
             elapsed = time.perf_counter() - t0
             return Run(elapsed, steps, wires[n - 1][1][0])
         finally:
             for s in slaves:
                 s.terminate()
-                s.freeInstance()
+                # Not fmpy's freeInstance(), which also unloads the shared library: a pythonfmu FMU
+                # runs in this interpreter, and unloading its library while Python still holds objects
+                # it created can crash the process later (our Slave.free keeps it loaded for this reason).
+                s.fmi2FreeInstance(s.component)
             shutil.rmtree(unzip, ignore_errors=True)
 
     return best_run(repeat, run, steps)
@@ -360,16 +446,120 @@ def print_table(rows: list[Row], bare_s: float, ours_s: float) -> None:
         print(fmt(ln))
 
 
+FMU_KINDS = {
+    "python": ("Gain", "pythonfmu, tests/fmus/gain.py"),
+    "c": ("CGain", "compiled C, benchmarks/c_gain/gain.c"),
+}
+
+
+def gcc_version() -> str:
+    """First line of ``gcc --version``, for the C table's heading."""
+    import subprocess
+
+    try:
+        out = subprocess.run(["gcc", "--version"], capture_output=True, text=True, check=True).stdout
+    except (OSError, subprocess.CalledProcessError):
+        return "gcc ?"
+    return out.splitlines()[0] if out else "gcc ?"
+
+
+def bench_chain(kind: str, fmu: Path, work: Path, n: int, steps: int, repeat: int) -> bool:
+    """Run every runner on a chain of ``n`` copies of ``fmu``; print the table and the verdict.
+
+    Returns False when the bare loop or one of our masters failed (nothing to compare to).
+    """
+    name, origin = FMU_KINDS[kind]
+    started = time.perf_counter()
+    chain = work / f"chain_{kind}"
+    write_chain(chain, fmu, n)
+    archive = pack_ssp(chain, work / f"chain_{kind}.ssp")
+    extra = f", {gcc_version()}, -O2" if kind == "c" else ""
+    print(f"== {name} FMUs ({origin}{extra}): chain of {n}, {steps} macro steps at {RATE_HZ:g} Hz, "
+          f"best of {repeat}; load average {os.getloadavg()[0]:.2f}")
+    print()
+    rows = [
+        measure("bare loop", "raw fmi2Set/DoStep/Get through fmpy's ctypes functions; the floor", n,
+                lambda: bare_loop(fmu, n, steps, repeat)),
+        measure("bare loop, no argtypes", "the same calls without fmpy's ctypes argtypes (not the floor: see README)",
+                n, lambda: bare_loop(fmu, n, steps, repeat, no_argtypes=True)),
+        measure("ours, Jacobi", "Execution.run after initialize()", n,
+                lambda: ours(chain, n, "jacobi", steps, repeat)),
+        measure("ours, Gauss-Seidel", "Execution.run after initialize()", n,
+                lambda: ours(chain, n, "gauss-seidel", steps, repeat)),
+        measure("ours, Jacobi + record", "with a MemoryRecorder of every connector (as fmpy records)", n,
+                lambda: ours(chain, n, "jacobi", steps, repeat, record=True)),
+        measure("fmpy simulate_ssp", ".ssp archive; records every connector", n,
+                lambda: fmpy_runner(archive, n, steps, repeat)),
+        measure("libcosim", "libcosimpy from_ssp_file, step(S) after 10 steps; C++, calls FMUs without ctypes", n,
+                lambda: libcosim(chain, fmu, n, steps, repeat)),
+    ]
+    bare, raw, jacobi, gauss_seidel, _, fmpy_row, _ = rows
+    if bare.per_fmu_step_s is None or jacobi.per_fmu_step_s is None or gauss_seidel.per_fmu_step_s is None:
+        for r in (bare, jacobi, gauss_seidel):
+            if r.error:
+                print(f"{r.runner} failed: {r.error}")
+        print()
+        return False
+    print_table(rows, bare.per_fmu_step_s, jacobi.per_fmu_step_s)
+    print()
+    # The bare loop is the floor of a master in Python calling the FMU through fmpy's ctypes functions,
+    # as ours and fmpy's do. libcosim is a C++ master that calls the FMU directly: with compiled FMUs
+    # it can go below that floor, so it is left out of this check.
+    below = [r.runner for r in rows[2:6] if r.per_fmu_step_s is not None
+             and r.per_fmu_step_s < 0.97 * bare.per_fmu_step_s]
+    load = os.getloadavg()[0]
+    if below:  # no Python master can do less than the bare loop: something disturbed the timings
+        print(f"WARNING: {', '.join(below)} measured below the bare loop, which cannot be.")
+    if below or load > (os.cpu_count() or 1):
+        print(f"WARNING: load average {load:.2f} on {os.cpu_count()} CPUs: other work disturbed the timings; "
+              "rerun on an idle machine, or with more --steps and --repeat.")
+        print()
+
+    floor = bare.per_fmu_step_s
+    worst = max(jacobi.per_fmu_step_s, gauss_seidel.per_fmu_step_s)
+    overhead_us = (worst - floor) * 1e6
+    print(f"target 1: own overhead <= {TARGET_OVERHEAD_US:g} us per FMU-step: {overhead_us:.2f} us "
+          f"(the slower of Jacobi and Gauss-Seidel) -> {'met' if overhead_us <= TARGET_OVERHEAD_US else 'NOT met'}")
+    if fmpy_row.per_fmu_step_s is None:
+        print(f"target 2: ours <= {TARGET_FMPY_RATIO:g} x fmpy's runner: not measured ({fmpy_row.error})")
+    else:
+        theirs = fmpy_row.per_fmu_step_s
+        ratio = worst / theirs
+        print(f"target 2: ours <= {TARGET_FMPY_RATIO:g} x fmpy's runner per FMU-step: {ratio:.2f} x "
+              f"(the slower; Jacobi {jacobi.per_fmu_step_s / theirs:.2f} x) "
+              f"-> {'met' if ratio <= TARGET_FMPY_RATIO else 'NOT met'}")
+        if kind == "python":
+            print(f"          but the bare loop alone is already {floor / theirs:.2f} x fmpy's runner: the FMI "
+                  f"calls into pythonfmu set a floor no master goes below.")
+        else:
+            print(f"          the bare loop (the floor) is {floor / theirs:.2f} x fmpy's runner: with compiled "
+                  f"FMUs the masters' own costs dominate, so the target is meaningful here.")
+        if raw.per_fmu_step_s is not None:
+            print(f"          Without fmpy's argtypes the bare loop would be {raw.per_fmu_step_s / theirs:.2f} x "
+                  f"fmpy's runner ({(floor - raw.per_fmu_step_s) * 1e6:.2f} us per FMU-step less).")
+        if theirs > floor:
+            print(f"          Overhead over that floor, ours / fmpy's: Jacobi "
+                  f"{(jacobi.per_fmu_step_s - floor) / (theirs - floor):.2f}, Gauss-Seidel "
+                  f"{(gauss_seidel.per_fmu_step_s - floor) / (theirs - floor):.2f}")
+    print(f"({name} table: {time.perf_counter() - started:.1f} s)")
+    print()
+    return True
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(
         description="Orchestration overhead per FMU-step on a chain of N trivial Gain FMUs (Real, Integer and "
                     "Boolean connections): our Jacobi and Gauss-Seidel masters beside fmpy's simulate_ssp, "
-                    "libcosim (libcosimpy) and a bare loop of raw FMI calls, all in this process. Prints a "
-                    "table and the verdict against the targets of issue 2; asserts nothing.")
+                    "libcosim (libcosimpy) and a bare loop of raw FMI calls, all in this process, with the "
+                    "pythonfmu Gain FMU and with the same FMU compiled from C (benchmarks/c_gain, needs gcc). "
+                    "Prints a table per FMU and the verdict against the targets of issue 2; asserts nothing.")
     parser.add_argument("--fmus", type=int, default=10, help="number of FMUs in the chain (default 10)")
     parser.add_argument("--steps", type=int, default=2000, help="macro steps per timed run (default 2000)")
     parser.add_argument("--repeat", type=int, default=5, help="repetitions; the fastest is kept (default 5)")
-    parser.add_argument("--work", type=Path, help="folder for the FMU and the system files "
+    parser.add_argument("--fmu", choices=("python", "c", "both"), default="both",
+                        help="which build of Gain to chain: the pythonfmu one, the C one compiled here with gcc, "
+                             "or both, one table each (default both)")
+    parser.add_argument("--work", type=Path, help="folder for the FMUs and the system files "
                                                   "(default: a temporary folder, removed afterwards)")
     args = parser.parse_args(argv)
     if args.fmus < 2 or args.repeat < 1 or args.steps < max(20, args.fmus):
@@ -378,13 +568,9 @@ def main(argv: list[str] | None = None) -> int:
     work = args.work or Path(tempfile.mkdtemp(prefix="emss_bench_"))
     work.mkdir(parents=True, exist_ok=True)
     n, steps, repeat = args.fmus, args.steps, args.repeat
+    kinds = ["python", "c"] if args.fmu == "both" else [args.fmu]
     started = time.perf_counter()
     try:
-        fmu = build_gain(work)
-        chain = work / "chain"
-        write_chain(chain, fmu, n)
-        archive = pack_ssp(chain, work / "chain.ssp")
-
         import fmpy
         import numpy
 
@@ -393,65 +579,32 @@ def main(argv: list[str] | None = None) -> int:
             cosim_version = cosim_about.__version__
         except ImportError:
             cosim_version = "not installed"
-        print(f"Orchestration overhead per FMU-step: chain of {n} Gain FMUs (pythonfmu), one Real, one Integer "
-              f"and one Boolean connection between neighbours, {steps} macro steps at {RATE_HZ:g} Hz, "
-              f"best of {repeat}")
+        print(f"Orchestration overhead per FMU-step: chains of {n} Gain FMUs, one Real, one Integer and one "
+              f"Boolean connection between neighbours")
         print(f"Python {platform.python_version()}, fmpy {fmpy.__version__}, libcosimpy {cosim_version}, "
               f"numpy {numpy.__version__}, {os.cpu_count()} CPUs, {platform.machine()}, "
               f"load average {os.getloadavg()[0]:.2f}")
         print()
 
-        rows = [
-            measure("bare loop", "raw fmi2Set/DoStep/Get with prebuilt arrays; the floor", n,
-                    lambda: bare_loop(fmu, n, steps, repeat)),
-            measure("ours, Jacobi", "Execution.run after initialize()", n,
-                    lambda: ours(chain, n, "jacobi", steps, repeat)),
-            measure("ours, Gauss-Seidel", "Execution.run after initialize()", n,
-                    lambda: ours(chain, n, "gauss-seidel", steps, repeat)),
-            measure("ours, Jacobi + record", "with a MemoryRecorder of every connector (as fmpy records)", n,
-                    lambda: ours(chain, n, "jacobi", steps, repeat, record=True)),
-            measure("fmpy simulate_ssp", ".ssp archive; records every connector", n,
-                    lambda: fmpy_runner(archive, n, steps, repeat)),
-            measure("libcosim", "libcosimpy from_ssp_file, step(S) after 10 steps", n,
-                    lambda: libcosim(chain, fmu, n, steps, repeat)),
-        ]
-        bare, jacobi, gauss_seidel, _, fmpy_row, _ = rows
-        if bare.per_fmu_step_s is None or jacobi.per_fmu_step_s is None or gauss_seidel.per_fmu_step_s is None:
-            for r in rows[:3]:
-                if r.error:
-                    print(f"{r.runner} failed: {r.error}")
-            return 1
-        print_table(rows, bare.per_fmu_step_s, jacobi.per_fmu_step_s)
-        print()
-        below = [r.runner for r in rows[1:] if r.per_fmu_step_s is not None
-                 and r.per_fmu_step_s < 0.97 * bare.per_fmu_step_s]
-        load = os.getloadavg()[0]
-        if below:  # no master can do less than the bare loop: something disturbed the timings
-            print(f"WARNING: {', '.join(below)} measured below the bare loop, which cannot be.")
-        if below or load > (os.cpu_count() or 1):
-            print(f"WARNING: load average {load:.2f} on {os.cpu_count()} CPUs: other work disturbed the timings; "
-                  "rerun on an idle machine, or with more --steps and --repeat.")
-            print()
-
-        floor = bare.per_fmu_step_s
-        worst = max(jacobi.per_fmu_step_s, gauss_seidel.per_fmu_step_s)
-        overhead_us = (worst - floor) * 1e6
-        print(f"target 1: own overhead <= {TARGET_OVERHEAD_US:g} us per FMU-step: {overhead_us:.2f} us "
-              f"(the slower of Jacobi and Gauss-Seidel) -> {'met' if overhead_us <= TARGET_OVERHEAD_US else 'NOT met'}")
-        if fmpy_row.per_fmu_step_s is None:
-            print(f"target 2: ours <= {TARGET_FMPY_RATIO:g} x fmpy's runner: not measured ({fmpy_row.error})")
-        else:
-            theirs = fmpy_row.per_fmu_step_s
-            ratio = worst / theirs
-            print(f"target 2: ours <= {TARGET_FMPY_RATIO:g} x fmpy's runner per FMU-step: {ratio:.2f} x "
-                  f"-> {'met' if ratio <= TARGET_FMPY_RATIO else 'NOT met'}")
-            print(f"          but the bare loop alone is already {floor / theirs:.2f} x fmpy's runner: the FMI "
-                  f"calls into pythonfmu set a floor no master goes below.")
-            print(f"          Overhead over that floor, ours / fmpy's: Jacobi "
-                  f"{(jacobi.per_fmu_step_s - floor) / (theirs - floor):.2f}, Gauss-Seidel "
-                  f"{(gauss_seidel.per_fmu_step_s - floor) / (theirs - floor):.2f}")
+        ok = True
+        for kind in kinds:
+            if kind == "python":
+                fmu = build_gain(work)
+            else:
+                try:
+                    fmu = build_c_gain(work)
+                except NoCompiler as exc:
+                    print(f"== CGain FMUs (compiled C): skipped, {exc}; install gcc to measure them.")
+                    print()
+                    continue
+                except RuntimeError as exc:
+                    print(f"== CGain FMUs (compiled C): skipped, the C FMU could not be built: {exc}")
+                    print()
+                    ok = False
+                    continue
+            ok = bench_chain(kind, fmu, work, n, steps, repeat) and ok
         print(f"(benchmark wall time {time.perf_counter() - started:.1f} s)")
-        return 0
+        return 0 if ok else 1
     finally:
         if args.work is None:
             shutil.rmtree(work, ignore_errors=True)

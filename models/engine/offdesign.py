@@ -1,0 +1,377 @@
+"""Off-design steady state of the two-spool separate-flow turbofan, matched on component maps.
+
+Unknowns (scaled to order 1 by their design values): inlet flow W2, fan and
+HPC map coordinates beta_fan and beta_hpc, spool speeds N1 and N2, turbine
+pressure ratios PR_hpt and PR_lpt, bypass ratio BPR and fuel flow Wf. Residuals:
+
+1. fan map corrected flow = W2 corrected;       2. HPC map flow = W25 corrected;
+3. HPT map flow = W4 corrected;                  4. LPT map flow = W45 corrected;
+5. core nozzle: effective throat area = design;  6. bypass nozzle: same;
+7. HP spool power balance;                       8. LP spool power balance;
+9. the power setting: Wf, N1, N1 corrected, Tt4 or Fn equal to the demand.
+
+Solved with :func:`.newton.newton_solve` (Broyden updates, Jacobian reuse for
+warm starts) to max |r| < 1e-9 by default; if it fails, a
+:class:`~.errors.ConvergenceError` names every residual.
+
+The fan is one map for the whole fan (scaled to the bypass stream's design
+PR and efficiency); the core (inner) stream keeps the design ratio of the
+pressure rises, (PR_inner - 1) = k (PR_outer - 1), and of the efficiencies.
+Duct and burner pressure losses and nozzle coefficients keep their design
+values. The handling bleed (HPC stage k into the bypass) opens as N2 falls
+below its threshold (default 60 % of design N2), with a C1 ramp 2 % wide.
+
+Maps are anything with the methods of :class:`CompressorMapLike` and
+:class:`TurbineMapLike`, scaled to the design point (corrected speeds in rpm,
+corrected flows in kg/s at 288.15 K, 101325 Pa) -- :mod:`.map_scaled` provides
+them, :func:`scaled_maps` builds the default set.
+
+References
+----------
+P. P. Walsh, P. Fletcher, "Gas Turbine Performance", 2nd ed., 2004, ch. 7
+(off-design matching, the matching unknowns and equations).
+E. S. Hendricks, J. S. Gray, "pyCycle", Aerospace 6(87), 2019 (balances of the
+off-design turbofan: W, BPR, N1, N2, turbine PRs, FAR).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Any, Mapping, Protocol
+
+import numpy as np
+
+from .atmosphere import free_stream
+from .bleed import BleedSpec, stage_fractions
+from .burner import burner_with_fuel
+from .compressor import compressor
+from .cycle_design import DesignPoint, gas_of
+from .design_params import TurbofanParams
+from .duct import duct
+from .errors import ModelError, OutOfRangeError
+from .flow import T_STD_K, FlowStation, mix
+from .inlet import inlet
+from .newton import newton_solve
+from .nozzle import convergent_nozzle
+from .splitter import splitter
+from .turbine import Cooling, turbine
+
+__all__ = ["CompressorMapLike", "TurbineMapLike", "TurbofanMaps", "OffDesignPoint", "TurbofanOffDesign",
+           "scaled_maps", "RESIDUALS"]
+
+#: Residual names, in order.
+RESIDUALS: tuple[str, ...] = ("fan_flow", "hpc_flow", "hpt_flow", "lpt_flow", "core_nozzle_area",
+                              "bypass_nozzle_area", "hp_power", "lp_power", "power_setting")
+
+
+class CompressorMapLike(Protocol):
+    """A compressor map scaled to the design point."""
+
+    def evaluate(self, Nc: float, beta: float) -> tuple[float, float, float]:
+        """(corrected flow [kg/s], pressure ratio [-], isentropic efficiency [-]) at corrected speed [rpm], beta [-]."""
+        ...
+
+
+class TurbineMapLike(Protocol):
+    """A turbine map scaled to the design point."""
+
+    def evaluate(self, Nc: float, PR: float) -> tuple[float, float]:
+        """(inlet corrected flow [kg/s], isentropic efficiency [-]) at corrected speed [rpm], PR in/out [-]."""
+        ...
+
+
+@dataclass(frozen=True)
+class TurbofanMaps:
+    """The four maps of the turbofan and the beta of the design point on the compressor maps."""
+
+    fan: CompressorMapLike
+    hpc: CompressorMapLike
+    hpt: TurbineMapLike
+    lpt: TurbineMapLike
+    beta_fan_design: float = 0.5
+    beta_hpc_design: float = 0.5
+
+
+def scaled_maps(dp: DesignPoint, fan: str = "lpc_hbtf", hpc: str = "axi5", hpt: str = "hpt1269",
+                lpt: str = "lpt2269") -> TurbofanMaps:
+    """Maps of :mod:`.maps` scaled to the design point `dp` (corrected speeds in rpm)."""
+    from .maps import ScaledCompressorMap, ScaledTurbineMap, load_compressor_map, load_turbine_map
+    c = dp.components
+    fo = c["fan_outer"]
+    W2c = dp.stations["2"].Wc_kg_s
+    f = ScaledCompressorMap.from_design(load_compressor_map(fan), W2c, fo.PR, fo.eta_is, fo.Nc_rpm)
+    h = ScaledCompressorMap.from_design(load_compressor_map(hpc), c["hpc"].Wc_kg_s, c["hpc"].PR,
+                                        c["hpc"].eta_is, c["hpc"].Nc_rpm)
+    t1 = ScaledTurbineMap.from_design(load_turbine_map(hpt), c["hpt"].Wc_kg_s, c["hpt"].PR, c["hpt"].eta_is,
+                                      c["hpt"].Nc_rpm)
+    t2 = ScaledTurbineMap.from_design(load_turbine_map(lpt), c["lpt"].Wc_kg_s, c["lpt"].PR, c["lpt"].eta_is,
+                                      c["lpt"].Nc_rpm)
+    return TurbofanMaps(f, h, t1, t2, f.beta_map, h.beta_map)
+
+
+@dataclass(frozen=True)
+class OffDesignPoint:
+    """An off-design steady state (all SI; ``_pct`` in percent of the design value).
+
+    Attributes
+    ----------
+    stations : Mapping[str, FlowStation]
+        Every station, as in the design point.
+    Fn_N, Fg_N, ram_drag_N, Wf_kg_s, SFC_kg_N_s : float
+        Net and gross thrust, ram drag [N], fuel flow [kg/s], SFC [kg/(N s)].
+    N1_rpm, N2_rpm, N1_pct, N2_pct, N1c_rpm, N1c_pct : float
+        Spool speeds, and N1 corrected to the fan-face temperature.
+    Tt4_K, T41_K, Tt21_K, Tt17_K, Tt7_K, Pt3_Pa, OPR, BPR : float
+        Cycle temperatures [K], HPC delivery pressure [Pa], ratios [-].
+    SM_fan, SM_hpc : float
+        Surge margins [-] (NaN if the map does not provide them).
+    beta_fan, beta_hpc, PR_hpt, PR_lpt, handling_bleed_frac : float
+        Map coordinates, turbine pressure ratios, handling bleed W/W25.
+    iterations, evaluations : int
+        Newton iterations and residual evaluations.
+    residual_max : float
+        max |r| at the solution [-].
+    """
+
+    alt_m: float
+    Mach: float
+    dT_isa_K: float
+    stations: Mapping[str, FlowStation]
+    Fn_N: float
+    Fg_N: float
+    ram_drag_N: float
+    Wf_kg_s: float
+    SFC_kg_N_s: float
+    N1_rpm: float
+    N2_rpm: float
+    N1_pct: float
+    N2_pct: float
+    N1c_rpm: float
+    N1c_pct: float
+    Tt4_K: float
+    T41_K: float
+    Tt21_K: float
+    Tt17_K: float
+    Tt7_K: float
+    Pt3_Pa: float
+    OPR: float
+    BPR: float
+    SM_fan: float
+    SM_hpc: float
+    beta_fan: float
+    beta_hpc: float
+    PR_hpt: float
+    PR_lpt: float
+    handling_bleed_frac: float
+    iterations: int
+    evaluations: int
+    residual_max: float
+    x: tuple[float, ...] = field(repr=False)
+    jacobian: np.ndarray = field(repr=False, compare=False)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain dictionary (SI units in the key names) for JSON output."""
+        skip = {"stations", "x", "jacobian"}
+        out: dict[str, Any] = {k: getattr(self, k) for k in self.__dataclass_fields__ if k not in skip}
+        out["stations"] = {k: {"W_kg_s": s.W_kg_s, "Tt_K": s.Tt_K, "Pt_Pa": s.Pt_Pa, "FAR": s.FAR}
+                           for k, s in self.stations.items()}
+        return out
+
+
+def _smoothstep(s: float) -> float:
+    s = 0.0 if s < 0.0 else (1.0 if s > 1.0 else s)
+    return s * s * (3.0 - 2.0 * s)
+
+
+class TurbofanOffDesign:
+    """Off-design model of a turbofan sized by a design point.
+
+    Parameters
+    ----------
+    dp : DesignPoint
+        Turbofan design point (sizes the nozzles, scales the maps).
+    maps : TurbofanMaps
+        Maps scaled to `dp`.
+    handling_bleed_open_frac : float
+        Handling bleed W/W25 [-] when fully open.
+    handling_bleed_N2_pct : float
+        N2 [% of design] below which the bleed is open (centre of a 2 %-wide ramp).
+    """
+
+    def __init__(self, dp: DesignPoint, maps: TurbofanMaps, handling_bleed_open_frac: float = 0.10,
+                 handling_bleed_N2_pct: float = 60.0) -> None:
+        p = dp.params
+        if not isinstance(p, TurbofanParams):
+            raise ModelError("TurbofanOffDesign needs a turbofan design point")
+        if p.PR_booster > 1.0:
+            raise ModelError(f"{p.name}: off-design of an engine with a booster (PR_booster={p.PR_booster}) "
+                             "needs a booster map, which is not implemented")
+        if not (0.0 <= handling_bleed_open_frac < 0.5):
+            raise OutOfRangeError(f"handling_bleed_open_frac={handling_bleed_open_frac!r} is outside [0, 0.5)")
+        self.dp, self.p, self.maps, self.gas = dp, p, maps, gas_of(p)
+        self.hb_open, self.hb_N2 = handling_bleed_open_frac, handling_bleed_N2_pct / 100.0
+        c = dp.components
+        self.k_inner = (p.PR_fan_inner - 1.0) / (p.PR_fan_outer - 1.0)
+        self.eff_ratio_inner = p.eta_fan_inner / p.eta_fan_outer
+        st = dp.stations
+        self.ref = dict(W2=st["2"].W_kg_s, Wc2=st["2"].Wc_kg_s, Wc25=c["hpc"].Wc_kg_s, Wc4=c["hpt"].Wc_kg_s,
+                        Wc45=c["lpt"].Wc_kg_s, A8=dp.nozzles["core"].A_eff_m2, A18=dp.nozzles["bypass"].A_eff_m2,
+                        P_hp=c["hpc"].power_W, P_lp=c["fan_outer"].power_W + c["fan_inner"].power_W,
+                        Wf=dp.Wf_kg_s, Fn=dp.Fn_N, Tt4=dp.Tt4_K, PRh=c["hpt"].PR, PRl=c["lpt"].PR)
+        self.x_design = (1.0, maps.beta_fan_design, maps.beta_hpc_design, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0)
+
+    # ------------------------------------------------------------------ cycle
+    def _cycle(self, x: np.ndarray, cond: tuple[float, float, float], demand: tuple[str, float],
+               extras: tuple[float, float, float]) -> tuple[np.ndarray, dict[str, Any]]:
+        p, g, ref, m = self.p, self.gas, self.ref, self.maps
+        W2, b_fan, b_hpc = x[0] * ref["W2"], x[1], x[2]
+        N1, N2 = x[3] * p.N1_rpm, x[4] * p.N2_rpm
+        PRh, PRl, BPR, Wf = x[5] * ref["PRh"], x[6] * ref["PRl"], x[7] * p.BPR, x[8] * ref["Wf"]
+        cust, off_hp, off_lp = extras
+        if W2 <= 0.0 or N1 <= 0.0 or N2 <= 0.0 or BPR < 0.0 or Wf <= 0.0 or PRh < 1.0 or PRl < 1.0:
+            raise OutOfRangeError("offdesign: unknowns out of range")
+        fr = free_stream(*cond, g)
+        st: dict[str, FlowStation] = {"0": fr.station(W2, g)}
+        st["2"] = inlet(st["0"], cond[1], p.inlet_pi)
+        sq = math.sqrt
+        N1c = N1 / sq(st["2"].Tt_K / T_STD_K)
+        Wc_f, PR_f, eff_f = m.fan.evaluate(N1c, b_fan)
+        core2, byp2 = splitter(st["2"], BPR)
+        fo = compressor(byp2, PR_f, eff_f, (), g)
+        fi = compressor(core2, 1.0 + self.k_inner * (PR_f - 1.0), eff_f * self.eff_ratio_inner, (), g)
+        st["13"], st["21"] = fo.out, fi.out
+        st["24"] = duct(fi.out, p.dPqP_21_24)
+        st["25"] = duct(st["24"], p.dPqP_24_25)
+        N2c = N2 / sq(st["25"].Tt_K / T_STD_K)
+        Wc_h, PR_h, eff_h = m.hpc.evaluate(N2c, b_hpc)
+        specs = list(p.bleeds)
+        hb = max(p.handling_bleed_frac, self.hb_open * _smoothstep((self.hb_N2 + 0.01 - N2 / p.N2_rpm) / 0.02))
+        if hb > 0.0:
+            fP, fw = stage_fractions(p.handling_bleed_stage, p.hpc_stages, PR_h)
+            specs.append(BleedSpec("handling", hb, fP, fw, "bypass"))
+        if cust > 0.0:
+            specs.append(BleedSpec("customer", cust, 1.0, 1.0, "overboard"))
+        hc = compressor(st["25"], PR_h, eff_h, specs, g)
+        bl = {b.name: s for b, s in zip(specs, hc.bleeds, strict=True)}
+        st["3"] = hc.out
+        st["31"] = hc.out.with_W(hc.out.W_kg_s - sum(bl[b.name].W_kg_s for b in specs if b.at_exit))
+        bu = burner_with_fuel(st["31"], Wf, p.eta_burner, p.dPqP_burner, p.T_fuel_K, g, self.dp.Tt4_K)
+        st["4"] = bu.out
+        Tt4 = bu.out.Tt_K
+        Wc_t1, eff_t1 = m.hpt.evaluate(N2 / sq(Tt4 / T_STD_K), PRh)
+        cool = [Cooling(bl[b.name], b.sink_frac_P) for b in specs if b.sink == "hpt"]
+        ht = turbine(st["4"], PRh, eff_t1, cool, g)
+        st["41"], st["44"] = ht.rotor_in, ht.out
+        st["45"] = duct(ht.out, p.dPqP_44_45)
+        Wc_t2, eff_t2 = m.lpt.evaluate(N1 / sq(st["45"].Tt_K / T_STD_K), PRl)
+        cool = [Cooling(bl[b.name], b.sink_frac_P) for b in specs if b.sink == "lpt"]
+        lt = turbine(st["45"], PRl, eff_t2, cool, g)
+        st["5"] = lt.out
+        st["7"] = st["8"] = duct(lt.out, p.dPqP_5_7)
+        b13 = st["13"].with_W(st["13"].W_kg_s * (1.0 - p.bypass_bleed_frac))
+        back = [bl[b.name] for b in specs if b.sink == "bypass"]
+        st["16"] = mix([b13, *back], b13.Pt_Pa, g) if back else b13
+        st["17"] = st["18"] = duct(st["16"], p.dPqP_13_17)
+        nc = convergent_nozzle(st["7"], fr.amb.P_Pa, p.Cv_core, p.Cd_core, g)
+        nb = convergent_nozzle(st["17"], fr.amb.P_Pa, p.Cv_bypass, p.Cd_bypass, g)
+        ram = W2 * fr.V0_m_s
+        Fg = nc.Fg_N + nb.Fg_N
+        Fn = Fg - ram
+        kind, value = demand
+        if kind == "Wf_kg_s":
+            r9 = (Wf - value) / ref["Wf"]
+        elif kind == "N1_rpm":
+            r9 = (N1 - value) / p.N1_rpm
+        elif kind == "N1c_rpm":
+            r9 = (N1c - value) / p.N1_rpm
+        elif kind == "Tt4_K":
+            r9 = (Tt4 - value) / ref["Tt4"]
+        else:
+            r9 = (Fn - value) / ref["Fn"]
+        r = np.array([
+            (Wc_f - st["2"].Wc_kg_s) / ref["Wc2"],
+            (Wc_h - st["25"].Wc_kg_s) / ref["Wc25"],
+            (Wc_t1 - st["4"].Wc_kg_s) / ref["Wc4"],
+            (Wc_t2 - st["45"].Wc_kg_s) / ref["Wc45"],
+            nc.A_eff_m2 / ref["A8"] - 1.0,
+            nb.A_eff_m2 / ref["A18"] - 1.0,
+            (p.eta_mech_hp * ht.power_W - hc.power_W - off_hp) / ref["P_hp"],
+            (p.eta_mech_lp * lt.power_W - fo.power_W - fi.power_W - off_lp) / ref["P_lp"],
+            r9])
+        info = dict(st=st, Fn=Fn, Fg=Fg, ram=ram, Wf=Wf, N1=N1, N2=N2, N1c=N1c, BPR=BPR, hb=hb,
+                    b_fan=b_fan, b_hpc=b_hpc, N2c=N2c, PRh=PRh, PRl=PRl)
+        return r, info
+
+    # ------------------------------------------------------------------ solve
+    def solve(self, alt_m: float = 0.0, Mach: float = 0.0, dT_isa_K: float = 0.0, *,
+              Wf_kg_s: float | None = None, N1_rpm: float | None = None, N1_pct: float | None = None,
+              N1c_pct: float | None = None, Tt4_K: float | None = None, Fn_N: float | None = None,
+              customer_bleed_frac: float | None = None, offtake_hp_W: float | None = None,
+              offtake_lp_W: float | None = None, guess: OffDesignPoint | None = None,
+              tol: float = 1e-9) -> OffDesignPoint:
+        """Steady state at a flight condition and one power setting.
+
+        Parameters
+        ----------
+        alt_m, Mach, dT_isa_K : float
+            Flight condition: geopotential altitude [m], Mach [-], ISA deviation [K].
+        Wf_kg_s, N1_rpm, N1_pct, N1c_pct, Tt4_K, Fn_N : float, optional
+            The power setting: exactly one of fuel flow [kg/s], N1 [rpm or % of
+            design], corrected N1 [% of design corrected N1], Tt4 [K], net thrust [N].
+        customer_bleed_frac, offtake_hp_W, offtake_lp_W : float, optional
+            Customer bleed W/W25 [-] and shaft power offtakes [W]; default the design's.
+        guess : OffDesignPoint, optional
+            A neighbouring solution: its unknowns and Jacobian start the iteration.
+        tol : float
+            Convergence tolerance on max |residual| [-].
+
+        Raises
+        ------
+        ConvergenceError
+            If the matching does not converge; the message names the residuals.
+        """
+        p = self.p
+        given = {"Wf_kg_s": Wf_kg_s, "N1_rpm": N1_rpm, "N1_pct": N1_pct, "N1c_pct": N1c_pct, "Tt4_K": Tt4_K,
+                 "Fn_N": Fn_N}
+        set_ = [(k, v) for k, v in given.items() if v is not None]
+        if len(set_) != 1:
+            raise ModelError(f"offdesign.solve: give exactly one power setting of {', '.join(given)}; got "
+                             f"{[k for k, _ in set_] or 'none'}")
+        kind, value = set_[0]
+        if kind == "N1_pct":
+            kind, value = "N1_rpm", value / 100.0 * p.N1_rpm
+        elif kind == "N1c_pct":
+            kind, value = "N1c_rpm", value / 100.0 * self.dp.components["fan_outer"].Nc_rpm
+        extras = (p.customer_bleed_frac if customer_bleed_frac is None else customer_bleed_frac,
+                  p.offtake_hp_W if offtake_hp_W is None else offtake_hp_W,
+                  p.offtake_lp_W if offtake_lp_W is None else offtake_lp_W)
+        cond = (alt_m, Mach, dT_isa_K)
+        free_stream(*cond, self.gas)                       # range checks before iterating
+        x0 = np.array(guess.x if guess is not None else self.x_design)
+        J0 = guess.jacobian if guess is not None else None
+        res = newton_solve(lambda x: self._cycle(x, cond, (kind, value), extras)[0], x0, RESIDUALS, tol=tol,
+                           jacobian=J0, where=f"offdesign of {p.name!r} at alt {alt_m} m, Mach {Mach}, "
+                                               f"{kind}={value:.6g}")
+        _, info = self._cycle(res.x, cond, (kind, value), extras)
+        return self._result(res, info, cond)
+
+    def _result(self, res: Any, info: dict[str, Any], cond: tuple[float, float, float]) -> OffDesignPoint:
+        p, st, m = self.p, info["st"], self.maps
+        sm = []
+        for cmap, Nc, beta in ((m.fan, info["N1c"], info["b_fan"]), (m.hpc, info["N2c"], info["b_hpc"])):
+            f = getattr(cmap, "surge_margin", None)
+            try:
+                sm.append(float(f(Nc, beta)) if f is not None else math.nan)
+            except ModelError:
+                sm.append(math.nan)
+        Nc1_d = self.dp.components["fan_outer"].Nc_rpm
+        Fn = info["Fn"]
+        return OffDesignPoint(
+            *cond, MappingProxyType(st), Fn, info["Fg"], info["ram"], info["Wf"],
+            info["Wf"] / Fn if Fn > 0.0 else math.inf, info["N1"], info["N2"], 100.0 * info["N1"] / p.N1_rpm,
+            100.0 * info["N2"] / p.N2_rpm, info["N1c"], 100.0 * info["N1c"] / Nc1_d, st["4"].Tt_K, st["41"].Tt_K,
+            st["21"].Tt_K, st["17"].Tt_K, st["7"].Tt_K, st["3"].Pt_Pa, st["3"].Pt_Pa / st["2"].Pt_Pa, info["BPR"],
+            sm[0], sm[1], info["b_fan"], info["b_hpc"], info["PRh"], info["PRl"], info["hb"], res.iterations,
+            res.evaluations, float(np.max(np.abs(res.r))), tuple(float(v) for v in res.x), res.jacobian)

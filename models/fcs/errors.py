@@ -1,0 +1,37 @@
+"""Errors raised by the flight control system (FCS) package.
+
+A small hierarchy: every error of the FCS is an :class:`FcsError`, so a caller
+(an FMU adapter, the CLI) can catch them all at once. Messages name what was
+wrong, where (parameter set, mission file:line, section) and what is allowed.
+"""
+
+from __future__ import annotations
+
+__all__ = ["FcsError", "ParameterError", "MissionError", "GeometryError"]
+
+
+class FcsError(Exception):
+    """Base class of every error raised by the flight control system."""
+
+
+class ParameterError(FcsError, KeyError, ValueError):
+    """A tunable parameter is unknown, or its value is outside the allowed range.
+
+    Also a :class:`KeyError` (unknown name) and a :class:`ValueError` (bad value),
+    so ordinary Python guards catch it.
+    """
+
+    def __str__(self) -> str:  # KeyError would quote the message
+        return str(self.args[0]) if self.args else ""
+
+
+class MissionError(FcsError, ValueError):
+    """A mission file (YAML or QGroundControl .plan) is invalid.
+
+    The message names the file and line, the section (index and type) and the
+    field, and says what is allowed.
+    """
+
+
+class GeometryError(FcsError, ValueError):
+    """A geometric request has no answer (e.g. coincident points for a bearing)."""

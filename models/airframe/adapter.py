@@ -199,8 +199,9 @@ class Airframe:
             raise AirframeError("JSBSim rejected the initial condition")
 
     def start_runway(self, lat_deg: float, lon_deg: float, heading_deg: float, elevation_m: float,
-                     fuel_kg: float | None = None) -> AirframeState:
-        """Place the aircraft at rest on a runway, gear down, brakes on, flaps up.
+                     fuel_kg: float | None = None, flaps: float = 0.0) -> AirframeState:
+        """Place the aircraft at rest on a runway, gear down, flaps set [0, 1], brakes released
+        at time zero, thrust zero.
 
         It rests on its gear for ``SETTLE_S`` seconds before time zero, so the
         struts start compressed under the aircraft's weight.
@@ -217,6 +218,7 @@ class Airframe:
                   "ic/phi-deg", "ic/theta-deg"):
             f[p] = 0.0
         self._set_controls_at_rest(gear_down=True)
+        self.set_flaps(flaps)
         self.set_brakes(1.0, 1.0)
         self._run_ic()
         for _ in range(int(round(SETTLE_S * self.rate_hz))):

@@ -124,6 +124,11 @@ def trim_level(alt_m: float, mach: float, mass_kg: float | None = None, airframe
     q = 0.5 * af.state().rho_kg_m3 * tas ** 2
     s = g.wing.area_m2
     cl_req = weight / (q * s)
+    where = f"at {alt:g} m, Mach {m:g}, {mass:g} kg"
+    cl_max = a.clmax(flaps)
+    if cl_req > 0.95 * cl_max:
+        raise TrimError(f"level flight {where} needs CL = {cl_req:.2f}, beyond 95 % of CL_max = {cl_max:.2f} "
+                        "(stall); fly faster or lower")
     cla = float(a.cl_alpha(m))
     alpha0 = (cl_req - float(a.cl_linear(0.0, m))) / cla
     x0 = np.array([alpha0, 0.0, 0.05])
@@ -131,6 +136,7 @@ def trim_level(alt_m: float, mach: float, mass_kg: float | None = None, airframe
     ground = min(0.0, alt - 1000.0)  # terrain well below, so no contact point touches it
 
     def residual(x: np.ndarray) -> np.ndarray:
+        x = np.clip(x, [-0.45, -3.0, -2.0], [0.75, 3.0, 5.0])  # inside the tables (alpha) and sane
         # Twice: JSBSim's alpha-dot comes from the accelerations of the previous frame; the
         # second evaluation makes the residual a function of x alone (alpha-dot = 0 at the solution).
         for _ in range(2):
@@ -145,7 +151,6 @@ def trim_level(alt_m: float, mach: float, mass_kg: float | None = None, airframe
     res = residual(sol.x)
     worst = float(np.max(np.abs(res[:2])) * G0)
     worst = max(worst, float(abs(res[2])))
-    where = f"at {alt:g} m, Mach {m:g}, {mass:g} kg"
     if not sol.success and worst > TOL_ACC * 100:
         raise TrimError(f"trim did not converge {where}: {sol.message} (residual {worst:.3g})")
     alpha, elev, thrust = float(sol.x[0]), float(sol.x[1]), float(sol.x[2]) * weight

@@ -54,7 +54,7 @@ class NewtonResult:
     evaluations: int
 
 
-def newton_solve(f: Callable[[np.ndarray], np.ndarray], x0: Sequence[float], names: Sequence[str],
+def newton_solve(f: Callable[[np.ndarray], np.ndarray], x0: Sequence[float] | np.ndarray, names: Sequence[str],
                  tol: float = 1e-9, max_iter: int = 40, jacobian: np.ndarray | None = None,
                  fd_step: float = 1e-6, where: str = "newton") -> NewtonResult:
     """Solve f(x) = 0 from x0.

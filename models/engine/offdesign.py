@@ -37,9 +37,10 @@ off-design turbofan: W, BPR, N1, N2, turbine PRs, FAR).
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import Any, Mapping, Protocol
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -165,6 +166,9 @@ class OffDesignPoint:
     PR_hpt: float
     PR_lpt: float
     handling_bleed_frac: float
+    powers_W: Mapping[str, float]
+    overboard_W_kg_s: float
+    overboard_H_W: float
     iterations: int
     evaluations: int
     residual_max: float
@@ -173,8 +177,9 @@ class OffDesignPoint:
 
     def to_dict(self) -> dict[str, Any]:
         """Plain dictionary (SI units in the key names) for JSON output."""
-        skip = {"stations", "x", "jacobian"}
+        skip = {"stations", "x", "jacobian", "powers_W"}
         out: dict[str, Any] = {k: getattr(self, k) for k in self.__dataclass_fields__ if k not in skip}
+        out["powers_W"] = dict(self.powers_W)
         out["stations"] = {k: {"W_kg_s": s.W_kg_s, "Tt_K": s.Tt_K, "Pt_Pa": s.Pt_Pa, "FAR": s.FAR}
                            for k, s in self.stations.items()}
         return out
@@ -301,7 +306,10 @@ class TurbofanOffDesign:
             (p.eta_mech_lp * lt.power_W - fo.power_W - fi.power_W - off_lp) / ref["P_lp"],
             r9])
         info = dict(st=st, Fn=Fn, Fg=Fg, ram=ram, Wf=Wf, N1=N1, N2=N2, N1c=N1c, BPR=BPR, hb=hb,
-                    b_fan=b_fan, b_hpc=b_hpc, N2c=N2c, PRh=PRh, PRl=PRl)
+                    b_fan=b_fan, b_hpc=b_hpc, N2c=N2c, PRh=PRh, PRl=PRl,
+                    powers={"fan_outer": fo.power_W, "fan_inner": fi.power_W, "hpc": hc.power_W,
+                            "hpt": ht.power_W, "lpt": lt.power_W},
+                    bleeds={b.name: (b.sink, bl[b.name]) for b in specs})
         return r, info
 
     # ------------------------------------------------------------------ solve
@@ -367,11 +375,15 @@ class TurbofanOffDesign:
             except ModelError:
                 sm.append(math.nan)
         Nc1_d = self.dp.components["fan_outer"].Nc_rpm
+        over = [f for sink, f in info["bleeds"].values() if sink == "overboard"]
+        if p.bypass_bleed_frac > 0.0:
+            over.append(st["13"].with_W(st["13"].W_kg_s * p.bypass_bleed_frac))
         Fn = info["Fn"]
         return OffDesignPoint(
             *cond, MappingProxyType(st), Fn, info["Fg"], info["ram"], info["Wf"],
             info["Wf"] / Fn if Fn > 0.0 else math.inf, info["N1"], info["N2"], 100.0 * info["N1"] / p.N1_rpm,
             100.0 * info["N2"] / p.N2_rpm, info["N1c"], 100.0 * info["N1c"] / Nc1_d, st["4"].Tt_K, st["41"].Tt_K,
             st["21"].Tt_K, st["17"].Tt_K, st["7"].Tt_K, st["3"].Pt_Pa, st["3"].Pt_Pa / st["2"].Pt_Pa, info["BPR"],
-            sm[0], sm[1], info["b_fan"], info["b_hpc"], info["PRh"], info["PRl"], info["hb"], res.iterations,
+            sm[0], sm[1], info["b_fan"], info["b_hpc"], info["PRh"], info["PRl"], info["hb"],
+            MappingProxyType(info["powers"]), sum(f.W_kg_s for f in over), sum(f.H_W for f in over), res.iterations,
             res.evaluations, float(np.max(np.abs(res.r))), tuple(float(v) for v in res.x), res.jacobian)

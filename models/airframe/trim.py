@@ -162,6 +162,6 @@ def trim_level(alt_m: float, mach: float, mass_kg: float | None = None, airframe
     qbar = fdm["aero/qbar-psf"] * PSF
     lift = fdm["forces/fwz-aero-lbs"] * LBF  # JSBSim: wind-axis lift and drag, positive as named
     drag = fdm["forces/fwx-aero-lbs"] * LBF
-    return TrimResult(alt_m=alt, mach=m, mass_kg=af.mass_kg, tas_m_s=tas, alpha_rad=alpha, elevator=elev,
+    return TrimResult(alt_m=alt, mach=m, mass_kg=mass, tas_m_s=tas, alpha_rad=alpha, elevator=elev,
                       thrust_N=thrust, lift_N=lift, drag_N=drag, CL=lift / (qbar * s), CD=drag / (qbar * s),
                       qbar_Pa=qbar, re_mac=fdm["aero/Re"], residual=worst)

@@ -21,6 +21,11 @@ turbojet       +0.29 %    -0.12 %    (target)   -0.41 %   +0.63 %    +0.20 %
 HBTF           +0.34 %    -0.19 %    +0.20 %    -0.53 %   +0.23/0.55 %  +0.001 %
 =============  =========  =========  =========  ========  =========  ========
 
+Off-design (point OD0 of the same benchmark file: SLS, 11000 lbf, on pyCycle's AXI5
+compressor and LPT2269 turbine maps, shipped in ``models/engine/maps/`` and scaled at the
+design point as pyCycle does): W +0.20 %, OPR -0.16 %, FAR -0.26 %, N -0.31 %, TSFC
+-0.07 %, Tt3 -0.02 %.
+
 The fuel's heating value is not a thermo difference but a convention: pyCycle adds the
 fuel with zero enthalpy on CEA's absolute scale, i.e. with the heat of formation of its
 elements, which releases 44.85 MJ/kg from C12H23 (computed in
@@ -59,7 +64,7 @@ def _pyc_units(d: DesignPoint) -> dict[str, float]:
 
 def _compare(case: str, preset: str) -> None:
     ours = _pyc_units(design(load_params(preset_path(preset))))
-    ref = {k: v for k, v in REF[case].items() if k not in ("file", "point")}
+    ref = {k: v for k, v in REF[case].items() if k not in ("file", "point", "conditions")}
     print(f"\npyCycle {REF[case]['file']} ({REF[case]['point']}) vs openEMSS")
     print(f"{'quantity':>8} {'pyCycle':>14} {'openEMSS':>14} {'diff %':>8}")
     for k, v in ref.items():
@@ -74,6 +79,22 @@ def test_simple_turbojet_design_matches_pycycle() -> None:
 
 def test_high_bypass_turbofan_design_matches_pycycle() -> None:
     _compare("hbtf", "pycycle_hbtf")
+
+
+def test_simple_turbojet_offdesign_matches_pycycle() -> None:
+    """OD0: the design's nozzle area and scaled maps, net thrust 11000 lbf at SLS."""
+    from openemss.models.engine.offdesign_turbojet import TurbojetOffDesign, scaled_turbojet_maps
+    dp = design(load_params(preset_path("pycycle_simple_turbojet")))
+    cm, tm, beta = scaled_turbojet_maps(dp)
+    r = TurbojetOffDesign(dp, cm, tm, beta).solve(0.0, 1e-6, Fn_N=11000.0 * LBF_N)
+    ours = {"W": r.stations["2"].W_kg_s / LBM_KG, "OPR": r.OPR, "FAR": r.stations["4"].FAR, "Nmech": r.N_rpm,
+            "Fg": r.Fg_N / LBF_N, "TSFC": r.SFC_kg_N_s * 3600.0 * LBF_N / LBM_KG, "Tt3": r.stations["3"].Tt_K * R_PER_K}
+    ref = REF["simple_turbojet_OD0"]
+    print(f"\npyCycle {ref['file']} (OD0) vs openEMSS")
+    for k, v in ours.items():
+        print(f"{k:>8} {ref[k]:14.6f} {v:14.6f} {100 * (v / ref[k] - 1):8.3f}")
+    for k, v in ours.items():
+        assert v == pytest.approx(ref[k], rel=TOL), k
 
 
 def test_pycycle_effective_heating_value() -> None:

@@ -1,5 +1,10 @@
 """``emss engine ...`` sub-commands, contributed to the ``emss`` command.
 
+``emss engine point --alt-m A --mach M [--dtisa-k T] (--wf-kg-s | --n1-pct | --n1c-pct |
+--tt4-k | --fn-n) X [--params FILE | --preset NAME] [--json]`` sizes the engine at its
+design point, scales the shipped maps to it and prints the matched off-design state
+(:mod:`.offdesign`).
+
 ``emss engine design [--params FILE | --preset NAME] [--json]`` prints the design
 point: performance (Fn_N, Fg_N, ram_drag_N, W2_kg_s, Wf_kg_s, SFC_kg_N_s, OPR, BPR,
 Tt4_K, nozzle areas) and every station's W_kg_s, Tt_K, Pt_Pa, FAR. The JSON keys
@@ -15,20 +20,23 @@ import argparse
 import json
 import sys
 from pathlib import Path
+from typing import Any
 
 from .cycle_design import DesignPoint, design
-from .design_params import PRESETS_DIR, load_params, preset_path
+from .design_params import PRESETS_DIR, TurbofanParams, load_params, preset_path
 from .errors import ModelError
+from .offdesign import TurbofanOffDesign, scaled_maps
+from .offdesign_turbojet import TurbojetOffDesign, scaled_turbojet_maps
 from .stations import STATIONS
 
-__all__ = ["register", "cmd_design", "format_design"]
+__all__ = ["register", "cmd_design", "cmd_point", "format_design"]
 
 DEFAULT_PRESET = "larzac04_sls"
 
 
 def register(subparsers: argparse._SubParsersAction) -> tuple[type[Exception], ...]:  # type: ignore[type-arg]
     """Add ``engine`` and its sub-commands to `subparsers`; return the user-error types."""
-    eng = subparsers.add_parser("engine", help="engine performance: design point (more to come)",
+    eng = subparsers.add_parser("engine", help="engine performance: design point, off-design point",
                                 description="Engine performance synthesis of the two-spool turbofan "
                                             "and the turbojet (0-D, real gas, SI units).")
     sub = eng.add_subparsers(dest="engine_command", required=True, parser_class=type(eng))
@@ -44,6 +52,26 @@ def register(subparsers: argparse._SubParsersAction) -> tuple[type[Exception], .
                      help=f"a shipped preset: {', '.join(presets)}")
     d.add_argument("--json", action="store_true", help="print JSON (keys carry SI units: Fn_N, Tt_K ...)")
     d.set_defaults(handler=cmd_design)
+
+    pt = sub.add_parser("point", help="compute an off-design steady state on the scaled component maps",
+                        description="Size the engine at its design point (the parameter file), scale the "
+                                    "shipped component maps to it, and match the engine at the given flight "
+                                    "condition and power setting (exactly one of --wf-kg-s, --n1-pct, "
+                                    "--n1c-pct, --tt4-k, --fn-n).")
+    src = pt.add_mutually_exclusive_group()
+    src.add_argument("--params", type=Path, metavar="FILE", help="parameter file (JSON)")
+    src.add_argument("--preset", choices=presets, metavar="NAME", help=f"a shipped preset: {', '.join(presets)}")
+    pt.add_argument("--alt-m", type=float, default=0.0, metavar="M", help="geopotential altitude [m] (default 0)")
+    pt.add_argument("--mach", type=float, default=0.0, metavar="M", help="flight Mach number (default 0)")
+    pt.add_argument("--dtisa-k", type=float, default=0.0, metavar="K", help="ISA temperature deviation [K]")
+    ps = pt.add_mutually_exclusive_group(required=True)
+    ps.add_argument("--wf-kg-s", type=float, metavar="X", help="fuel flow [kg/s]")
+    ps.add_argument("--n1-pct", type=float, metavar="X", help="LP spool speed [%% of design] (turbojet: N)")
+    ps.add_argument("--n1c-pct", type=float, metavar="X", help="corrected LP spool speed [%% of design]")
+    ps.add_argument("--tt4-k", type=float, metavar="X", help="burner exit temperature [K]")
+    ps.add_argument("--fn-n", type=float, metavar="X", help="net thrust [N]")
+    pt.add_argument("--json", action="store_true", help="print JSON (keys carry SI units)")
+    pt.set_defaults(handler=cmd_point)
     return (ModelError,)
 
 
@@ -56,6 +84,44 @@ def cmd_design(args: argparse.Namespace) -> int:
         sys.stdout.write("\n")
     else:
         sys.stdout.write(format_design(dp, str(path)))
+    return 0
+
+
+def cmd_point(args: argparse.Namespace) -> int:
+    """Handler of ``emss engine point``; returns the exit code."""
+    path = args.params if args.params is not None else preset_path(args.preset or DEFAULT_PRESET)
+    dp = design(load_params(path))
+    cond = (args.alt_m, args.mach, args.dtisa_k)
+    if isinstance(dp.params, TurbofanParams):
+        kw: dict[str, Any] = {k: v for k, v in (("Wf_kg_s", args.wf_kg_s), ("N1_pct", args.n1_pct),
+                                                  ("N1c_pct", args.n1c_pct), ("Tt4_K", args.tt4_k),
+                                                  ("Fn_N", args.fn_n)) if v is not None}
+        od = TurbofanOffDesign(dp, scaled_maps(dp)).solve(*cond, **kw)
+        out = od.to_dict()
+    else:
+        if args.n1c_pct is not None:
+            raise ModelError("emss engine point: --n1c-pct is not available for a turbojet")
+        cm, tm, beta = scaled_turbojet_maps(dp)
+        kw = {k: v for k, v in (("Wf_kg_s", args.wf_kg_s), ("Tt4_K", args.tt4_k), ("Fn_N", args.fn_n),
+                                ("N_rpm", None if args.n1_pct is None else args.n1_pct / 100 * dp.params.N_rpm))
+              if v is not None}
+        tj = TurbojetOffDesign(dp, cm, tm, beta).solve(*cond, **kw)
+        out = {k: getattr(tj, k) for k in ("Fn_N", "Fg_N", "ram_drag_N", "Wf_kg_s", "SFC_kg_N_s", "N_rpm", "N_pct",
+                                           "Nc_rpm", "Tt4_K", "OPR", "beta", "PR_t", "iterations", "residual_max")}
+        out["stations"] = {k: {"W_kg_s": s.W_kg_s, "Tt_K": s.Tt_K, "Pt_Pa": s.Pt_Pa, "FAR": s.FAR}
+                           for k, s in tj.stations.items()}
+    out = {"name": dp.params.name, "alt_m": args.alt_m, "Mach": args.mach, "dT_isa_K": args.dtisa_k, **out}
+    if args.json:
+        json.dump(out, sys.stdout, indent=2)
+        sys.stdout.write("\n")
+    else:
+        for k, v in out.items():
+            if k != "stations" and not isinstance(v, dict):
+                sys.stdout.write(f"  {k:<20} {v:.6g}\n" if isinstance(v, float) else f"  {k:<20} {v}\n")
+        sys.stdout.write(f"\n  {'station':>7} {'W kg/s':>10} {'Tt K':>9} {'Pt kPa':>10} {'FAR':>9}\n")
+        for k, st in out["stations"].items():
+            sys.stdout.write(f"  {k:>7} {st['W_kg_s']:10.4f} {st['Tt_K']:9.2f} {st['Pt_Pa'] / 1e3:10.3f} "
+                             f"{st['FAR']:9.6f}\n")
     return 0
 
 

@@ -38,3 +38,25 @@ def test_bad_input_is_one_line_nonzero(tmp_path: Path, capsys: pytest.CaptureFix
     with pytest.raises(SystemExit) as exc:
         main(["engine", "design", "--preset", "nope"])
     assert exc.value.code == 2
+
+
+def test_point_json_outputs_of_spec(capsys: pytest.CaptureFixture[str]) -> None:
+    """emss engine point: the outputs SPEC.md asks for, SI keys; a design-point round trip."""
+    assert main(["engine", "point", "--alt-m", "0", "--mach", "0", "--n1-pct", "100", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    for key in ("Fn_N", "Fg_N", "ram_drag_N", "Wf_kg_s", "N1_rpm", "N2_rpm", "N1_pct", "N2_pct", "N1c_rpm",
+                "Tt4_K", "T41_K", "Tt21_K", "Tt17_K", "Tt7_K", "Pt3_Pa", "OPR", "BPR", "SM_fan", "SM_hpc",
+                "SFC_kg_N_s"):
+        assert key in out, key
+    assert out["Fn_N"] == pytest.approx(13.0e3, rel=0.01) and out["Tt4_K"] == pytest.approx(1403.0, rel=1e-6)
+
+
+def test_point_turbojet_and_errors(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["engine", "point", "--preset", "pycycle_simple_turbojet", "--fn-n", "45000", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["Fn_N"] == pytest.approx(45000.0, rel=1e-8)
+    assert main(["engine", "point", "--fn-n", "1e6"]) == 1
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "no convergence" in err and "power_setting=" in err
+    with pytest.raises(SystemExit) as exc:
+        main(["engine", "point", "--alt-m", "0"])
+    assert exc.value.code == 2

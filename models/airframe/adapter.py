@@ -144,8 +144,6 @@ class Airframe:
         fdm = jsbsim.FGFDMExec(str(JSBSIM_ROOT), None)
         fdm.set_debug_level(0)
         fdm.set_aircraft_path("aircraft")
-        fdm.set_engine_path("engine")
-        fdm.set_systems_path("systems")
         fdm["simulation/randomseed"] = int(seed)
         if not fdm.load_model("UPERA"):
             raise AirframeError(f"JSBSim could not load the UPERA aircraft from {JSBSIM_ROOT}")

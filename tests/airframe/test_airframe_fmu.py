@@ -1,0 +1,132 @@
+"""The airframe FMU (built by build-fmus) against the Python adapter: same inputs, same trajectory.
+
+Both run the same JSBSim model with the same internal rate, so the trajectories
+must agree to floating-point round-off (1e-9 relative), not to a tolerance of
+modelling. Also: every variable's description carries a unit, Integer/Boolean
+variables are discrete, and fmpy's own simulate_fmu runs the FMU.
+"""
+from __future__ import annotations
+
+import math
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+from fmpy import read_model_description, simulate_fmu
+from fmpy.fmi2 import FMU2Slave
+
+from openemss.models.airframe.adapter import Airframe
+from openemss.models.airframe.trim import trim_level
+from openemss.orchestrator.build import ensure_built
+
+ROOT = Path(__file__).resolve().parents[2]
+H = 0.05  # communication step [s]: six JSBSim steps at 120 Hz
+OUT = ("lat_deg", "lon_deg", "alt_msl_m", "alt_agl_m", "tas_m_s", "cas_m_s", "gs_m_s", "mach", "alpha_rad",
+       "beta_rad", "phi_rad", "theta_rad", "psi_rad", "p_rad_s", "q_rad_s", "r_rad_s", "load_factor", "vs_m_s",
+       "p_amb_Pa", "T_amb_K", "rho_amb_kg_m3", "mass_kg", "fuel_kg")
+ADAPTER = {"p_amb_Pa": "p_Pa", "T_amb_K": "T_K", "rho_amb_kg_m3": "rho_kg_m3"}
+
+
+@pytest.fixture(scope="module")
+def fmu(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("af_fmu")
+    (path,) = ensure_built(ROOT / "fmus", out, names=["airframe"], force=True)
+    return path
+
+
+def test_model_description(fmu: Path) -> None:
+    md = read_model_description(str(fmu))
+    names = {v.name: v for v in md.modelVariables}
+    for v in md.modelVariables:
+        assert v.description and v.description.rstrip().endswith("]"), v.name
+        if v.type in ("Integer", "Boolean") and v.causality in ("input", "output"):
+            assert v.variability == "discrete", v.name
+    for name in ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "gear_down", "brakes_norm",
+                 "steering_norm", "thrust_N", "fuel_flow_kg_s"):
+        assert names[name].causality == "input"
+    for name in (*OUT, "on_ground"):
+        assert names[name].causality == "output"
+    for name in ("lat0_deg", "lon0_deg", "heading0_deg", "alt0_m", "tas0_m_s", "fuel0_kg", "isa_dev_K",
+                 "wind_north_m_s", "turbulence_severity", "rate_hz", "start_on_runway"):
+        assert names[name].causality == "parameter"
+
+
+def _inputs(k: int) -> dict[str, float]:
+    """A manoeuvre: elevator doublet, aileron pulse, rudder step, thrust ramp, fuel flow."""
+    t = k * H
+    return {"elevator_norm": -0.05 + (-0.1 if 1.0 <= t < 2.0 else 0.1 if 2.0 <= t < 3.0 else 0.0),
+            "aileron_norm": 0.2 if 4.0 <= t < 5.0 else 0.0,
+            "rudder_norm": 0.1 if t >= 6.0 else 0.0,
+            "thrust_N": 3000.0 + 200.0 * t,
+            "fuel_flow_kg_s": 0.12,
+            "flaps_norm": 0.0, "brakes_norm": 0.0, "steering_norm": 0.0}
+
+
+def test_fmu_and_adapter_identical(fmu: Path, tmp_path: Path) -> None:
+    n_steps = 160  # 8 s
+    # --- the adapter
+    af = Airframe()
+    af.start_air(3000.0, 160.0, 90.0, 48.3, 11.8, alpha_rad=0.03, elevator=-0.05, thrust_N=3000.0,
+                 fuel_kg=500.0, ground_elevation_m=453.0)
+    ref = []
+    for k in range(n_steps):
+        u = _inputs(k)
+        af.set_surfaces(u["aileron_norm"], u["elevator_norm"], u["rudder_norm"])
+        af.set_thrust(u["thrust_N"])
+        af.set_fuel_flow(u["fuel_flow_kg_s"])
+        af.step(H)
+        s = af.state()
+        ref.append([getattr(s, ADAPTER.get(n, n)) for n in OUT])
+    ref = np.array(ref)
+    # --- the FMU, driven by fmpy's FMU2Slave
+    md = read_model_description(str(fmu))
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    unzip = tmp_path / "unzipped"
+    shutil.unpack_archive(str(fmu), str(unzip), "zip")
+    slave = FMU2Slave(guid=md.guid, unzipDirectory=str(unzip), modelIdentifier=md.coSimulation.modelIdentifier,
+                      instanceName="airframe")
+    slave.instantiate()
+    slave.setupExperiment(startTime=0.0)
+    slave.setBoolean([vr["start_on_runway"], vr["trim_at_start"], vr["gear_down"]], [False, False, False])
+    params = {"alt0_m": 3000.0, "tas0_m_s": 160.0, "heading0_deg": 90.0, "lat0_deg": 48.3, "lon0_deg": 11.8,
+              "alpha0_rad": 0.03, "fuel0_kg": 500.0, "ground_elevation_m": 453.0, **_inputs(0)}
+    slave.setReal([vr[k] for k in params], list(params.values()))
+    slave.enterInitializationMode()
+    slave.exitInitializationMode()
+    out_vr = [vr[n] for n in OUT]
+    got = []
+    for k in range(n_steps):
+        u = _inputs(k)
+        slave.setReal([vr[n] for n in u], list(u.values()))
+        slave.doStep(currentCommunicationPoint=k * H, communicationStepSize=H)
+        got.append(slave.getReal(out_vr))
+    slave.terminate()
+    slave.freeInstance()
+    got = np.array(got)
+    # the manoeuvre did something
+    assert np.ptp(ref[:, OUT.index("phi_rad")]) > math.radians(5)
+    assert ref[-1, OUT.index("fuel_kg")] == pytest.approx(500.0 - 0.12 * n_steps * H, abs=1e-9)
+    np.testing.assert_allclose(got, ref, rtol=1e-9, atol=1e-9)
+
+
+def test_trimmed_air_start_in_fmpy_simulate(fmu: Path) -> None:
+    """fmpy.simulate_fmu runs the FMU from a trimmed air start; with the trim's elevator and thrust
+    held (as start values of the inputs) the altitude stays within 5 m for 30 s."""
+    r = trim_level(5000.0, 0.6, heading_deg=263.4, lat_deg=48.366886, lon_deg=11.821172)  # the FMU's defaults
+    res = simulate_fmu(str(fmu), start_time=0.0, stop_time=30.0, output_interval=H,
+                       start_values={"start_on_runway": False, "trim_at_start": True, "alt0_m": 5000.0,
+                                     "tas0_m_s": r.tas_m_s, "gear_down": False, "elevator_norm": r.elevator,
+                                     "thrust_N": r.thrust_N},
+                       output=["alt_msl_m", "tas_m_s", "trim_elevator_norm", "trim_thrust_N", "on_ground"])
+    assert res["trim_thrust_N"][-1] == pytest.approx(r.thrust_N, rel=1e-6)
+    assert np.max(np.abs(res["alt_msl_m"] - 5000.0)) < 5.0
+    assert not res["on_ground"].any()
+
+
+def test_runway_start_rolls(fmu: Path) -> None:
+    res = simulate_fmu(str(fmu), start_time=0.0, stop_time=10.0, output_interval=H,
+                       start_values={"thrust_N": 13000.0}, output=["gs_m_s", "on_ground", "alt_agl_m"])
+    assert res["on_ground"].all()
+    # 13 kN on 2100 kg less drag and rolling friction: about 6 m/s^2 -> 55 to 65 m/s after 10 s
+    assert 50.0 < res["gs_m_s"][-1] < 65.0

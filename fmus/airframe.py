@@ -14,8 +14,8 @@ from __future__ import annotations
 
 from pythonfmu import Boolean, Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real
 
-from openemss.models.airframe.adapter import Airframe as AirframeModel
 from openemss.models.airframe.adapter import FT
+from openemss.models.airframe.adapter import Airframe as AirframeModel
 from openemss.models.airframe.trim import trim_level
 
 REQUIREMENTS = ["jsbsim>=1.2", "numpy>=1.24", "scipy>=1.10"]

@@ -13,8 +13,15 @@ import numpy as np
 import pytest
 
 from openemss.models.airframe.adapter import FT, LBM, SLUG, Airframe
-from openemss.models.airframe.aero import (aero_model, helmbold_slope, isa, korn_mcrit, oswald_nita_scholz,
-                                           skin_friction, wave_drag)
+from openemss.models.airframe.aero import (
+    aero_model,
+    helmbold_slope,
+    isa,
+    korn_mcrit,
+    oswald_nita_scholz,
+    skin_friction,
+    wave_drag,
+)
 from openemss.models.airframe.aero_lateral import lateral
 from openemss.models.airframe.geometry import load_geometry
 from openemss.models.airframe.xmlgen import AIRCRAFT_FILE, aircraft_xml

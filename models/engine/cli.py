@@ -5,6 +5,10 @@
 design point, scales the shipped maps to it and prints the matched off-design state
 (:mod:`.offdesign`).
 
+``emss engine sweep [--params FILE | --preset NAME] [--out DIR] [--bpr ...] [--opr ...]``
+runs the parametric cycle study of SPEC.md (:mod:`.cycle_study`) and writes
+``carpet.csv`` and ``carpet.png``.
+
 ``emss engine design [--params FILE | --preset NAME] [--json]`` prints the design
 point: performance (Fn_N, Fg_N, ram_drag_N, W2_kg_s, Wf_kg_s, SFC_kg_N_s, OPR, BPR,
 Tt4_K, nozzle areas) and every station's W_kg_s, Tt_K, Pt_Pa, FAR. The JSON keys
@@ -23,20 +27,21 @@ from pathlib import Path
 from typing import Any
 
 from .cycle_design import DesignPoint, design
+from .cycle_study import COLUMNS, cycle_study, plot_carpet, write_csv
 from .design_params import PRESETS_DIR, TurbofanParams, load_params, preset_path
 from .errors import ModelError
 from .offdesign import TurbofanOffDesign, scaled_maps
 from .offdesign_turbojet import TurbojetOffDesign, scaled_turbojet_maps
 from .stations import STATIONS
 
-__all__ = ["register", "cmd_design", "cmd_point", "format_design"]
+__all__ = ["register", "cmd_design", "cmd_point", "cmd_sweep", "format_design"]
 
 DEFAULT_PRESET = "larzac04_sls"
 
 
 def register(subparsers: argparse._SubParsersAction) -> tuple[type[Exception], ...]:  # type: ignore[type-arg]
     """Add ``engine`` and its sub-commands to `subparsers`; return the user-error types."""
-    eng = subparsers.add_parser("engine", help="engine performance: design point, off-design point",
+    eng = subparsers.add_parser("engine", help="engine performance: design point, off-design point, cycle study",
                                 description="Engine performance synthesis of the two-spool turbofan "
                                             "and the turbojet (0-D, real gas, SI units).")
     sub = eng.add_subparsers(dest="engine_command", required=True, parser_class=type(eng))
@@ -72,6 +77,22 @@ def register(subparsers: argparse._SubParsersAction) -> tuple[type[Exception], .
     ps.add_argument("--fn-n", type=float, metavar="X", help="net thrust [N]")
     pt.add_argument("--json", action="store_true", help="print JSON (keys carry SI units)")
     pt.set_defaults(handler=cmd_point)
+
+    sw = sub.add_parser("sweep", help="parametric cycle study: SFC over OPR for several BPR (CSV and PNG)",
+                        description="From a reference design with a thrust target (default: the preset "
+                                    "'reference_study'), vary BPR and OPR at constant Tt4, thrust and core/bypass "
+                                    "jet velocity ratio (fan pressure ratios adjusted); write carpet.csv and "
+                                    "carpet.png (SFC in kg/(N s) over OPR, one line per BPR).")
+    src = sw.add_mutually_exclusive_group()
+    src.add_argument("--params", type=Path, metavar="FILE", help="reference parameter file (JSON, turbofan)")
+    src.add_argument("--preset", choices=presets, metavar="NAME", help="reference preset")
+    sw.add_argument("--out", type=Path, default=Path("."), metavar="DIR", help="output folder (default: .)")
+    sw.add_argument("--bpr", type=float, nargs="+", default=[0.5, 1.0, 1.5, 2.0], metavar="X",
+                    help="bypass ratios (default 0.5 1 1.5 2)")
+    sw.add_argument("--opr", type=float, nargs="+", default=[float(v) for v in range(9, 21)], metavar="X",
+                    help="overall pressure ratios (default 9 to 20 in steps of 1)")
+    sw.add_argument("--json", action="store_true", help="print the carpet as JSON")
+    sw.set_defaults(handler=cmd_sweep)
     return (ModelError,)
 
 
@@ -122,6 +143,30 @@ def cmd_point(args: argparse.Namespace) -> int:
         for k, st in out["stations"].items():
             sys.stdout.write(f"  {k:>7} {st['W_kg_s']:10.4f} {st['Tt_K']:9.2f} {st['Pt_Pa'] / 1e3:10.3f} "
                              f"{st['FAR']:9.6f}\n")
+    return 0
+
+
+def cmd_sweep(args: argparse.Namespace) -> int:
+    """Handler of ``emss engine sweep``; returns the exit code."""
+    path = args.params if args.params is not None else preset_path(args.preset or "reference_study")
+    ref = load_params(path)
+    if not isinstance(ref, TurbofanParams):
+        raise ModelError(f"{path}: the cycle study needs a turbofan parameter file")
+    if not args.out.is_dir():
+        raise ModelError(f"--out {args.out}: no such folder")
+    pts = cycle_study(ref, args.bpr, args.opr)
+    csv_path = write_csv(pts, args.out / "carpet.csv")
+    png_path = plot_carpet(pts, args.out / "carpet.png", f"SFC carpet from {ref.name}")
+    if args.json:
+        json.dump({"csv": str(csv_path), "png": str(png_path),
+                   "points": [{c: getattr(p, c) for c in COLUMNS} for p in pts]}, sys.stdout, indent=2)
+        sys.stdout.write("\n")
+    else:
+        sys.stdout.write(f"  {'BPR':>5} {'OPR':>6} {'PR_fan':>7} {'W2 kg/s':>8} {'SFC kg/(N s)':>13}  note\n")
+        for p in pts:
+            sys.stdout.write(f"  {p.BPR:5.2f} {p.OPR:6.2f} {p.PR_fan_outer:7.3f} {p.W2_kg_s:8.2f} "
+                             f"{p.SFC_kg_N_s:13.5e}  {p.note}\n")
+        sys.stdout.write(f"wrote {csv_path} and {png_path}\n")
     return 0
 
 

@@ -1,0 +1,82 @@
+"""Inner pitch loop: pitch attitude command to elevator.
+
+    u = s(qbar) [k_theta (theta_c - theta) + k_theta_i Int(theta_c - theta) dt - k_q q]
+    elevator = -clip(u, -1, 1)
+
+with the gain schedule s = clip(qbar_ref / qbar, s_min, s_max) (surface
+effectiveness grows with dynamic pressure). The elevator sign follows the
+airframe adapter: elevator > 0 is trailing edge down, nose down, so a nose-up
+demand u > 0 gives a negative elevator. The integral (trim) has its own
+authority limit and stops integrating while the surface is saturated
+(conditional integration, no wind-up).
+
+References
+----------
+D. McLean, "Automatic Flight Control Systems", Prentice Hall, 1990, ch. 7.
+B. L. Stevens, F. L. Lewis, E. N. Johnson, "Aircraft Control and Simulation", 3rd ed., 2016, sec. 4.4.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .tunable import Tunable, load_params
+
+__all__ = ["PitchParams", "PitchController"]
+
+
+@dataclass(frozen=True, slots=True)
+class PitchParams:
+    """Gains of the pitch loop (data/tecs.yaml, section ``pitch``); see the file for units."""
+
+    k_theta_1_rad: float
+    k_q_s_rad: float
+    k_theta_i_1_rad_s: float
+    qbar_ref_Pa: float
+    gain_sched_min: float
+    gain_sched_max: float
+    trim_limit: float
+
+    @classmethod
+    def from_file(cls, **overrides: float) -> PitchParams:
+        """Parameter set of ``data/tecs.yaml``, section ``pitch``."""
+        return load_params(cls, "tecs.yaml", "pitch", **overrides)
+
+
+class PitchController(Tunable[PitchParams]):
+    """Pitch attitude hold with rate damping: theta command [rad] -> elevator [-1, 1] (> 0 nose down)."""
+
+    tunable_name = "pitch"
+
+    def __init__(self, params: PitchParams | None = None) -> None:
+        self._params = params if params is not None else PitchParams.from_file()
+        self._integ = 0.0
+
+    def reset(self, elevator_trim: float = 0.0) -> None:
+        """Start from elevator ``elevator_trim`` [-] (bumpless engagement)."""
+        self._integ = -elevator_trim
+
+    def step(self, dt_s: float, theta_cmd_rad: float, theta_rad: float, q_rad_s: float,
+             qbar_Pa: float) -> float:
+        """One step; returns the normalised elevator command [-1, 1] (> 0 nose down).
+
+        Parameters
+        ----------
+        dt_s : float
+            Step [s].
+        theta_cmd_rad, theta_rad : float
+            Commanded and measured pitch attitude [rad].
+        q_rad_s : float
+            Pitch rate [rad/s].
+        qbar_Pa : float
+            Dynamic pressure [Pa].
+        """
+        p = self._params
+        s = min(max(p.qbar_ref_Pa / max(qbar_Pa, 1.0), p.gain_sched_min), p.gain_sched_max)
+        e = theta_cmd_rad - theta_rad
+        u_p = s * (p.k_theta_1_rad * e - p.k_q_s_rad * q_rad_s)
+        u = u_p + self._integ
+        if -1.0 < u < 1.0 or (u >= 1.0) != (e > 0):
+            self._integ = min(max(self._integ + s * p.k_theta_i_1_rad_s * e * dt_s, -p.trim_limit), p.trim_limit)
+        u = min(max(u_p + self._integ, -1.0), 1.0)
+        return -u

@@ -1,4 +1,4 @@
-"""Engine design point: time per design point of each shipped preset.
+"""Engine speed: time per design point, per off-design point (cold, warm) and for the SFC carpet.
 
 Prints a table (median and best of several repeats, in ms per design point) and
 the share of the time spent in the gas-property calls; asserts nothing
@@ -15,15 +15,18 @@ from __future__ import annotations
 import argparse
 import statistics
 import time
+from collections.abc import Callable
 
 from openemss.models.engine.compressor import compressor
 from openemss.models.engine.cycle_design import design
+from openemss.models.engine.cycle_study import cycle_study
 from openemss.models.engine.design_params import PRESETS_DIR, load_params
 from openemss.models.engine.flow import flow_TP
 from openemss.models.engine.gas import DEFAULT_GAS
+from openemss.models.engine.offdesign import TurbofanOffDesign, scaled_maps
 
 
-def _time(fn, number: int, repeat: int) -> tuple[float, float]:
+def _time(fn: Callable[[], object], number: int, repeat: int) -> tuple[float, float]:
     runs = []
     for _ in range(repeat):
         t0 = time.perf_counter()
@@ -45,6 +48,31 @@ def main() -> None:
         mode = "W2 given" if p.W2_kg_s is not None else "Fn target"
         med, best = _time(lambda p=p: design(p), a.number, a.repeat)
         print(f"{path.stem:<26} {mode:<10} {med * 1e3:10.3f} {best * 1e3:9.3f} {'< 5 ms':>8}")
+
+    print("\noff-design (Larzac 04 preset, shipped maps), ms per point")
+    dp = design(load_params(PRESETS_DIR / "larzac04_sls.json"))
+    od = TurbofanOffDesign(dp, scaled_maps(dp))
+    med, best = _time(lambda: od.solve(7500.0, 0.75, N1_pct=90.0), max(1, a.number // 10), a.repeat)
+    print(f"  {'cold (from the design point)':<40} {med * 1e3:8.3f} {best * 1e3:8.3f}   target: none")
+    for step in (1.0, 0.1):
+        pts = [100.0 - step * k for k in range(1, 21)]
+        base = od.solve(N1_pct=100.0)
+        runs, evals = [], 0
+        for _ in range(a.repeat):
+            g = base
+            t0 = time.perf_counter()
+            for pct in pts:
+                g = od.solve(N1_pct=pct, guess=g)
+                evals += g.evaluations
+            runs.append((time.perf_counter() - t0) / len(pts))
+        label = f"warm, steps of {step:g} % N1 ({evals / (a.repeat * len(pts)):.1f} evaluations)"
+        print(f"  {label:<40} {statistics.median(runs) * 1e3:8.3f} {min(runs) * 1e3:8.3f}   target: < 2 ms")
+
+    ref = load_params(PRESETS_DIR / "reference_study.json")
+    t0 = time.perf_counter()
+    pts_c = cycle_study(ref, [0.5, 1.0, 1.5, 2.0], [float(v) for v in range(9, 21)])
+    dt = time.perf_counter() - t0
+    print(f"\nSFC carpet, {len(pts_c)} designs (4 BPR x 12 OPR): {dt:.3f} s   target: < 2 s")
 
     print("\nbuilding blocks (median us per call)")
     g = DEFAULT_GAS

@@ -7,7 +7,8 @@ to date with Broyden's rank-one update, and rebuilt only when a step fails
 to reduce |r| by half. A warm start passes the Jacobian of a neighbouring
 point, so a sweep costs few residual evaluations per point. A step that
 leaves the valid range of a component (an :class:`~.errors.OutOfRangeError`
-from a map or the gas tables) or does not reduce |r| is halved, up to 8 times.
+from a map or the gas tables) or does not reduce the Euclidean norm of r is
+halved, up to 12 times; convergence is judged on max |r_i|.
 
 References
 ----------
@@ -56,7 +57,7 @@ class NewtonResult:
 
 def newton_solve(f: Callable[[np.ndarray], np.ndarray], x0: Sequence[float] | np.ndarray, names: Sequence[str],
                  tol: float = 1e-9, max_iter: int = 40, jacobian: np.ndarray | None = None,
-                 fd_step: float = 1e-6, where: str = "newton") -> NewtonResult:
+                 fd_step: float = 1e-6, where: str = "newton", refresh_after: int = 6) -> NewtonResult:
     """Solve f(x) = 0 from x0.
 
     Parameters
@@ -78,6 +79,10 @@ def newton_solve(f: Callable[[np.ndarray], np.ndarray], x0: Sequence[float] | np
         Forward-difference step on each unknown.
     where : str
         Name of the caller for error messages.
+    refresh_after : int
+        If the returned Jacobian has absorbed more Broyden updates than this
+        since it was last built by differences, it is rebuilt at the solution,
+        so that the next warm start begins with an accurate one.
 
     Raises
     ------
@@ -112,9 +117,13 @@ def newton_solve(f: Callable[[np.ndarray], np.ndarray], x0: Sequence[float] | np
         raise ConvergenceError(f"{where}: the starting point is invalid: {exc}") from None
     J = fd(x, r) if jacobian is None else np.array(jacobian, dtype=float)
     fresh = jacobian is None
+    updates = 0
+    rejected = ""
     for it in range(max_iter + 1):
         norm = float(np.max(np.abs(r)))
         if norm < tol:
+            if updates > refresh_after:
+                J = fd(x, r)
             return NewtonResult(x, r, J, it, n_eval)
         if it == max_iter:
             break
@@ -123,29 +132,33 @@ def newton_solve(f: Callable[[np.ndarray], np.ndarray], x0: Sequence[float] | np
         except np.linalg.LinAlgError:
             dx = np.linalg.lstsq(J, -r, rcond=None)[0]
         lam, accepted = 1.0, False
-        for _ in range(9):
+        norm2 = float(np.linalg.norm(r))
+        for _ in range(12):
             xn = x + lam * dx
             try:
                 rn = F(xn)
-            except ModelError:
+            except ModelError as exc:
+                rejected = str(exc)
                 lam *= 0.5
                 continue
-            if np.max(np.abs(rn)) < (1.0 - 0.1 * lam) * norm or np.max(np.abs(rn)) < tol:
+            if np.linalg.norm(rn) < (1.0 - 1e-4 * lam) * norm2 or np.max(np.abs(rn)) < tol:
                 accepted = True
                 break
             lam *= 0.5
         if not accepted:
             if fresh:
                 break
-            J, fresh = fd(x, r), True              # stale Jacobian: rebuild and retry
+            J, fresh, updates = fd(x, r), True, 0   # stale Jacobian: rebuild and retry
             continue
         s, y = xn - x, rn - r
-        slow = np.max(np.abs(rn)) > 0.5 * norm
+        slow = np.linalg.norm(rn) > 0.5 * norm2
         x, r = xn, rn
         if slow and not fresh:
-            J, fresh = fd(x, r), True
+            J, fresh, updates = fd(x, r), True, 0
         else:
             J = J + np.outer(y - J @ s, s) / float(s @ s)   # Broyden's good update
-            fresh = False
+            fresh, updates = False, updates + 1
     detail = ", ".join(f"{nm}={v:.3e}" for nm, v in zip(names, r, strict=True))
-    raise ConvergenceError(f"{where}: no convergence in {it} iterations (tolerance {tol:g}); residuals: {detail}")
+    why = f"; last rejected step: {rejected}" if rejected else ""
+    raise ConvergenceError(f"{where}: no convergence in {it} iterations (tolerance {tol:g}); residuals: "
+                           f"{detail}{why}")

@@ -359,10 +359,20 @@ class TurbofanOffDesign:
         free_stream(*cond, self.gas)                       # range checks before iterating
         x0 = np.array(guess.x if guess is not None else self.x_design)
         J0 = guess.jacobian if guess is not None else None
-        res = newton_solve(lambda x: self._cycle(x, cond, (kind, value), extras)[0], x0, RESIDUALS, tol=tol,
+        last: dict[str, Any] = {}
+
+        def resid(x: np.ndarray) -> np.ndarray:
+            r, info = self._cycle(x, cond, (kind, value), extras)
+            last["x"], last["info"] = x.copy(), info
+            return r
+
+        res = newton_solve(resid, x0, RESIDUALS, tol=tol,
                            jacobian=J0, where=f"offdesign of {p.name!r} at alt {alt_m} m, Mach {Mach}, "
                                                f"{kind}={value:.6g}")
-        _, info = self._cycle(res.x, cond, (kind, value), extras)
+        if "x" in last and np.array_equal(last["x"], res.x):
+            info = last["info"]
+        else:
+            info = self._cycle(res.x, cond, (kind, value), extras)[1]
         return self._result(res, info, cond)
 
     def _result(self, res: Any, info: dict[str, Any], cond: tuple[float, float, float]) -> OffDesignPoint:

@@ -162,10 +162,17 @@ class TurbojetOffDesign:
         cond, demand = (alt_m, Mach, dT_isa_K), set_[0]
         free_stream(*cond, self.gas)
         x0 = np.array(guess.x if guess is not None else self.x_design)
-        res = newton_solve(lambda x: self._cycle(x, cond, demand)[0], x0, RESIDUALS_TURBOJET, tol=tol,
+        last: dict[str, Any] = {}
+
+        def resid(x: np.ndarray) -> np.ndarray:
+            r, info = self._cycle(x, cond, demand)
+            last["x"], last["info"] = x.copy(), info
+            return r
+
+        res = newton_solve(resid, x0, RESIDUALS_TURBOJET, tol=tol,
                            jacobian=guess.jacobian if guess is not None else None,
                            where=f"turbojet offdesign of {self.p.name!r} at alt {alt_m} m, Mach {Mach}")
-        _, i = self._cycle(res.x, cond, demand)
+        i = last["info"] if "x" in last and np.array_equal(last["x"], res.x) else self._cycle(res.x, cond, demand)[1]
         st = i["st"]
         return TurbojetOffDesignPoint(
             MappingProxyType(st), i["Fn"], i["Fg"], i["ram"], i["Wf"], i["Wf"] / i["Fn"] if i["Fn"] > 0 else math.inf,

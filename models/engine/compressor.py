@@ -94,7 +94,7 @@ def compressor(fs_in: FlowStation, PR: float, eta_is: float, bleeds: Sequence[Bl
     f = fs_in.FAR
     Tt_is = gas.T_isentropic(fs_in.Tt_K, PR, f, fs_in.Tt_K * PR ** 0.2857)
     ht_out = fs_in.ht_J_kg + (gas.h(Tt_is, f) - fs_in.ht_J_kg) / eta_is
-    full = flow_hP(fs_in.W_kg_s, ht_out, fs_in.Pt_Pa * PR, f, gas, Tt_is)
+    full = flow_hP(fs_in.W_kg_s, ht_out, fs_in.Pt_Pa * PR, f, gas, fs_in.Tt_K + (Tt_is - fs_in.Tt_K) / eta_is)
     streams = tuple(bleed_station(b, fs_in, full, gas) for b in bleeds)
     W_inter = sum(s.W_kg_s for b, s in zip(bleeds, streams, strict=True) if not b.at_exit)
     W_all = sum(s.W_kg_s for s in streams)

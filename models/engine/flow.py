@@ -145,7 +145,8 @@ def mix(streams: Iterable[FlowStation], Pt_Pa: float | None = None,
     fuel = sum(x.W_fuel_kg_s for x in s)
     H = sum(x.H_W for x in s)
     FAR = fuel / air
-    return flow_hP(W, H / W, s[0].Pt_Pa if Pt_Pa is None else Pt_Pa, FAR, gas, s[0].Tt_K)
+    T_guess = sum(x.W_kg_s * x.Tt_K for x in s) / W
+    return flow_hP(W, H / W, s[0].Pt_Pa if Pt_Pa is None else Pt_Pa, FAR, gas, T_guess)
 
 
 def split(fs: FlowStation, fraction: float) -> tuple[FlowStation, FlowStation]:

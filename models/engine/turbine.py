@@ -109,7 +109,8 @@ def turbine(fs_in: FlowStation, PR: float, eta_is: float, cooling: Sequence[Cool
     Pt_in, Pt_out = fs_in.Pt_Pa, fs_in.Pt_Pa / PR
     ht_out = _expand(fs_in, Pt_in, Pt_out, eta_is, gas) if PR > 1.0 else fs_in.ht_J_kg
     power = fs_in.W_kg_s * (fs_in.ht_J_kg - ht_out)
-    exits = [flow_hP(fs_in.W_kg_s, ht_out, Pt_out, fs_in.FAR, gas, fs_in.Tt_K / PR ** 0.25)]
+    T_guess = fs_in.Tt_K - (fs_in.ht_J_kg - ht_out) / gas.cp(fs_in.Tt_K, fs_in.FAR)
+    exits = [flow_hP(fs_in.W_kg_s, ht_out, Pt_out, fs_in.FAR, gas, T_guess)]
     for c in cooling:
         Pt_c = Pt_out + c.frac_P * (Pt_in - Pt_out)
         if c.flow.Pt_Pa < Pt_c * (1.0 - 1e-12):

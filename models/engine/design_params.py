@@ -79,7 +79,7 @@ def _rule(name: str) -> tuple[Any, str] | None:
         return (lambda v: 1.0 <= v <= 100.0), "[1, 100]"
     if name.startswith("dPqP") or name.endswith("_frac"):
         return (lambda v: 0.0 <= v < 1.0), "[0, 1)"
-    if name == "BPR" or name.startswith("offtake"):
+    if name == "BPR" or name.startswith("offtake") or name.endswith("_kg_m2"):
         return (lambda v: v >= 0.0), "[0, inf)"
     if name == "Tt4_K":
         return (lambda v: 300.0 < v <= 2200.0), "(300, 2200] K"
@@ -173,6 +173,8 @@ class TurbofanParams(_Common):
         Nozzle coefficients [-].
     N1_rpm, N2_rpm : float
         Design LP and HP spool speeds [rpm].
+    I_lp_kg_m2, I_hp_kg_m2 : float
+        Polar moments of inertia of the LP and HP spools [kg m^2] (transients; 0 = not given).
     """
 
     BPR: float = 1.0
@@ -206,6 +208,8 @@ class TurbofanParams(_Common):
     Cd_bypass: float = 1.0
     N1_rpm: float = 10000.0
     N2_rpm: float = 20000.0
+    I_lp_kg_m2: float = 0.0
+    I_hp_kg_m2: float = 0.0
 
 
 EngineParams = TurbojetParams | TurbofanParams

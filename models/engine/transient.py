@@ -1,0 +1,159 @@
+"""Transient turbofan: spool speeds as states, fuel flow as input.
+
+The two spool speeds N1, N2 are the states. At every instant the gas path is
+matched with the speeds and the fuel flow given: the six unknowns W2,
+beta_fan, beta_hpc, PR_hpt, PR_lpt and BPR satisfy the six flow-continuity
+residuals of :mod:`.offdesign` (fan, HPC, HPT, LPT, core and bypass nozzle),
+without the shaft power balances. What the spools do not balance
+accelerates them (:func:`.shaft.spool_acceleration`):
+
+    dN/dt = (eta_mech P_T - sum P_C - P_X) / (I omega) * 30/pi   [rpm/s].
+
+Heat soakage, volume dynamics and tip-clearance changes are not modelled (a
+quasi-steady gas path, as in most real-time engine models). Integration is a
+fixed step, explicit Euler or Heun (2nd-order), each evaluation warm-started
+from the previous one.
+
+References
+----------
+P. P. Walsh, P. Fletcher, "Gas Turbine Performance", 2nd ed., 2004, ch. 8
+(transient performance: the spool acceleration equation, quasi-steady matching).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .errors import ModelError, OutOfRangeError
+from .newton import NewtonResult, newton_solve
+from .offdesign import RESIDUALS, OffDesignPoint, TurbofanOffDesign
+from .shaft import spool_acceleration
+
+__all__ = ["TransientState", "TurbofanTransient"]
+
+_FREE = (0, 1, 2, 5, 6, 7)          # indices of the matched unknowns in the off-design vector
+
+
+@dataclass(frozen=True)
+class TransientState:
+    """The engine at one instant.
+
+    Attributes
+    ----------
+    t_s : float
+        Time [s].
+    point : OffDesignPoint
+        The matched gas path (its shaft residuals are the imbalances, not zero).
+    dN1_dt_rpm_s, dN2_dt_rpm_s : float
+        Spool accelerations [rpm/s].
+    net_lp_W, net_hp_W : float
+        Spool power imbalances [W].
+    """
+
+    t_s: float
+    point: OffDesignPoint
+    dN1_dt_rpm_s: float
+    dN2_dt_rpm_s: float
+    net_lp_W: float
+    net_hp_W: float
+
+
+class TurbofanTransient:
+    """Quasi-steady transient model over a :class:`.offdesign.TurbofanOffDesign`.
+
+    Parameters
+    ----------
+    od : TurbofanOffDesign
+        The off-design model (design point and maps).
+    I_lp_kg_m2, I_hp_kg_m2 : float, optional
+        Polar moments of inertia of the LP and HP spools [kg m^2]; default the
+        design parameters' ``I_lp_kg_m2`` and ``I_hp_kg_m2``.
+    """
+
+    def __init__(self, od: TurbofanOffDesign, I_lp_kg_m2: float | None = None,
+                 I_hp_kg_m2: float | None = None) -> None:
+        p = od.p
+        self.od = od
+        self.I_lp = p.I_lp_kg_m2 if I_lp_kg_m2 is None else I_lp_kg_m2
+        self.I_hp = p.I_hp_kg_m2 if I_hp_kg_m2 is None else I_hp_kg_m2
+        if not (self.I_lp > 0.0 and self.I_hp > 0.0):
+            raise OutOfRangeError(f"{p.name}: spool inertias I_lp_kg_m2={self.I_lp!r}, I_hp_kg_m2={self.I_hp!r} "
+                                  "must be > 0 (set them in the parameter file)")
+
+    def state(self, t_s: float, N1_rpm: float, N2_rpm: float, Wf_kg_s: float, alt_m: float = 0.0,
+              Mach: float = 0.0, dT_isa_K: float = 0.0, guess: TransientState | OffDesignPoint | None = None,
+              tol: float = 1e-9) -> TransientState:
+        """Matched gas path and spool accelerations at speeds [rpm] and fuel flow [kg/s].
+
+        Raises
+        ------
+        ConvergenceError
+            If the gas path cannot be matched (e.g. speeds off the maps).
+        """
+        od, p = self.od, self.od.p
+        g = guess.point if isinstance(guess, TransientState) else guess
+        x_full = np.array(g.x if g is not None else od.x_design)
+        x_full[3], x_full[4], x_full[8] = N1_rpm / p.N1_rpm, N2_rpm / p.N2_rpm, Wf_kg_s / od.ref["Wf"]
+        cond = (alt_m, Mach, dT_isa_K)
+        extras = (p.customer_bleed_frac, p.offtake_hp_W, p.offtake_lp_W)
+        demand = ("Wf_kg_s", Wf_kg_s)
+        last: dict[str, Any] = {}
+
+        def resid(xr: np.ndarray) -> np.ndarray:
+            x = x_full.copy()
+            x[list(_FREE)] = xr
+            r, info = od._cycle(x, cond, demand, extras)
+            last["r"], last["info"], last["xr"] = r, info, xr.copy()
+            return r[:6]
+
+        J0 = None
+        if g is not None:
+            J0 = np.asarray(g.jacobian)[np.ix_(range(6), _FREE)]
+        res = newton_solve(resid, x_full[list(_FREE)], RESIDUALS[:6], tol=tol, jacobian=J0,
+                           where=f"transient of {p.name!r} at t={t_s} s, N1={N1_rpm:.6g} rpm, "
+                                 f"N2={N2_rpm:.6g} rpm, Wf={Wf_kg_s:.6g} kg/s")
+        if not np.array_equal(last["xr"], res.x):
+            resid(res.x)
+        r, info = last["r"], last["info"]
+        x_full[list(_FREE)] = res.x
+        J = np.zeros((9, 9)) if g is None else np.array(g.jacobian, dtype=float)
+        J[np.ix_(range(6), _FREE)] = res.jacobian
+        full = NewtonResult(x_full, r, J, res.iterations, res.evaluations)
+        pt = od._result(full, info, cond)
+        net_hp, net_lp = r[6] * od.ref["P_hp"], r[7] * od.ref["P_lp"]
+        return TransientState(t_s, pt, spool_acceleration(net_lp, N1_rpm, self.I_lp),
+                              spool_acceleration(net_hp, N2_rpm, self.I_hp), net_lp, net_hp)
+
+    def simulate(self, start: OffDesignPoint, Wf_of_t: Callable[[float], float], t_end_s: float, dt_s: float,
+                 alt_m: float = 0.0, Mach: float = 0.0, dT_isa_K: float = 0.0,
+                 method: str = "heun") -> list[TransientState]:
+        """Integrate from a steady state `start` with fuel flow schedule `Wf_of_t` [kg/s] to `t_end_s` [s].
+
+        Time is t_k = k dt_s (integer k), the house rule for time stepping.
+        """
+        if method not in ("euler", "heun"):
+            raise ModelError(f"transient.simulate: method={method!r} must be 'euler' or 'heun'")
+        if not (dt_s > 0.0 and t_end_s >= 0.0):
+            raise OutOfRangeError(f"transient.simulate: dt_s={dt_s!r} must be > 0 and t_end_s={t_end_s!r} >= 0")
+        cond = (alt_m, Mach, dT_isa_K)
+        n_steps = int(math.floor(t_end_s / dt_s + 1e-9))
+        N1, N2 = start.N1_rpm, start.N2_rpm
+        s = self.state(0.0, N1, N2, Wf_of_t(0.0), *cond, guess=start)
+        out = [s]
+        for k in range(n_steps):
+            t1 = (k + 1) * dt_s
+            if method == "euler":
+                N1, N2 = N1 + dt_s * s.dN1_dt_rpm_s, N2 + dt_s * s.dN2_dt_rpm_s
+            else:
+                p = self.state(t1, N1 + dt_s * s.dN1_dt_rpm_s, N2 + dt_s * s.dN2_dt_rpm_s, Wf_of_t(t1), *cond,
+                               guess=s)
+                N1 = N1 + 0.5 * dt_s * (s.dN1_dt_rpm_s + p.dN1_dt_rpm_s)
+                N2 = N2 + 0.5 * dt_s * (s.dN2_dt_rpm_s + p.dN2_dt_rpm_s)
+            s = self.state(t1, N1, N2, Wf_of_t(t1), *cond, guess=s)
+            out.append(s)
+        return out

@@ -171,9 +171,8 @@ class Airframe:
         f = self._fdm
         f["atmosphere/delta-T"] = _check("isa_dev_K", isa_dev_K, -60.0, 60.0, " K") * 1.8
         n, e, d = (float(v) for v in wind_ned_m_s)
-        f["atmosphere/wind-north-fps"] = n / FT
-        f["atmosphere/wind-east-fps"] = e / FT
-        f["atmosphere/wind-down-fps"] = d / FT
+        self._wind_fps = (n / FT, e / FT, d / FT)
+        f["atmosphere/wind-north-fps"], f["atmosphere/wind-east-fps"], f["atmosphere/wind-down-fps"] = self._wind_fps
         sev = int(_check("turbulence_severity", turbulence_severity, 0, 7))
         f["atmosphere/turb-type"] = 3 if sev > 0 else 0  # 3: MIL-F-8785C / Tustin
         f["atmosphere/turbulence/milspec/severity"] = sev
@@ -195,6 +194,10 @@ class Airframe:
         f.set_trim_status(False)
         if not ok:
             raise AirframeError("JSBSim rejected the initial condition")
+        # JSBSim's initialization copies the initial condition's wind (kept zero, see start_air)
+        # into the wind model; the wind goes in afterwards.
+        f["atmosphere/wind-north-fps"], f["atmosphere/wind-east-fps"], f["atmosphere/wind-down-fps"] = \
+            self._wind_fps
 
     def start_runway(self, lat_deg: float, lon_deg: float, heading_deg: float, elevation_m: float,
                      fuel_kg: float | None = None, flaps: float = 0.0) -> AirframeState:
@@ -212,8 +215,9 @@ class Airframe:
         gear = self.geometry.section("gear")
         f["ic/h-agl-ft"] = (-gear["contact_z_m"] + self.geometry.z_cg_m - 0.5 * gear["main_static_deflection_m"]) / FT
         f["ic/psi-true-deg"] = float(heading_deg) % 360.0
-        for p in ("ic/u-fps", "ic/v-fps", "ic/w-fps", "ic/p-rad_sec", "ic/q-rad_sec", "ic/r-rad_sec",
-                  "ic/phi-deg", "ic/theta-deg"):
+        f["ic/vw-mag-fps"] = 0.0
+        for p in ("ic/phi-deg", "ic/theta-deg", "ic/u-fps", "ic/v-fps", "ic/w-fps", "ic/p-rad_sec",
+                  "ic/q-rad_sec", "ic/r-rad_sec"):
             f[p] = 0.0
         self._set_controls_at_rest(gear_down=True)
         self.set_flaps(flaps)
@@ -236,14 +240,26 @@ class Airframe:
         f["ic/long-gc-deg"] = _check("lon_deg", lon_deg, -180.0, 180.0, " deg")
         f["ic/terrain-elevation-ft"] = float(ground_elevation_m) / FT
         f["ic/h-sl-ft"] = _check("alt_m", alt_m, -400.0, 12000.0, " m") / FT
-        f["ic/psi-true-deg"] = float(heading_deg) % 360.0
-        f["ic/phi-deg"] = 0.0
-        f["ic/beta-rad"] = 0.0
+        # The initial condition is given as attitude and body-axis velocity over the ground, with
+        # the initial condition's own wind zero: JSBSim 1.3's initial condition and its wind model
+        # relate air and ground velocity with opposite signs (FGInitialCondition v_air = v_g + w,
+        # FGWinds v_air = v_g - w; checked with a 10 m/s wind). Ground velocity = air velocity + wind.
+        tas = _check("tas_m_s", tas_m_s, 0.0, 400.0, " m/s")
+        alpha = _check("alpha_rad", alpha_rad, -0.5, 0.8, " rad")
+        theta = alpha + float(flight_path_rad)
+        psi = math.radians(float(heading_deg) % 360.0)
+        n, e, d = (w * FT for w in self._wind_fps)
+        ct, st, cp, sp = math.cos(theta), math.sin(theta), math.cos(psi), math.sin(psi)
+        wind_body = (ct * (cp * n + sp * e) - st * d, -sp * n + cp * e, st * (cp * n + sp * e) + ct * d)
+        f["ic/vw-mag-fps"] = 0.0
+        f["ic/phi-rad"] = 0.0
+        f["ic/theta-rad"] = theta
+        f["ic/psi-true-rad"] = psi
+        f["ic/u-fps"] = (tas * math.cos(alpha) + wind_body[0]) / FT
+        f["ic/v-fps"] = wind_body[1] / FT
+        f["ic/w-fps"] = (tas * math.sin(alpha) + wind_body[2]) / FT
         for p in ("ic/p-rad_sec", "ic/q-rad_sec", "ic/r-rad_sec"):
             f[p] = 0.0
-        f["ic/vt-fps"] = _check("tas_m_s", tas_m_s, 0.0, 400.0, " m/s") / FT
-        f["ic/alpha-rad"] = _check("alpha_rad", alpha_rad, -0.5, 0.8, " rad")
-        f["ic/gamma-rad"] = float(flight_path_rad)
         self._set_controls_at_rest(gear_down=gear_down)
         self.set_surfaces(elevator=elevator)
         self.set_flaps(flaps)

@@ -130,3 +130,66 @@ def test_runway_start_rolls(fmu: Path) -> None:
     assert res["on_ground"].all()
     # 13 kN on 2100 kg less drag and rolling friction: about 6 m/s^2 -> 55 to 65 m/s after 10 s
     assert 50.0 < res["gs_m_s"][-1] < 65.0
+
+
+def test_runs_in_our_orchestrator_and_libcosim(fmu: Path, tmp_path: Path) -> None:
+    """The FMU in a one-component SSP system, run by our Jacobi master and by libcosim, gives the
+    adapter's trajectory (trimmed air start at 5000 m, 180 m/s, then elevator and thrust held at
+    their start values 0: the aircraft pitches up and slows). 1e-9: the same computation."""
+    from systems import Comp, write_system
+
+    from openemss.orchestrator.execution import Execution
+    from openemss.orchestrator.observers import MemoryRecorder
+    from openemss.orchestrator.ssp import load_system
+    from openemss.orchestrator.system import bind_system
+
+    outs = ["alt_msl_m", "tas_m_s", "theta_rad", "q_rad_s", "mass_kg"]
+    params = {"start_on_runway": False, "trim_at_start": True, "alt0_m": 5000.0, "tas0_m_s": 180.0}
+    comp = Comp("airframe", fmu.name, [(n, "output", "Real") for n in outs], params)
+    folder = tmp_path / "system"
+    (folder / "resources").mkdir(parents=True)
+    shutil.copy2(fmu, folder / "resources" / fmu.name)
+    write_system(folder, fmu.parent, [comp], [], copy_fmus=False)
+    steps, rate = 100, 1 / H
+    # ours
+    ex = Execution(bind_system(load_system(folder)), rate_hz=rate, algorithm="jacobi")
+    rec = MemoryRecorder()
+    ex.add_observer(rec)
+    ex.run(steps * H)
+    ours = rec.result()
+    # the adapter (FMU defaults: heading 263.4 deg at the 26R threshold, gear input true = down)
+    af = Airframe()
+    lat, lon, hdg = 48.366886, 11.821172, 263.4
+    af.start_air(5000.0, 100.0, hdg, lat, lon, ground_elevation_m=453.0)
+    mach = 180.0 / (af.get_property("atmosphere/a-fps") * 0.3048)
+    r = trim_level(5000.0, mach, 2100.0, airframe=af, gear_down=True, heading_deg=hdg, lat_deg=lat, lon_deg=lon)
+    # the FMU starts at the trim's elevator and thrust; its inputs (0) act from the first step
+    af.start_air(5000.0, 180.0, hdg, lat, lon, alpha_rad=r.alpha_rad, elevator=r.elevator, thrust_N=r.thrust_N,
+                 gear_down=True, fuel_kg=600.0, ground_elevation_m=453.0)
+    af.set_surfaces(elevator=0.0)
+    af.set_thrust(0.0)
+    ref = {n: [] for n in outs}
+    for _ in range(steps):
+        af.step(H)
+        s = af.state()
+        for n in outs:
+            ref[n].append(getattr(s, n))
+    for n in outs:
+        np.testing.assert_allclose(ours[f"airframe.{n}"][1:], ref[n], rtol=1e-9, atol=1e-9, err_msg=n)
+    assert ours["airframe.theta_rad"][-1] > r.alpha_rad + 0.02  # it did pitch up
+    # libcosim
+    libcosim = pytest.importorskip("libcosimpy.CosimExecution", reason="libcosimpy is a test dependency")
+    from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
+    from libcosimpy.CosimObserver import CosimObserver
+
+    log_output_level(CosimLogLevel.ERROR)
+    lx = libcosim.CosimExecution.from_ssp_file(str(folder), step_size=int(round(H * 1e9)))
+    obs = CosimObserver.create_last_value()
+    lx.add_observer(obs)
+    idx = lx.slave_index_from_instance_name("airframe")
+    refs = [next(v.reference for v in lx.slave_variables(idx) if v.name.decode() == n) for n in outs]
+    theirs = []
+    for _ in range(steps):
+        lx.step(1)
+        theirs.append(obs.last_real_values(idx, refs))
+    np.testing.assert_allclose(np.array(theirs), np.array([ref[n] for n in outs]).T, rtol=1e-9, atol=1e-9)

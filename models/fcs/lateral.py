@@ -1,0 +1,161 @@
+"""Lateral-directional control: roll attitude to aileron, yaw damper/turn coordination to rudder,
+heading and track hold as bank-angle commands.
+
+Laws (s = clip(qbar_ref/qbar, s_min, s_max) is the dynamic-pressure gain schedule)::
+
+    aileron = clip(s [k_phi (phi_c - phi) + k_phi_i Int(phi_c - phi) - k_p p], -1, 1)
+    r_c     = g sin(phi) cos(theta) / V              (coordinated turn rate)
+    rudder  = clip(s [k_beta beta - k_r (r - r_c)], -1, 1)
+    phi_c   = clip(k_psi wrap(psi_c - psi), -phi_max, phi_max)   (heading hold; track: chi)
+
+Sign conventions follow the airframe adapter: aileron > 0 rolls right, rudder > 0
+yaws the nose right; bank phi > 0 right wing down; sideslip beta > 0 with the
+relative wind from the right (nose right corrects it). Angles are radians.
+
+References
+----------
+D. McLean, "Automatic Flight Control Systems", Prentice Hall, 1990, ch. 8.
+B. L. Stevens, F. L. Lewis, E. N. Johnson, "Aircraft Control and Simulation", 3rd ed., 2016, sec. 4.5.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from .atmosphere import G0_M_S2
+from .geo import wrap_pi
+from .tunable import Tunable, load_params
+
+__all__ = ["LateralParams", "LateralState", "LateralOutput", "LateralController"]
+
+
+@dataclass(frozen=True, slots=True)
+class LateralParams:
+    """Gains and limits of the lateral loops (data/lateral.yaml, section ``lateral``)."""
+
+    k_phi_1_rad: float
+    k_p_s_rad: float
+    k_phi_i_1_rad_s: float
+    k_r_s_rad: float
+    k_beta_1_rad: float
+    qbar_ref_Pa: float
+    gain_sched_min: float
+    gain_sched_max: float
+    k_psi_1_s: float
+    phi_max_rad: float
+
+    @classmethod
+    def from_file(cls, **overrides: float) -> LateralParams:
+        """Parameter set of ``data/lateral.yaml``, section ``lateral``."""
+        return load_params(cls, "lateral.yaml", "lateral", **overrides)
+
+
+@dataclass(frozen=True, slots=True)
+class LateralState:
+    """Measured lateral-directional state.
+
+    Attributes
+    ----------
+    phi_rad, theta_rad : float
+        Bank and pitch attitude [rad].
+    psi_rad : float
+        True heading [rad].
+    chi_rad : float
+        True track (course over ground) [rad].
+    p_rad_s, r_rad_s : float
+        Body roll and yaw rates [rad/s].
+    beta_rad : float
+        Sideslip [rad].
+    tas_m_s : float
+        True airspeed [m/s].
+    qbar_Pa : float
+        Dynamic pressure [Pa].
+    """
+
+    phi_rad: float
+    theta_rad: float
+    psi_rad: float
+    chi_rad: float
+    p_rad_s: float
+    r_rad_s: float
+    beta_rad: float
+    tas_m_s: float
+    qbar_Pa: float
+
+
+@dataclass(frozen=True, slots=True)
+class LateralOutput:
+    """Surface commands and the bank command that produced them.
+
+    Attributes
+    ----------
+    aileron : float
+        Normalised aileron [-1, 1] (> 0 rolls right).
+    rudder : float
+        Normalised rudder [-1, 1] (> 0 nose right).
+    phi_cmd_rad : float
+        Bank command [rad].
+    """
+
+    aileron: float
+    rudder: float
+    phi_cmd_rad: float
+
+
+class LateralController(Tunable[LateralParams]):
+    """Roll, yaw-damper/coordination, heading and track hold."""
+
+    tunable_name = "lateral"
+
+    def __init__(self, params: LateralParams | None = None) -> None:
+        self._params = params if params is not None else LateralParams.from_file()
+        self._i_phi = 0.0
+
+    def reset(self) -> None:
+        """Clear the bank-error integral."""
+        self._i_phi = 0.0
+
+    def phi_for_heading(self, psi_cmd_rad: float, psi_rad: float, phi_max_rad: float | None = None) -> float:
+        """Bank command that turns the shorter way to heading (or track) ``psi_cmd_rad`` [rad]."""
+        p = self._params
+        lim = p.phi_max_rad if phi_max_rad is None else min(phi_max_rad, p.phi_max_rad)
+        return min(max(p.k_psi_1_s * wrap_pi(psi_cmd_rad - psi_rad), -lim), lim)
+
+    def step(self, dt_s: float, x: LateralState, phi_cmd_rad: float | None = None,
+             heading_cmd_rad: float | None = None, track_cmd_rad: float | None = None) -> LateralOutput:
+        """One step of the lateral loops.
+
+        Parameters
+        ----------
+        dt_s : float
+            Step [s].
+        x : LateralState
+            Measured state.
+        phi_cmd_rad : float, optional
+            Bank command [rad] (roll mode; from guidance). Takes precedence.
+        heading_cmd_rad, track_cmd_rad : float, optional
+            True heading or track to hold [rad].
+
+        Returns
+        -------
+        LateralOutput
+        """
+        p = self._params
+        if phi_cmd_rad is None:
+            if track_cmd_rad is not None:
+                phi_cmd_rad = self.phi_for_heading(track_cmd_rad, x.chi_rad)
+            elif heading_cmd_rad is not None:
+                phi_cmd_rad = self.phi_for_heading(heading_cmd_rad, x.psi_rad)
+            else:
+                phi_cmd_rad = 0.0
+        s = min(max(p.qbar_ref_Pa / max(x.qbar_Pa, 1.0), p.gain_sched_min), p.gain_sched_max)
+        e = phi_cmd_rad - x.phi_rad
+        u_p = s * (p.k_phi_1_rad * e - p.k_p_s_rad * x.p_rad_s)
+        u = u_p + self._i_phi
+        if -1.0 < u < 1.0 or (u >= 1.0) != (e > 0):
+            self._i_phi = min(max(self._i_phi + s * p.k_phi_i_1_rad_s * e * dt_s, -0.3), 0.3)
+        aileron = min(max(u_p + self._i_phi, -1.0), 1.0)
+        r_c = G0_M_S2 * math.sin(x.phi_rad) * math.cos(x.theta_rad) / max(x.tas_m_s, 1.0)
+        rudder = min(max(s * (p.k_beta_1_rad * x.beta_rad - p.k_r_s_rad * (x.r_rad_s - r_c)), -1.0), 1.0)
+        return LateralOutput(aileron, rudder, phi_cmd_rad)

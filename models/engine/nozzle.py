@@ -29,6 +29,7 @@ E. S. Hendricks, J. S. Gray, "pyCycle", Aerospace 6(87), 2019 (Cv convention).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from .errors import OutOfRangeError
@@ -80,7 +81,7 @@ def _check(fs: FlowStation, P_amb_Pa: float, Cv: float, Cd: float) -> None:
 
 
 def convergent_nozzle(fs: FlowStation, P_amb_Pa: float, Cv: float = 1.0, Cd: float = 1.0,
-                      gas: GasModel = DEFAULT_GAS) -> NozzleResult:
+                      gas: GasModel = DEFAULT_GAS, with_ideal: bool = True) -> NozzleResult:
     """Convergent nozzle fed by `fs` exhausting to static pressure `P_amb_Pa` [Pa].
 
     Parameters
@@ -95,12 +96,18 @@ def convergent_nozzle(fs: FlowStation, P_amb_Pa: float, Cv: float = 1.0, Cd: flo
         Discharge coefficient [-], (0, 1].
     gas : GasModel
         Gas model.
+    with_ideal : bool
+        Compute the fully expanded velocity V_ideal of a choked nozzle (one
+        more isentropic expansion); if False it is NaN when choked.
     """
     _check(fs, P_amb_Pa, Cv, Cd)
     star = static_at_mach(fs, 1.0, gas)
     choked = P_amb_Pa <= star.Ps_Pa
     th = star if choked else static_at_pressure(fs, P_amb_Pa, gas)
-    V_ideal = static_at_pressure(fs, P_amb_Pa, gas).V_m_s if choked else th.V_m_s
+    if choked:
+        V_ideal = static_at_pressure(fs, P_amb_Pa, gas).V_m_s if with_ideal else math.nan
+    else:
+        V_ideal = th.V_m_s
     A = th.A_m2
     Fg = Cv * fs.W_kg_s * th.V_m_s + ((th.Ps_Pa - P_amb_Pa) * A if choked else 0.0)
     return NozzleResult(th, choked, Fg, V_ideal, A, A / Cd, fs.Pt_Pa / P_amb_Pa)

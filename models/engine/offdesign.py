@@ -279,8 +279,8 @@ class TurbofanOffDesign:
         back = [bl[b.name] for b in specs if b.sink == "bypass"]
         st["16"] = mix([b13, *back], b13.Pt_Pa, g) if back else b13
         st["17"] = st["18"] = duct(st["16"], p.dPqP_13_17)
-        nc = convergent_nozzle(st["7"], fr.amb.P_Pa, p.Cv_core, p.Cd_core, g)
-        nb = convergent_nozzle(st["17"], fr.amb.P_Pa, p.Cv_bypass, p.Cd_bypass, g)
+        nc = convergent_nozzle(st["7"], fr.amb.P_Pa, p.Cv_core, p.Cd_core, g, with_ideal=False)
+        nb = convergent_nozzle(st["17"], fr.amb.P_Pa, p.Cv_bypass, p.Cd_bypass, g, with_ideal=False)
         ram = W2 * fr.V0_m_s
         Fg = nc.Fg_N + nb.Fg_N
         Fn = Fg - ram

@@ -29,6 +29,10 @@ from .tunable import Tunable, load_params
 
 __all__ = ["LateralParams", "LateralState", "LateralOutput", "LateralController"]
 
+#: The bank-error integral (it only trims lateral asymmetry: the roll loop is type 1 already)
+#: integrates within this band of the command, so large bank changes do not overshoot [rad].
+_I_BAND_RAD = 0.05
+
 
 @dataclass(frozen=True, slots=True)
 class LateralParams:
@@ -153,7 +157,7 @@ class LateralController(Tunable[LateralParams]):
         e = phi_cmd_rad - x.phi_rad
         u_p = s * (p.k_phi_1_rad * e - p.k_p_s_rad * x.p_rad_s)
         u = u_p + self._i_phi
-        if -1.0 < u < 1.0 or (u >= 1.0) != (e > 0):
+        if abs(e) < _I_BAND_RAD and (-1.0 < u < 1.0 or (u >= 1.0) != (e > 0)):
             self._i_phi = min(max(self._i_phi + s * p.k_phi_i_1_rad_s * e * dt_s, -0.3), 0.3)
         aileron = min(max(u_p + self._i_phi, -1.0), 1.0)
         r_c = G0_M_S2 * math.sin(x.phi_rad) * math.cos(x.theta_rad) / max(x.tas_m_s, 1.0)

@@ -136,12 +136,11 @@ def test_runs_in_our_orchestrator_and_libcosim(fmu: Path, tmp_path: Path) -> Non
     """The FMU in a one-component SSP system, run by our Jacobi master and by libcosim, gives the
     adapter's trajectory (trimmed air start at 5000 m, 180 m/s, then elevator and thrust held at
     their start values 0: the aircraft pitches up and slows). 1e-9: the same computation."""
-    from systems import Comp, write_system
-
     from openemss.orchestrator.execution import Execution
     from openemss.orchestrator.observers import MemoryRecorder
     from openemss.orchestrator.ssp import load_system
     from openemss.orchestrator.system import bind_system
+    from systems import Comp, write_system
 
     outs = ["alt_msl_m", "tas_m_s", "theta_rad", "q_rad_s", "mass_kg"]
     params = {"start_on_runway": False, "trim_at_start": True, "alt0_m": 5000.0, "tas0_m_s": 180.0}
@@ -193,3 +192,24 @@ def test_runs_in_our_orchestrator_and_libcosim(fmu: Path, tmp_path: Path) -> Non
         lx.step(1)
         theirs.append(obs.last_real_values(idx, refs))
     np.testing.assert_allclose(np.array(theirs), np.array([ref[n] for n in outs]).T, rtol=1e-9, atol=1e-9)
+
+
+def test_fmu_is_self_contained(fmu: Path, tmp_path: Path) -> None:
+    """The FMU runs where neither openEMSS nor anything beyond its requirements (and the host's fmpy)
+    can be imported, and it says what it needs in resources/requirements.txt."""
+    import subprocess
+    import sys
+    import zipfile
+
+    z = zipfile.ZipFile(fmu)
+    assert z.read("resources/requirements.txt").decode().split() == ["jsbsim>=1.2", "numpy>=1.24", "scipy>=1.10"]
+    assert any(n.endswith("jsbsim/aircraft/UPERA/UPERA.xml") for n in z.namelist())
+    code = ("import sys\n"
+            "for m in ('openemss', 'matplotlib', 'yaml'): sys.modules[m] = None  # lxml: fmpy's own\n"
+            "from fmpy import simulate_fmu\n"
+            f"r = simulate_fmu({str(fmu)!r}, stop_time=1.0, output_interval=0.05, "
+            "start_values={'thrust_N': 13000.0}, output=['gs_m_s'])\n"
+            "print(r['gs_m_s'][-1])")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    assert 3.0 < float(proc.stdout.split()[-1]) < 8.0  # about 6 m/s^2 for 1 s

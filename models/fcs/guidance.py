@@ -128,6 +128,15 @@ class L1Guidance(Tunable[GuidanceParams]):
         phi = min(max(math.atan(a / G0_M_S2), -lim), lim)
         return PathCommand(phi, path_brg, xtk, dist_to_go, eta)
 
+    def line(self, path_brg_rad: float, xtk_m: float, vn_m_s: float, ve_m_s: float,
+             psi_rad: float | None = None, dist_to_go_m: float = math.inf) -> PathCommand:
+        """Follow a straight line given by its direction [rad] and the cross-track error [m] (right +).
+
+        For paths whose geometry is computed elsewhere, e.g. a runway centre line in the
+        WGS-84 tangent plane of its threshold (:mod:`.approach`).
+        """
+        return self._command(path_brg_rad, xtk_m, vn_m_s, ve_m_s, 0.0, dist_to_go_m, psi_rad=psi_rad)
+
     def leg(self, pos: LatLon, vn_m_s: float, ve_m_s: float, start: LatLon, end: LatLon,
             psi_rad: float | None = None) -> PathCommand:
         """Follow the great circle ``start`` -> ``end``.

@@ -47,9 +47,10 @@ import numpy as np
 from .atmosphere import free_stream
 from .bleed import BleedSpec, stage_fractions
 from .burner import burner_with_fuel
-from .compressor import compressor
+from .compressor import CompressorResult, compressor
 from .cycle_design import DesignPoint, gas_of
 from .design_params import TurbofanParams
+from .distortion import Distortion, flow_residual, map_sectors, pressure_residual
 from .duct import duct
 from .errors import ModelError, OutOfRangeError
 from .flow import T_STD_K, FlowStation, mix
@@ -127,13 +128,17 @@ class OffDesignPoint:
     Tt4_K, T41_K, Tt21_K, Tt17_K, Tt7_K, Pt3_Pa, OPR, BPR : float
         Cycle temperatures [K], HPC delivery pressure [Pa], ratios [-].
     SM_fan, SM_hpc : float
-        Surge margins [-] (NaN if the map does not provide them).
+        Surge margins [-] of the worst sector (NaN if the map does not provide them).
+    SM_fan_clean, SM_hpc_clean : float
+        Surge margins of the clean sector [-] (equal to SM_fan, SM_hpc without distortion).
     beta_fan, beta_hpc, PR_hpt, PR_lpt, handling_bleed_frac : float
         Map coordinates, turbine pressure ratios, handling bleed W/W25.
     iterations, evaluations : int
         Newton iterations and residual evaluations.
     residual_max : float
         max |r| at the solution [-].
+    distortion : (Distortion or None, Distortion or None)
+        Distortion at the fan and at the HPC face.
     """
 
     alt_m: float
@@ -161,6 +166,8 @@ class OffDesignPoint:
     BPR: float
     SM_fan: float
     SM_hpc: float
+    SM_fan_clean: float
+    SM_hpc_clean: float
     beta_fan: float
     beta_hpc: float
     PR_hpt: float
@@ -174,15 +181,35 @@ class OffDesignPoint:
     residual_max: float
     x: tuple[float, ...] = field(repr=False)
     jacobian: np.ndarray = field(repr=False, compare=False)
+    distortion: tuple[Distortion | None, Distortion | None] = (None, None)
 
     def to_dict(self) -> dict[str, Any]:
         """Plain dictionary (SI units in the key names) for JSON output."""
-        skip = {"stations", "x", "jacobian", "powers_W"}
+        skip = {"stations", "x", "jacobian", "powers_W", "distortion"}
         out: dict[str, Any] = {k: getattr(self, k) for k in self.__dataclass_fields__ if k not in skip}
         out["powers_W"] = dict(self.powers_W)
+        for name, d in zip(("distortion_fan", "distortion_hpc"), self.distortion, strict=True):
+            out[name] = None if d is None else {"sector_frac": d.sector_frac, "dPt_frac": d.dPt_frac,
+                                                "dTt_K": d.dTt_K}
         out["stations"] = {k: {"W_kg_s": s.W_kg_s, "Tt_K": s.Tt_K, "Pt_Pa": s.Pt_Pa, "FAR": s.FAR}
                            for k, s in self.stations.items()}
         return out
+
+
+def _mixed(streams: list[FlowStation], gas: Any) -> FlowStation:
+    """One stream, or the mixture of sector streams at their flow-weighted total pressure."""
+    if len(streams) == 1:
+        return streams[0]
+    W = sum(f.W_kg_s for f in streams)
+    return mix(streams, sum(f.W_kg_s * f.Pt_Pa for f in streams) / W, gas)
+
+
+def _merge(results: list[CompressorResult], gas: Any) -> CompressorResult:
+    """Sectors of a compressor merged: exits and each bleed mixed, powers added."""
+    first = results[0]
+    bleeds = tuple(_mixed([r.bleeds[k] for r in results], gas) for k in range(len(first.bleeds)))
+    return CompressorResult(_mixed([r.out for r in results], gas), bleeds, sum(r.power_W for r in results),
+                            first.PR, first.eta_is, first.eta_poly, sum(r.Wc_in_kg_s for r in results))
 
 
 def _smoothstep(s: float) -> float:
@@ -229,7 +256,8 @@ class TurbofanOffDesign:
 
     # ------------------------------------------------------------------ cycle
     def _cycle(self, x: np.ndarray, cond: tuple[float, float, float], demand: tuple[str, float],
-               extras: tuple[float, float, float]) -> tuple[np.ndarray, dict[str, Any]]:
+               extras: tuple[float, float, float], dist: tuple[Distortion | None, Distortion | None] = (None, None)
+               ) -> tuple[np.ndarray, dict[str, Any]]:
         p, g, ref, m = self.p, self.gas, self.ref, self.maps
         W2, b_fan, b_hpc = x[0] * ref["W2"], x[1], x[2]
         N1, N2 = x[3] * p.N1_rpm, x[4] * p.N2_rpm
@@ -237,20 +265,34 @@ class TurbofanOffDesign:
         cust, off_hp, off_lp = extras
         if W2 <= 0.0 or N1 <= 0.0 or N2 <= 0.0 or BPR < 0.0 or Wf <= 0.0 or PRh < 1.0 or PRl < 1.0:
             raise OutOfRangeError("offdesign: unknowns out of range")
+        betas_fan, betas_hpc, i = [b_fan], [b_hpc], 9
+        if dist[0] is not None:
+            betas_fan.append(x[i])
+            i += 1
+        if dist[1] is not None:
+            betas_hpc.append(x[i])
         fr = free_stream(*cond, g)
         st: dict[str, FlowStation] = {"0": fr.station(W2, g)}
         st["2"] = inlet(st["0"], cond[1], p.inlet_pi)
         sq = math.sqrt
         N1c = N1 / sq(st["2"].Tt_K / T_STD_K)
-        Wc_f, PR_f, eff_f = m.fan.evaluate(N1c, b_fan)
-        core2, byp2 = splitter(st["2"], BPR)
-        fo = compressor(byp2, PR_f, eff_f, (), g)
-        fi = compressor(core2, 1.0 + self.k_inner * (PR_f - 1.0), eff_f * self.eff_ratio_inner, (), g)
-        st["13"], st["21"] = fo.out, fi.out
-        st["24"] = duct(fi.out, p.dPqP_21_24)
+        fan = map_sectors(st["2"], dist[0], m.fan, N1, betas_fan, g)
+        scale = W2 / sum(sp.inlet.W_kg_s for sp in fan)           # streams carry exactly W2
+        outer, inner, P_fo, P_fi = [], [], 0.0, 0.0
+        for sp in fan:
+            core_s, byp_s = splitter(sp.inlet.with_W(sp.inlet.W_kg_s * scale), BPR)
+            fo = compressor(byp_s, sp.PR, sp.eff, (), g)
+            fi = compressor(core_s, 1.0 + self.k_inner * (sp.PR - 1.0), sp.eff * self.eff_ratio_inner, (), g)
+            outer.append(fo.out)
+            inner.append(fi.out)
+            P_fo += fo.power_W
+            P_fi += fi.power_W
+        st["13"], st["21"] = _mixed(outer, g), _mixed(inner, g)
+        st["24"] = duct(st["21"], p.dPqP_21_24)
         st["25"] = duct(st["24"], p.dPqP_24_25)
         N2c = N2 / sq(st["25"].Tt_K / T_STD_K)
-        Wc_h, PR_h, eff_h = m.hpc.evaluate(N2c, b_hpc)
+        hpc = map_sectors(st["25"], dist[1], m.hpc, N2, betas_hpc, g)
+        PR_h = hpc[0].PR
         specs = list(p.bleeds)
         hb = max(p.handling_bleed_frac, self.hb_open * _smoothstep((self.hb_N2 + 0.01 - N2 / p.N2_rpm) / 0.02))
         if hb > 0.0:
@@ -258,7 +300,9 @@ class TurbofanOffDesign:
             specs.append(BleedSpec("handling", hb, fP, fw, "bypass"))
         if cust > 0.0:
             specs.append(BleedSpec("customer", cust, 1.0, 1.0, "overboard"))
-        hc = compressor(st["25"], PR_h, eff_h, specs, g)
+        scale = st["25"].W_kg_s / sum(sp.inlet.W_kg_s for sp in hpc)
+        hcs = [compressor(sp.inlet.with_W(sp.inlet.W_kg_s * scale), sp.PR, sp.eff, specs, g) for sp in hpc]
+        hc = hcs[0] if len(hcs) == 1 else _merge(hcs, g)
         bl = {b.name: s for b, s in zip(specs, hc.bleeds, strict=True)}
         st["3"] = hc.out
         st["31"] = hc.out.with_W(hc.out.W_kg_s - sum(bl[b.name].W_kg_s for b in specs if b.at_exit))
@@ -296,18 +340,19 @@ class TurbofanOffDesign:
         else:
             r9 = (Fn - value) / ref["Fn"]
         r = np.array([
-            (Wc_f - st["2"].Wc_kg_s) / ref["Wc2"],
-            (Wc_h - st["25"].Wc_kg_s) / ref["Wc25"],
+            flow_residual(fan, W2),
+            flow_residual(hpc, st["25"].W_kg_s),
             (Wc_t1 - st["4"].Wc_kg_s) / ref["Wc4"],
             (Wc_t2 - st["45"].Wc_kg_s) / ref["Wc45"],
             nc.A_eff_m2 / ref["A8"] - 1.0,
             nb.A_eff_m2 / ref["A18"] - 1.0,
             (p.eta_mech_hp * ht.power_W - hc.power_W - off_hp) / ref["P_hp"],
-            (p.eta_mech_lp * lt.power_W - fo.power_W - fi.power_W - off_lp) / ref["P_lp"],
-            r9])
+            (p.eta_mech_lp * lt.power_W - P_fo - P_fi - off_lp) / ref["P_lp"],
+            r9] + [pressure_residual(sec) for sec in (fan, hpc) if len(sec) > 1])
         info = dict(st=st, Fn=Fn, Fg=Fg, ram=ram, Wf=Wf, N1=N1, N2=N2, N1c=N1c, BPR=BPR, hb=hb,
                     b_fan=b_fan, b_hpc=b_hpc, N2c=N2c, PRh=PRh, PRl=PRl,
-                    powers={"fan_outer": fo.power_W, "fan_inner": fi.power_W, "hpc": hc.power_W,
+                    fan_sectors=[(sp.Nc, sp.beta) for sp in fan], hpc_sectors=[(sp.Nc, sp.beta) for sp in hpc],
+                    powers={"fan_outer": P_fo, "fan_inner": P_fi, "hpc": hc.power_W,
                             "hpt": ht.power_W, "lpt": lt.power_W},
                     bleeds={b.name: (b.sink, bl[b.name]) for b in specs})
         return r, info
@@ -317,7 +362,8 @@ class TurbofanOffDesign:
               Wf_kg_s: float | None = None, N1_rpm: float | None = None, N1_pct: float | None = None,
               N1c_pct: float | None = None, Tt4_K: float | None = None, Fn_N: float | None = None,
               customer_bleed_frac: float | None = None, offtake_hp_W: float | None = None,
-              offtake_lp_W: float | None = None, guess: OffDesignPoint | None = None,
+              offtake_lp_W: float | None = None, distortion_fan: Distortion | None = None,
+              distortion_hpc: Distortion | None = None, guess: OffDesignPoint | None = None,
               tol: float = 1e-9) -> OffDesignPoint:
         """Steady state at a flight condition and one power setting.
 
@@ -330,6 +376,9 @@ class TurbofanOffDesign:
             design], corrected N1 [% of design corrected N1], Tt4 [K], net thrust [N].
         customer_bleed_frac, offtake_hp_W, offtake_lp_W : float, optional
             Customer bleed W/W25 [-] and shaft power offtakes [W]; default the design's.
+        distortion_fan, distortion_hpc : Distortion, optional
+            Sector distortion at the fan or HPC face (parallel compressor model,
+            :mod:`.distortion`); each adds one unknown and one residual.
         guess : OffDesignPoint, optional
             A neighbouring solution: its unknowns and Jacobian start the iteration.
         tol : float
@@ -357,33 +406,54 @@ class TurbofanOffDesign:
                   p.offtake_lp_W if offtake_lp_W is None else offtake_lp_W)
         cond = (alt_m, Mach, dT_isa_K)
         free_stream(*cond, self.gas)                       # range checks before iterating
-        x0 = np.array(guess.x if guess is not None else self.x_design)
-        J0 = guess.jacobian if guess is not None else None
+        dist = (distortion_fan, distortion_hpc)
+        x0, J0 = self.start(dist, guess)
+        names = RESIDUALS + tuple(n for n, d in zip(("fan_sector_pressure", "hpc_sector_pressure"), dist,
+                                                    strict=True) if d is not None)
         last: dict[str, Any] = {}
 
         def resid(x: np.ndarray) -> np.ndarray:
-            r, info = self._cycle(x, cond, (kind, value), extras)
+            r, info = self._cycle(x, cond, (kind, value), extras, dist)
             last["x"], last["info"] = x.copy(), info
             return r
 
-        res = newton_solve(resid, x0, RESIDUALS, tol=tol,
+        res = newton_solve(resid, x0, names, tol=tol,
                            jacobian=J0, where=f"offdesign of {p.name!r} at alt {alt_m} m, Mach {Mach}, "
                                                f"{kind}={value:.6g}")
         if "x" in last and np.array_equal(last["x"], res.x):
             info = last["info"]
         else:
-            info = self._cycle(res.x, cond, (kind, value), extras)[1]
-        return self._result(res, info, cond)
+            info = self._cycle(res.x, cond, (kind, value), extras, dist)[1]
+        return self._result(res, info, cond, dist)
 
-    def _result(self, res: Any, info: dict[str, Any], cond: tuple[float, float, float]) -> OffDesignPoint:
+    def start(self, dist: tuple[Distortion | None, Distortion | None], guess: OffDesignPoint | None
+              ) -> tuple[np.ndarray, np.ndarray | None]:
+        """Starting unknowns and Jacobian for a distortion configuration, from a guess if it fits."""
+        if guess is None:
+            base, J0 = list(self.x_design), None
+        elif tuple(d is None for d in guess.distortion) == tuple(d is None for d in dist):
+            return np.array(guess.x), guess.jacobian
+        else:
+            base, J0 = list(guess.x[:9]), None
+        if dist[0] is not None:
+            base.append(base[1])
+        if dist[1] is not None:
+            base.append(base[2])
+        return np.array(base), J0
+
+    def _result(self, res: Any, info: dict[str, Any], cond: tuple[float, float, float],
+                dist: tuple[Distortion | None, Distortion | None] = (None, None)) -> OffDesignPoint:
         p, st, m = self.p, info["st"], self.maps
         sm = []
-        for cmap, Nc, beta in ((m.fan, info["N1c"], info["b_fan"]), (m.hpc, info["N2c"], info["b_hpc"])):
+        for cmap, sectors in ((m.fan, info["fan_sectors"]), (m.hpc, info["hpc_sectors"])):
             f = getattr(cmap, "surge_margin", None)
-            try:
-                sm.append(float(f(Nc, beta)) if f is not None else math.nan)
-            except ModelError:
-                sm.append(math.nan)
+            per = []
+            for Nc, beta in sectors:
+                try:
+                    per.append(float(f(Nc, beta)) if f is not None else math.nan)
+                except ModelError:
+                    per.append(math.nan)
+            sm.append((min(per), per[0]))
         Nc1_d = self.dp.components["fan_outer"].Nc_rpm
         over = [f for sink, f in info["bleeds"].values() if sink == "overboard"]
         if p.bypass_bleed_frac > 0.0:
@@ -394,6 +464,6 @@ class TurbofanOffDesign:
             info["Wf"] / Fn if Fn > 0.0 else math.inf, info["N1"], info["N2"], 100.0 * info["N1"] / p.N1_rpm,
             100.0 * info["N2"] / p.N2_rpm, info["N1c"], 100.0 * info["N1c"] / Nc1_d, st["4"].Tt_K, st["41"].Tt_K,
             st["21"].Tt_K, st["17"].Tt_K, st["7"].Tt_K, st["3"].Pt_Pa, st["3"].Pt_Pa / st["2"].Pt_Pa, info["BPR"],
-            sm[0], sm[1], info["b_fan"], info["b_hpc"], info["PRh"], info["PRl"], info["hb"],
+            sm[0][0], sm[1][0], sm[0][1], sm[1][1], info["b_fan"], info["b_hpc"], info["PRh"], info["PRl"], info["hb"],
             MappingProxyType(info["powers"]), sum(f.W_kg_s for f in over), sum(f.H_W for f in over), res.iterations,
-            res.evaluations, float(np.max(np.abs(res.r))), tuple(float(v) for v in res.x), res.jacobian)
+            res.evaluations, float(np.max(np.abs(res.r))), tuple(float(v) for v in res.x), res.jacobian, dist)

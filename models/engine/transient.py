@@ -29,6 +29,7 @@ from typing import Any
 
 import numpy as np
 
+from .distortion import Distortion
 from .errors import ModelError, OutOfRangeError
 from .newton import NewtonResult, newton_solve
 from .offdesign import RESIDUALS, OffDesignPoint, TurbofanOffDesign
@@ -87,8 +88,12 @@ class TurbofanTransient:
 
     def state(self, t_s: float, N1_rpm: float, N2_rpm: float, Wf_kg_s: float, alt_m: float = 0.0,
               Mach: float = 0.0, dT_isa_K: float = 0.0, guess: TransientState | OffDesignPoint | None = None,
-              tol: float = 1e-9) -> TransientState:
+              tol: float = 1e-9, distortion: tuple[Distortion | None, Distortion | None] = (None, None)
+              ) -> TransientState:
         """Matched gas path and spool accelerations at speeds [rpm] and fuel flow [kg/s].
+
+        `distortion` is the (fan, HPC) sector distortion of :mod:`.distortion`, switchable
+        from one call to the next.
 
         Raises
         ------
@@ -97,7 +102,10 @@ class TurbofanTransient:
         """
         od, p = self.od, self.od.p
         g = guess.point if isinstance(guess, TransientState) else guess
-        x_full = np.array(g.x if g is not None else od.x_design)
+        x_full, J_full = od.start(distortion, g)
+        n = x_full.size
+        free = list(_FREE) + list(range(9, n))
+        rows = list(range(6)) + list(range(9, n))
         x_full[3], x_full[4], x_full[8] = N1_rpm / p.N1_rpm, N2_rpm / p.N2_rpm, Wf_kg_s / od.ref["Wf"]
         cond = (alt_m, Mach, dT_isa_K)
         extras = (p.customer_bleed_frac, p.offtake_hp_W, p.offtake_lp_W)
@@ -106,25 +114,24 @@ class TurbofanTransient:
 
         def resid(xr: np.ndarray) -> np.ndarray:
             x = x_full.copy()
-            x[list(_FREE)] = xr
-            r, info = od._cycle(x, cond, demand, extras)
+            x[free] = xr
+            r, info = od._cycle(x, cond, demand, extras, distortion)
             last["r"], last["info"], last["xr"] = r, info, xr.copy()
-            return r[:6]
+            return r[rows]
 
-        J0 = None
-        if g is not None:
-            J0 = np.asarray(g.jacobian)[np.ix_(range(6), _FREE)]
-        res = newton_solve(resid, x_full[list(_FREE)], RESIDUALS[:6], tol=tol, jacobian=J0,
+        J0 = None if J_full is None else np.asarray(J_full)[np.ix_(rows, free)]
+        names = RESIDUALS[:6] + ("fan_sector_pressure", "hpc_sector_pressure")[:n - 9]
+        res = newton_solve(resid, x_full[free], names, tol=tol, jacobian=J0,
                            where=f"transient of {p.name!r} at t={t_s} s, N1={N1_rpm:.6g} rpm, "
                                  f"N2={N2_rpm:.6g} rpm, Wf={Wf_kg_s:.6g} kg/s")
         if not np.array_equal(last["xr"], res.x):
             resid(res.x)
         r, info = last["r"], last["info"]
-        x_full[list(_FREE)] = res.x
-        J = np.zeros((9, 9)) if g is None else np.array(g.jacobian, dtype=float)
-        J[np.ix_(range(6), _FREE)] = res.jacobian
+        x_full[free] = res.x
+        J = np.eye(n) if J_full is None else np.array(J_full, dtype=float)
+        J[np.ix_(rows, free)] = res.jacobian
         full = NewtonResult(x_full, r, J, res.iterations, res.evaluations)
-        pt = od._result(full, info, cond)
+        pt = od._result(full, info, cond, distortion)
         net_hp, net_lp = r[6] * od.ref["P_hp"], r[7] * od.ref["P_lp"]
         return TransientState(t_s, pt, spool_acceleration(net_lp, N1_rpm, self.I_lp),
                               spool_acceleration(net_hp, N2_rpm, self.I_hp), net_lp, net_hp)

@@ -24,6 +24,7 @@ from openemss.models.engine.design_params import PRESETS_DIR, load_params
 from openemss.models.engine.flow import flow_TP
 from openemss.models.engine.gas import DEFAULT_GAS
 from openemss.models.engine.offdesign import TurbofanOffDesign, scaled_maps
+from openemss.models.engine.transient import TurbofanTransient
 
 
 def _time(fn: Callable[[], object], number: int, repeat: int) -> tuple[float, float]:
@@ -67,6 +68,17 @@ def main() -> None:
             runs.append((time.perf_counter() - t0) / len(pts))
         label = f"warm, steps of {step:g} % N1 ({evals / (a.repeat * len(pts)):.1f} evaluations)"
         print(f"  {label:<40} {statistics.median(runs) * 1e3:8.3f} {min(runs) * 1e3:8.3f}   target: < 2 ms")
+
+    tr = TurbofanTransient(od)
+    lo = od.solve(N1_pct=80.0)
+    hi = od.solve(N1_pct=95.0, guess=lo)
+    runs = []
+    for _ in range(a.repeat):
+        t0 = time.perf_counter()
+        hist = tr.simulate(lo, lambda t: hi.Wf_kg_s, 2.0, 0.05, method="euler")
+        runs.append((time.perf_counter() - t0) / len(hist))
+    print(f"  {'transient, Euler, 20 Hz, fuel step':<40} {statistics.median(runs) * 1e3:8.3f} "
+          f"{min(runs) * 1e3:8.3f}   ms per step (real time at 20 Hz: 50 ms)")
 
     ref = load_params(PRESETS_DIR / "reference_study.json")
     t0 = time.perf_counter()

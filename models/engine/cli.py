@@ -29,6 +29,7 @@ from typing import Any
 from .cycle_design import DesignPoint, design
 from .cycle_study import COLUMNS, cycle_study, plot_carpet, write_csv
 from .design_params import PRESETS_DIR, TurbofanParams, load_params, preset_path
+from .distortion import Distortion
 from .errors import ModelError
 from .offdesign import TurbofanOffDesign, scaled_maps
 from .offdesign_turbojet import TurbojetOffDesign, scaled_turbojet_maps
@@ -75,6 +76,10 @@ def register(subparsers: argparse._SubParsersAction) -> tuple[type[Exception], .
     ps.add_argument("--n1c-pct", type=float, metavar="X", help="corrected LP spool speed [%% of design]")
     ps.add_argument("--tt4-k", type=float, metavar="X", help="burner exit temperature [K]")
     ps.add_argument("--fn-n", type=float, metavar="X", help="net thrust [N]")
+    for comp in ("fan", "hpc"):
+        pt.add_argument(f"--distortion-{comp}", type=float, nargs=3, metavar=("SECTOR", "DPT", "DTT_K"),
+                        help=f"sector distortion at the {comp.upper()} face (parallel compressor): distorted share "
+                             "of the annulus (0-1), its relative Pt deficit, its Tt excess [K] (turbofan only)")
     pt.add_argument("--json", action="store_true", help="print JSON (keys carry SI units)")
     pt.set_defaults(handler=cmd_point)
 
@@ -117,6 +122,10 @@ def cmd_point(args: argparse.Namespace) -> int:
         kw: dict[str, Any] = {k: v for k, v in (("Wf_kg_s", args.wf_kg_s), ("N1_pct", args.n1_pct),
                                                   ("N1c_pct", args.n1c_pct), ("Tt4_K", args.tt4_k),
                                                   ("Fn_N", args.fn_n)) if v is not None}
+        for comp in ("fan", "hpc"):
+            v = getattr(args, f"distortion_{comp}")
+            if v is not None:
+                kw[f"distortion_{comp}"] = Distortion(*v)
         od = TurbofanOffDesign(dp, scaled_maps(dp)).solve(*cond, **kw)
         out = od.to_dict()
     else:

@@ -60,3 +60,11 @@ def test_point_turbojet_and_errors(capsys: pytest.CaptureFixture[str]) -> None:
     with pytest.raises(SystemExit) as exc:
         main(["engine", "point", "--alt-m", "0"])
     assert exc.value.code == 2
+
+
+def test_point_with_distortion(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["engine", "point", "--n1-pct", "95", "--json"]) == 0
+    clean = json.loads(capsys.readouterr().out)
+    assert main(["engine", "point", "--n1-pct", "95", "--distortion-fan", "0.25", "0.1", "0", "--json"]) == 0
+    dist = json.loads(capsys.readouterr().out)
+    assert dist["SM_fan"] < clean["SM_fan"] - 0.05 and dist["distortion_fan"]["dPt_frac"] == 0.1

@@ -274,3 +274,61 @@ def test_step_must_be_multiple_of_internal_step(af: Airframe) -> None:
         af.step(0.013)
     af.step(0.05)
     assert af.time_s == pytest.approx(0.05, abs=1e-12)
+
+
+def test_landing_on_munich_26r(af: Airframe) -> None:
+    """Landing: trimmed at 12 m above the runway with full flap and gear down at 1.3 V_s (1700 kg);
+    thrust to idle (0), a sink-rate flare written here (pitch attitude from a sink-rate command),
+    elevator neutral after touchdown, full brakes 1 s later. Checks: touchdown sink rate within the
+    limit descent velocity of CS/FAR 23.473 (10 ft/s = 3.05 m/s), no bounce, heading held on the
+    runway, and the ground roll against a hand calculation (1 s free roll + V^2 / (2 a), with a the
+    braking deceleration with load transfer as in the brake test; 25 %: lift, drag and the
+    de-rotation are neglected)."""
+    lat, lon, hdg, elev = RWY26R
+    mass, fuel = 1700.0, 200.0
+    alt = elev + 12.0
+    af.start_air(alt, 100.0, hdg, lat, lon, fuel_kg=fuel, ground_elevation_m=elev)
+    rho = af.state().rho_kg_m3
+    v_s = math.sqrt(2 * mass * G0 / (rho * S * A.clmax(1.0)))
+    mach = 1.3 * v_s / (af.get_property("atmosphere/a-fps") * FT)
+    r = trim_level(alt, mach, mass, airframe=af, flaps=1.0, gear_down=True, heading_deg=hdg, lat_deg=lat,
+                   lon_deg=lon)
+    af.start_air(alt, r.tas_m_s, hdg, lat, lon, alpha_rad=r.alpha_rad, elevator=r.elevator, thrust_N=0.0,
+                 flaps=1.0, gear_down=True, fuel_kg=fuel, ground_elevation_m=elev)
+    h_gear = -G.section("gear")["contact_z_m"]
+    dt = af.dt_s
+    prev = af.state()
+    x, td, bounce = 0.0, None, 0.0
+    while af.time_s < 120.0:
+        if td is None:
+            sink_cmd = max(-3.0, -0.6 - (prev.alt_agl_m - h_gear) / 3.0)
+            theta_ref = r.alpha_rad - 0.03 + min(max(0.04 * (sink_cmd - prev.vs_m_s), -0.1), 0.15)
+            af.set_surfaces(elevator=r.elevator - 5.0 * (theta_ref - prev.theta_rad) + 1.5 * prev.q_rad_s)
+        else:
+            af.set_surfaces(elevator=0.0)
+            af.set_brakes(1.0 if af.time_s - td[0] >= 1.0 else 0.0)
+        af.step(dt)
+        s = af.state()
+        x += 0.5 * (prev.gs_m_s + s.gs_m_s) * dt
+        if td is None and s.on_ground:
+            td = (af.time_s, s.vs_m_s, s.gs_m_s, x)
+        elif td is not None and not s.on_ground:
+            bounce += dt
+        prev = s
+        if td is not None and s.gs_m_s < 0.5:
+            break
+    assert td is not None, "no touchdown"
+    gr = G.section("gear")
+    mu, mu_roll = gr["static_friction"], gr["rolling_friction"]
+    h = h_gear - gr["main_static_deflection_m"]
+    a_m, a_n = gr["main_aft_of_cg_m"], G.x_cg_m - gr["nose_x_m"]
+    share = a_n / (a_n + a_m + mu * h)
+    a_brake = (mu * share + mu_roll * (1 - share)) * G0
+    roll_hand = td[2] * 1.0 + td[2] ** 2 / (2 * a_brake)
+    print(f"landing at EDDM 26R: V_s {v_s:.1f} m/s, touchdown at {td[2]:.1f} m/s with sink rate {-td[1]:.2f} m/s, "
+          f"{td[3]:.0f} m from the start; ground roll {x - td[3]:.0f} m (hand {roll_hand:.0f} m)")
+    assert -3.05 < td[1] < 0.0
+    assert bounce == 0.0
+    assert abs(math.degrees(prev.psi_rad) - hdg) < 1.0
+    assert prev.on_ground and prev.gs_m_s < 0.5
+    assert x - td[3] == pytest.approx(roll_hand, rel=0.25)

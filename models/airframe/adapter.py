@@ -195,9 +195,14 @@ class Airframe:
         if not ok:
             raise AirframeError("JSBSim rejected the initial condition")
         # JSBSim's initialization copies the initial condition's wind (kept zero, see start_air)
-        # into the wind model; the wind goes in afterwards.
+        # into the wind model; the wind goes in afterwards, and one frame without integration
+        # (time and state frozen) makes the outputs at time zero see it.
         f["atmosphere/wind-north-fps"], f["atmosphere/wind-east-fps"], f["atmosphere/wind-down-fps"] = \
             self._wind_fps
+        if any(self._wind_fps):
+            f.suspend_integration()
+            f.run()
+            f.resume_integration()
 
     def start_runway(self, lat_deg: float, lon_deg: float, heading_deg: float, elevation_m: float,
                      fuel_kg: float | None = None, flaps: float = 0.0) -> AirframeState:

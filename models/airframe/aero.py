@@ -26,7 +26,8 @@ Origin of each term (see ``README.md`` for the derivation in prose):
 * pitching moment: wing-body, fuselage (Munk/Multhopp via Raymer's K_f) and tail
   with downwash; tail incidence set for zero elevator at the design CL;
 * damping and control derivatives: tail-volume formulas [5]_ (ch. 2, 3, 5) and
-  strip theory for roll damping and aileron power [6]_.
+  strip theory for roll damping and aileron power [6]_;
+* ground effect on the drag due to lift: McCormick's factor [7]_.
 
 References
 ----------
@@ -39,6 +40,8 @@ References
    Aerodynamics*, Longmans, 1951 (Lock's law).
 .. [5] Nelson, R. C., *Flight Stability and Automatic Control*, 2nd ed., McGraw-Hill, 1998.
 .. [6] Etkin, B., Reid, L. D., *Dynamics of Flight*, 3rd ed., Wiley, 1996, ch. 5.
+.. [7] McCormick, B. W., *Aerodynamics, Aeronautics and Flight Mechanics*, Wiley, 1979, ch. 4
+   (ground effect on induced drag), as quoted in Raymer sect. 17.8.
 """
 from __future__ import annotations
 
@@ -282,6 +285,13 @@ class AeroModel:
         """Drag-due-to-lift factor 1/(pi A e) [-]."""
         return 1.0 / (math.pi * self.geom.wing.aspect_ratio * self.oswald)
 
+    @staticmethod
+    def ground_effect(h_over_b: ArrayLike) -> NDArray:
+        """Factor on the drag due to lift near the ground, (16 h/b)^2 / (1 + (16 h/b)^2) [-], h the
+        wing's height above the ground [7]_."""
+        x = (16.0 * np.asarray(h_over_b, dtype=float)) ** 2
+        return x / (1.0 + x)
+
     def mcrit(self, cl: ArrayLike) -> NDArray:
         """Critical Mach number at lift coefficient ``cl`` [-]."""
         w = self.geom.wing
@@ -305,14 +315,15 @@ class AeroModel:
         return f["drag_factor"] * f["chord_ratio"] * self.flapped_area_ratio * np.maximum(delta - 10.0, 0.0)
 
     def drag_coefficient(self, alpha: float, mach: float, re_cbar: float, flap_norm: float = 0.0,
-                         gear_norm: float = 0.0) -> float:
+                         gear_norm: float = 0.0, h_over_b: float = math.inf) -> float:
         """The drag polar the JSBSim file implements, at zero elevator and rates [-].
 
-        ``CD = CD0(M, Re) + k CL_wb^2 + CD_w(M, CL_wb) + CD_sep(alpha) + CD_flap + CD_gear``
-        with ``CL_wb = CL_basic(alpha, M) + dCL_flap``.
+        ``CD = CD0(M, Re) + phi(h/b) k CL_wb^2 + CD_w(M, CL_wb) + CD_sep(alpha) + CD_flap + CD_gear``
+        with ``CL_wb = CL_basic(alpha, M) + dCL_flap`` and phi the ground effect (1 far from the ground).
         """
         clw = float(self.cl_basic(alpha, mach)) + flap_norm * float(self.dcl_flap_full(mach))
-        return float(self.cd0(mach, re_cbar) + self.k_induced() * clw ** 2 + self.cd_wave(mach, clw)
+        phi = 1.0 if math.isinf(h_over_b) else float(self.ground_effect(h_over_b))
+        return float(self.cd0(mach, re_cbar) + phi * self.k_induced() * clw ** 2 + self.cd_wave(mach, clw)
                      + self.cd_separation(alpha, DESIGN_MACH) + self.cd_flap_profile(flap_norm)
                      + gear_norm * self.cd_gear)
 

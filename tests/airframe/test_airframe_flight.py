@@ -222,7 +222,7 @@ def test_takeoff_roll_munich_26r(af: Airframe) -> None:
             break
     assert v_lof is not None, "no lift-off within 60 s"
     # hand calculation at the ground attitude (pitch on the struts 0.2 deg), flap half, gear down,
-    # rolling friction 0.02
+    # rolling friction 0.02, wing at the CG's height above the runway
     mu = G.section("gear")["rolling_friction"]
     alpha_g = math.radians(0.2)
     a_mean = []
@@ -231,7 +231,8 @@ def test_takeoff_roll_munich_26r(af: Airframe) -> None:
         mach = v / a_snd
         re = rho * v * G.wing.mac_m / visc
         cl = float(A.cl_basic(alpha_g, mach)) + 0.5 * float(A.dcl_flap_full(mach))
-        cd = A.drag_coefficient(alpha_g, mach, re, flap_norm=0.5, gear_norm=1.0)
+        cd = A.drag_coefficient(alpha_g, mach, re, flap_norm=0.5, gear_norm=1.0,
+                                h_over_b=s0.alt_agl_m / G.wing.span_m)  # ground effect on the drag due to lift
         qs = 0.5 * rho * v ** 2 * S
         a_mean.append((thrust - qs * cd - mu * (w - qs * cl)) / mass)
     s_r_hand = v_s ** 2 / (2 * a_mean[0])

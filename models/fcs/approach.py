@@ -39,7 +39,8 @@ from .geo import LatLon, from_local_ne, local_ne_m, wrap_pi
 from .guidance import L1Guidance
 from .tunable import Tunable, load_params
 
-__all__ = ["Runway", "IlsDeviation", "ApproachParams", "ApproachCommand", "AutoLand", "LOC_BEYOND_END_M"]
+__all__ = ["Runway", "IlsDeviation", "ApproachParams", "ApproachCommand", "AutoLand", "LOC_BEYOND_END_M",
+           "ils_deviation", "centreline_steer"]
 
 #: Localizer antenna beyond the stop end of the runway [m] (typical siting).
 LOC_BEYOND_END_M = 300.0
@@ -145,6 +146,13 @@ def ils_deviation(rwy: Runway, p: ApproachParams, pos: LatLon, alt_m: float) -> 
     d_loc = rwy.length_m + LOC_BEYOND_END_M - along
     return IlsDeviation(along, cross, math.atan2(cross, d_loc), h - h_gp,
                         math.atan2(h, max(d_gpi, 1.0)) - p.gs_angle_rad, h)
+
+
+def centreline_steer(rwy: Runway, p: ApproachParams, pos: LatLon, psi_rad: float) -> float:
+    """Nose-wheel steering [-1, 1] (> 0 right) that holds the centre line of ``rwy``."""
+    _, cross = rwy.local(pos)
+    steer = -(p.k_y_steer_1_m * cross + p.k_psi_steer_1_rad * wrap_pi(psi_rad - rwy.heading_rad))
+    return min(max(steer, -1.0), 1.0)
 
 
 @dataclass(frozen=True, slots=True)
@@ -285,8 +293,7 @@ class AutoLand(Tunable[ApproachParams]):
             phi, idle, align = 0.0, True, rwy.heading_rad
             self._theta_cmd = max(self._theta_cmd - p.theta_derot_rad_s * dt_s, p.theta_ground_rad)
             theta_cmd = self._theta_cmd
-            steer = -(p.k_y_steer_1_m * ils.loc_m + p.k_psi_steer_1_rad * wrap_pi(psi_rad - rwy.heading_rad))
-            steer = min(max(steer, -1.0), 1.0)
+            steer = centreline_steer(rwy, p, pos, psi_rad)
             if self.phase in ("ROLLOUT", "STOPPED"):
                 brake = p.brake
         return ApproachCommand(self.phase, phi, alt_cmd, gamma, theta_cmd, idle, align, steer, brake, ils)

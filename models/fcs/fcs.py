@@ -1,0 +1,169 @@
+"""The flight control system: mission state machine, TECS, pitch and lateral loops,
+guidance and the fuel controller, stepped together.
+
+:class:`FlightControlSystem` is what an FMU slave wraps: one :meth:`~FlightControlSystem.step`
+per communication step takes the measured aircraft and engine states and returns
+every command (:class:`FcsOutput`). All gains of all controllers are reachable by
+one dotted name, ``"<controller>.<parameter>"``, e.g. ``"tecs.k_TP"`` or
+``"fuel_control.stp_max_kg_s"`` (:meth:`~FlightControlSystem.get_parameter`,
+:meth:`~FlightControlSystem.set_parameter`, :meth:`~FlightControlSystem.parameter_names`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from .approach import ApproachParams
+from .atmosphere import G0_M_S2
+from .errors import ParameterError
+from .fuel_control import FuelController
+from .geo import wrap_pi
+from .guidance import L1Guidance
+from .lateral import LateralController, LateralState
+from .mission import Mission
+from .pitch import PitchController
+from .state import AircraftState, EngineState, Targets
+from .state_machine import MissionRunner
+from .tecs import Tecs, TecsInput
+from .tunable import Tunable
+
+__all__ = ["FcsOutput", "FlightControlSystem"]
+
+
+class _ParamHolder(Tunable[ApproachParams]):
+    """Makes the approach parameters (shared by the runner) tunable by name."""
+
+    tunable_name = "approach"
+
+    def __init__(self, runner: MissionRunner) -> None:
+        self._runner = runner
+        self._params = runner.approach_params
+
+    def _on_parameters_changed(self) -> None:
+        self._runner.approach_params = self._params
+
+
+@dataclass(frozen=True, slots=True)
+class FcsOutput:
+    """Commands of one FCS step and the targets behind them (for recording and plots).
+
+    Attributes
+    ----------
+    elevator, aileron, rudder : float
+        Normalised surfaces [-1, 1] (elevator > 0 nose down, aileron > 0 roll right, rudder > 0 nose right).
+    steer : float
+        Nose-wheel steering [-1, 1] (> 0 right).
+    brake : float
+        Wheel brakes [0, 1].
+    gear_down : bool
+        Landing gear command.
+    lever : float
+        Thrust lever [0, 1].
+    Wf_cmd_kg_s : float
+        Fuel-flow command [kg/s].
+    theta_cmd_rad, phi_cmd_rad : float
+        Pitch and bank commands [rad].
+    targets : Targets
+        The active section's targets (section index/name, phase, altitude, speed, track).
+    tas_cmd_m_s : float
+        Speed target as true airspeed [m/s] (NaN on the ground).
+    """
+
+    elevator: float
+    aileron: float
+    rudder: float
+    steer: float
+    brake: float
+    gear_down: bool
+    lever: float
+    Wf_cmd_kg_s: float
+    theta_cmd_rad: float
+    phi_cmd_rad: float
+    targets: Targets
+    tas_cmd_m_s: float
+
+
+class FlightControlSystem:
+    """Mission, guidance, longitudinal, lateral and propulsion control of one aircraft.
+
+    Parameters
+    ----------
+    mission : Mission
+        The validated mission to fly.
+    Wf0_kg_s : float
+        Fuel flow at the start (engine running at idle) [kg/s].
+    """
+
+    def __init__(self, mission: Mission, Wf0_kg_s: float | None = None) -> None:
+        self.guidance = L1Guidance()
+        self.runner = MissionRunner(mission, self.guidance)
+        self.tecs = Tecs()
+        self.pitch = PitchController()
+        self.lateral = LateralController()
+        self.fuel = FuelController(Wf0_kg_s=Wf0_kg_s)
+        self._approach = _ParamHolder(self.runner)
+        self.controllers: dict[str, Tunable] = {"tecs": self.tecs, "pitch": self.pitch, "lateral": self.lateral,
+                                                "guidance": self.guidance, "approach": self._approach,
+                                                "fuel_control": self.fuel}
+        self._tecs_engaged = False
+        self._lever = 0.0
+
+    # -- parameters -----------------------------------------------------------------------
+    def parameter_names(self) -> tuple[str, ...]:
+        """Every tunable parameter, as ``"<controller>.<name>"``."""
+        return tuple(f"{c}.{n}" for c, ctl in self.controllers.items() for n in ctl.parameter_names())
+
+    def _split(self, name: str) -> tuple[Tunable, str]:
+        ctl, _, pname = name.partition(".")
+        if ctl not in self.controllers or not pname:
+            raise ParameterError(f"fcs: parameter '{name}' must be '<controller>.<name>' with controller one of "
+                                 f"{', '.join(self.controllers)}")
+        return self.controllers[ctl], pname
+
+    def get_parameter(self, name: str) -> float:
+        """Value of ``"<controller>.<name>"`` [its unit]."""
+        ctl, p = self._split(name)
+        return ctl.get_parameter(p)
+
+    def set_parameter(self, name: str, value: float) -> None:
+        """Set ``"<controller>.<name>"`` to ``value`` [its unit]."""
+        ctl, p = self._split(name)
+        ctl.set_parameter(p, value)
+
+    # -- stepping -------------------------------------------------------------------------
+    @property
+    def finished(self) -> bool:
+        """The mission is complete."""
+        return self.runner.finished
+
+    def step(self, t_s: float, dt_s: float, x: AircraftState, eng: EngineState) -> FcsOutput:
+        """One FCS step at time ``t_s`` [s] of length ``dt_s`` [s]."""
+        tg = self.runner.step(t_s, dt_s, x)
+        tas_cmd = math.nan
+        if tg.theta_cmd_rad is not None:
+            theta_c = tg.theta_cmd_rad
+            lever = tg.lever if tg.lever is not None else 0.0
+            self._tecs_engaged = False
+        else:
+            W = x.mass_kg * G0_M_S2
+            if not self._tecs_engaged:
+                self.tecs.reset(self._lever * self.tecs.available_thrust_N(x.alt_m, x.dT_isa_K), W, x.theta_rad)
+                self._tecs_engaged = True
+            alt_cmd = tg.alt_cmd_m if tg.gamma_cmd_rad is None else None
+            out = self.tecs.step(dt_s, TecsInput(x.alt_m, x.tas_m_s, x.Vdot_m_s2, x.gamma_rad, x.mass_kg, x.dT_isa_K),
+                                 tg.speed, alt_cmd if alt_cmd is not None else None,
+                                 tg.gamma_cmd_rad if alt_cmd is None else None, lever_fixed=tg.lever)
+            theta_c, lever, tas_cmd = out.theta_cmd_rad, out.lever, out.tas_cmd_m_s
+        self._lever = lever
+        elevator = self.pitch.step(dt_s, theta_c, x.theta_rad, x.q_rad_s, x.qbar_Pa)
+        lat = self.lateral.step(dt_s, LateralState(x.phi_rad, x.theta_rad, x.psi_rad, x.chi_rad, x.p_rad_s, x.r_rad_s,
+                                                   x.beta_rad, x.tas_m_s, x.qbar_Pa),
+                                phi_cmd_rad=tg.phi_cmd_rad, heading_cmd_rad=tg.heading_cmd_rad)
+        rudder = lat.rudder
+        if tg.align_heading_rad is not None:
+            ap = self.runner.approach_params
+            rudder = min(max(-ap.k_psi_steer_1_rad * wrap_pi(x.psi_rad - tg.align_heading_rad), -1.0), 1.0)
+        f = self.fuel.step(dt_s, lever, eng.N1c_pct, eng.N1_pct, eng.Tt41_K)
+        return FcsOutput(elevator, lat.aileron, rudder, tg.steer, tg.brake, tg.gear_down, lever, f.Wf_cmd_kg_s,
+                         theta_c, lat.phi_cmd_rad, tg, tas_cmd)

@@ -1,0 +1,389 @@
+"""Mission files: a documented YAML format of stacked sections, its validation, and
+the import of QGroundControl ``.plan`` files.
+
+Format (see ``missions/munich.yaml`` for a complete example)::
+
+    mission: {name: str, description: str}          # description optional
+    places:
+      runways:                                       # named runway directions
+        EDDM_26R: {threshold_lat_deg: 48.36, threshold_lon_deg: 11.81, heading_deg: 262.5,
+                   elevation_m: 448, length_m: 4000, width_m: 60}
+      waypoints:
+        A: {lat_deg: 48.40, lon_deg: 11.55}
+    sections:                                        # flown in this order
+      - {type: Rolling, runway: EDDM_08R, lever: 1.0, rotate_cas_m_s: 62}
+      - {type: TakeOff, runway: EDDM_08R, pitch_deg: 10, climb_speed: {cas_m_s: 80},
+         until_height_agl_m: 300}
+      - {type: WaypointFollowing, waypoints: [A, B], altitude_m: 5000, speed: {mach: 0.6}}
+      - {type: Orbiting, center: C, radius_m: 10000, direction: clockwise, turns: 2,
+         altitude_m: 2500, speed: {mach: 0.6}}
+      - {type: GTurns, load_factor: 2.0, heading_change_deg: 360, direction: right}
+      - {type: Levelling, altitude_m: 5000, speed: {mach: 0.6}}
+      - {type: Landing, runway: EDDM_26R, approach_altitude_m: 1200, approach_speed: {cas_m_s: 65}}
+      - {type: Custom, duration_s: 60, commands: [{t_s: 0, lever: 0.8, pitch_deg: 3, bank_deg: 0}]}
+
+A speed is a mapping with exactly one of ``mach`` [-], ``cas_m_s`` or ``tas_m_s``
+[m/s]. Every section may have a ``name``. The fields of each section type, with
+their units, ranges and defaults, are the table :data:`SECTION_FIELDS`; the
+completion criterion of each type is in :mod:`.state_machine`.
+
+Validation collects nothing silently: the first problem raises a
+:class:`MissionError` whose message names the file and line (from the YAML
+node marks), the section (index and type) and the field, and says what is
+allowed.
+
+References
+----------
+QGroundControl plan file format, https://docs.qgroundcontrol.com/master/en/qgc-dev-guide/file_formats/plan.html;
+MAVLink common message set, MAV_CMD_NAV_WAYPOINT (16), MAV_CMD_NAV_LOITER_TURNS (18),
+MAV_CMD_NAV_LAND (21), MAV_CMD_NAV_TAKEOFF (22), https://mavlink.io/en/messages/common.html.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from .errors import MissionError
+from .geo import LatLon
+from .tecs import SpeedCommand, SpeedKind
+
+__all__ = ["SECTION_TYPES", "SECTION_FIELDS", "Section", "Mission", "load_mission", "parse_mission",
+           "speed_from_mapping"]
+
+# (kind, required, default, (min, max) or choices, unit/help)
+_F = tuple[str, bool, Any, Any, str]
+SECTION_FIELDS: dict[str, dict[str, _F]] = {
+    "Rolling": {
+        "runway": ("runway", True, None, None, "runway of the take-off roll"),
+        "lever": ("number", False, 1.0, (0.0, 1.0), "thrust lever [-]"),
+        "rotate_cas_m_s": ("number", True, None, (20.0, 150.0), "ends at this calibrated airspeed [m/s]"),
+    },
+    "TakeOff": {
+        "runway": ("runway", True, None, None, "runway (centre line and elevation)"),
+        "lever": ("number", False, 1.0, (0.0, 1.0), "thrust lever [-]"),
+        "pitch_deg": ("number", False, 10.0, (2.0, 20.0), "rotation pitch attitude [deg]"),
+        "rotation_rate_deg_s": ("number", False, 3.0, (0.5, 10.0), "rotation rate [deg/s]"),
+        "climb_speed": ("speed", True, None, None, "initial climb speed"),
+        "until_height_agl_m": ("number", False, 300.0, (20.0, 3000.0), "ends at this height above the runway [m]"),
+    },
+    "WaypointFollowing": {
+        "waypoints": ("waypoints", True, None, None, "names of waypoints, in order"),
+        "altitude_m": ("number", True, None, (-400.0, 15000.0), "altitude [m]"),
+        "speed": ("speed", True, None, None, "speed"),
+        "fly_by": ("bool", False, False, None, "fly-by (true) or fly-over (false) waypoints"),
+    },
+    "Orbiting": {
+        "center": ("waypoint", True, None, None, "waypoint at the centre"),
+        "radius_m": ("number", True, None, (200.0, 100000.0), "radius [m]"),
+        "direction": ("choice", False, "clockwise", ("clockwise", "counterclockwise"), "direction"),
+        "turns": ("number", True, None, (0.1, 100.0), "turns after capture [-]"),
+        "altitude_m": ("number", True, None, (-400.0, 15000.0), "altitude [m]"),
+        "speed": ("speed", True, None, None, "speed"),
+    },
+    "GTurns": {
+        "load_factor": ("number", True, None, (1.02, 6.0), "load factor of the level turn [g]"),
+        "direction": ("choice", False, "right", ("right", "left"), "turn direction"),
+        "heading_change_deg": ("number", False, None, (1.0, 3600.0), "ends after this heading change [deg]"),
+        "duration_s": ("number", False, None, (1.0, 36000.0), "or after this time [s]"),
+        "altitude_m": ("number", False, None, (-400.0, 15000.0), "altitude [m] (default: at entry)"),
+        "speed": ("speed", False, None, None, "speed (default: at entry)"),
+    },
+    "Levelling": {
+        "altitude_m": ("number", True, None, (-400.0, 15000.0), "altitude to capture [m]"),
+        "speed": ("speed", True, None, None, "speed"),
+        "heading_deg": ("number", False, None, (0.0, 360.0), "true heading to hold [deg] (default: at entry)"),
+        "tolerance_m": ("number", False, 10.0, (0.1, 500.0), "altitude band counted as captured [m]"),
+        "hold_s": ("number", False, 20.0, (0.0, 3600.0), "time to stay in the band [s]"),
+    },
+    "Landing": {
+        "runway": ("runway", True, None, None, "landing runway"),
+        "approach_altitude_m": ("number", True, None, (0.0, 6000.0), "altitude held until glide slope capture [m]"),
+        "approach_speed": ("speed", True, None, None, "final approach speed"),
+    },
+    "Custom": {
+        "duration_s": ("number", True, None, (0.1, 36000.0), "duration [s]"),
+        "commands": ("commands", True, None, None, "time points {t_s, lever, pitch_deg, bank_deg}, held between"),
+    },
+}
+SECTION_TYPES: tuple[str, ...] = tuple(SECTION_FIELDS)
+_CUSTOM_KEYS = {"t_s": (0.0, 36000.0), "lever": (0.0, 1.0), "pitch_deg": (-20.0, 30.0), "bank_deg": (-80.0, 80.0)}
+_RUNWAY_KEYS = {"threshold_lat_deg": (-90.0, 90.0), "threshold_lon_deg": (-180.0, 180.0),
+                "heading_deg": (0.0, 360.0), "elevation_m": (-400.0, 5000.0),
+                "length_m": (100.0, 6000.0), "width_m": (5.0, 100.0)}
+_WP_KEYS = {"lat_deg": (-90.0, 90.0), "lon_deg": (-180.0, 180.0)}
+
+
+@dataclass(frozen=True, slots=True)
+class Section:
+    """One mission section: its type, name, index and validated fields.
+
+    Fields are SI as in the file, with runways as :class:`~.approach.Runway`,
+    waypoints as :class:`~.geo.LatLon`, speeds as :class:`~.tecs.SpeedCommand`.
+    """
+
+    index: int
+    type: str
+    name: str
+    fields: tuple[tuple[str, Any], ...]
+
+    def __getitem__(self, key: str) -> Any:
+        for k, v in self.fields:
+            if k == key:
+                return v
+        raise KeyError(f"section {self.index} ({self.type}) has no field '{key}'")
+
+    def get(self, key: str, default: Any = None) -> Any:
+        """Field value or ``default``."""
+        try:
+            return self[key]
+        except KeyError:
+            return default
+
+
+@dataclass(frozen=True, slots=True)
+class Mission:
+    """A validated mission."""
+
+    name: str
+    description: str
+    runways: tuple[tuple[str, Any], ...]
+    waypoints: tuple[tuple[str, LatLon], ...]
+    sections: tuple[Section, ...]
+    source: str
+
+    def waypoint(self, name: str) -> LatLon:
+        """Waypoint by name."""
+        return dict(self.waypoints)[name]
+
+    def runway(self, name: str) -> Any:
+        """Runway by name."""
+        return dict(self.runways)[name]
+
+
+class _Lines:
+    """Line numbers of the YAML nodes, by path of keys and indices."""
+
+    def __init__(self, text: str) -> None:
+        self.map: dict[tuple, int] = {}
+        try:
+            root = yaml.compose(text)
+        except yaml.YAMLError:
+            root = None
+        if root is not None:
+            self._walk(root, ())
+
+    def _walk(self, node: yaml.Node, path: tuple) -> None:
+        self.map[path] = node.start_mark.line + 1
+        if isinstance(node, yaml.MappingNode):
+            for k, v in node.value:
+                self.map[path + (k.value,)] = k.start_mark.line + 1
+                self._walk(v, path + (k.value,))
+        elif isinstance(node, yaml.SequenceNode):
+            for i, v in enumerate(node.value):
+                self._walk(v, path + (i,))
+
+    def line(self, path: tuple) -> int:
+        while path and path not in self.map:
+            path = path[:-1]
+        return self.map.get(path, 1)
+
+
+class _Ctx:
+    def __init__(self, source: str, lines: _Lines) -> None:
+        self.source, self.lines = source, lines
+
+    def fail(self, path: tuple, what: str) -> MissionError:
+        return MissionError(f"{self.source}:{self.lines.line(path)}: {what}")
+
+
+def speed_from_mapping(m: Any) -> SpeedCommand:
+    """SpeedCommand from ``{mach: x}``, ``{cas_m_s: x}`` or ``{tas_m_s: x}`` (raises ValueError)."""
+    kinds = {"mach": (SpeedKind.MACH, (0.05, 0.95)), "cas_m_s": (SpeedKind.CAS, (10.0, 350.0)),
+             "tas_m_s": (SpeedKind.TAS, (10.0, 350.0))}
+    if not isinstance(m, dict) or len(m) != 1 or next(iter(m)) not in kinds:
+        raise ValueError("a speed is a mapping with exactly one of mach [-], cas_m_s or tas_m_s [m/s], "
+                         f"got {m!r}")
+    key, val = next(iter(m.items()))
+    kind, (lo, hi) = kinds[key]
+    x = _number(val, lo, hi)
+    return SpeedCommand(x, kind)
+
+
+def _number(v: Any, lo: float, hi: float) -> float:
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or math.isnan(float(v)):
+        raise ValueError(f"expected a number in [{lo}, {hi}], got {v!r}")
+    if not lo <= float(v) <= hi:
+        raise ValueError(f"value {v} outside the allowed range [{lo}, {hi}]")
+    return float(v)
+
+
+def _places(doc: dict, ctx: _Ctx) -> tuple[dict, dict]:
+    from .approach import Runway  # local import: approach imports guidance, keep mission light
+
+    places = doc.get("places", {}) or {}
+    if not isinstance(places, dict):
+        raise ctx.fail(("places",), "places: expected a mapping with 'runways' and 'waypoints'")
+    unknown = set(places) - {"runways", "waypoints"}
+    if unknown:
+        raise ctx.fail(("places", sorted(unknown)[0]), f"places: unknown key '{sorted(unknown)[0]}'; "
+                       "allowed: runways, waypoints")
+    runways: dict[str, Runway] = {}
+    for name, r in (places.get("runways") or {}).items():
+        path = ("places", "runways", name)
+        if not isinstance(r, dict):
+            raise ctx.fail(path, f"runway '{name}': expected a mapping with {', '.join(_RUNWAY_KEYS)}")
+        vals = {}
+        for key, (lo, hi) in _RUNWAY_KEYS.items():
+            if key not in r and key in ("length_m", "width_m"):
+                continue
+            if key not in r:
+                raise ctx.fail(path, f"runway '{name}': missing field '{key}'")
+            try:
+                vals[key] = _number(r[key], lo, hi)
+            except ValueError as e:
+                raise ctx.fail(path + (key,), f"runway '{name}' field '{key}': {e}") from None
+        extra = set(r) - set(_RUNWAY_KEYS) - {"source", "uncertainty"}
+        if extra:
+            raise ctx.fail(path + (sorted(extra)[0],), f"runway '{name}': unknown field '{sorted(extra)[0]}'; "
+                           f"allowed: {', '.join(_RUNWAY_KEYS)}, source, uncertainty")
+        runways[name] = Runway(str(name), LatLon.from_deg(vals["threshold_lat_deg"], vals["threshold_lon_deg"]),
+                               math.radians(vals["heading_deg"]), vals["elevation_m"],
+                               vals.get("length_m", 3000.0), vals.get("width_m", 45.0))
+    waypoints: dict[str, LatLon] = {}
+    for name, w in (places.get("waypoints") or {}).items():
+        path = ("places", "waypoints", name)
+        if not isinstance(w, dict) or set(w) - set(_WP_KEYS) - {"note"} or not set(_WP_KEYS) <= set(w):
+            raise ctx.fail(path, f"waypoint '{name}': expected {{lat_deg, lon_deg}} (and an optional note), got {w!r}")
+        try:
+            waypoints[str(name)] = LatLon.from_deg(*(_number(w[k], *_WP_KEYS[k]) for k in _WP_KEYS))
+        except ValueError as e:
+            raise ctx.fail(path, f"waypoint '{name}': {e}") from None
+    return runways, waypoints
+
+
+def _field(kind: str, spec: Any, v: Any, runways: dict, waypoints: dict) -> Any:
+    if kind == "number":
+        return _number(v, *spec)
+    if kind == "bool":
+        if not isinstance(v, bool):
+            raise ValueError(f"expected true or false, got {v!r}")
+        return v
+    if kind == "choice":
+        if v not in spec:
+            raise ValueError(f"got {v!r}; allowed: {', '.join(spec)}")
+        return v
+    if kind == "speed":
+        return speed_from_mapping(v)
+    if kind == "runway":
+        if v not in runways:
+            raise ValueError(f"unknown runway {v!r}; defined runways: {', '.join(runways) or '(none)'}")
+        return runways[v]
+    if kind == "waypoint":
+        if v not in waypoints:
+            raise ValueError(f"unknown waypoint {v!r}; defined waypoints: {', '.join(waypoints) or '(none)'}")
+        return waypoints[v]
+    if kind == "waypoints":
+        if not isinstance(v, list) or not v:
+            raise ValueError("expected a non-empty list of waypoint names")
+        out = []
+        for w in v:
+            if w not in waypoints:
+                raise ValueError(f"unknown waypoint {w!r}; defined waypoints: {', '.join(waypoints) or '(none)'}")
+            out.append(waypoints[w])
+        return tuple(out)
+    if kind == "commands":
+        if not isinstance(v, list) or not v:
+            raise ValueError("expected a non-empty list of {t_s, lever, pitch_deg, bank_deg}")
+        pts = []
+        for c in v:
+            if not isinstance(c, dict) or set(c) != set(_CUSTOM_KEYS):
+                raise ValueError(f"each command needs exactly {', '.join(_CUSTOM_KEYS)}, got {c!r}")
+            pts.append(tuple(_number(c[k], *_CUSTOM_KEYS[k]) for k in _CUSTOM_KEYS))
+        if any(b[0] <= a[0] for a, b in zip(pts, pts[1:])):
+            raise ValueError("command times t_s must increase")
+        return tuple(pts)
+    raise AssertionError(kind)
+
+
+def parse_mission(text: str, source: str = "<mission>") -> Mission:
+    """Validate the YAML ``text`` of a mission (``source`` names it in errors).
+
+    Raises
+    ------
+    MissionError
+        For the first problem found, with file:line, section and field.
+    """
+    ctx = _Ctx(source, _Lines(text))
+    try:
+        doc = yaml.safe_load(text)
+    except yaml.YAMLError as e:
+        mark = getattr(e, "problem_mark", None)
+        line = mark.line + 1 if mark is not None else 1
+        raise MissionError(f"{source}:{line}: not valid YAML: {getattr(e, 'problem', e)}") from None
+    if not isinstance(doc, dict):
+        raise ctx.fail((), "a mission file is a mapping with 'mission', 'places' and 'sections'")
+    unknown = set(doc) - {"mission", "places", "sections"}
+    if unknown:
+        k = sorted(unknown)[0]
+        raise ctx.fail((k,), f"unknown top-level key '{k}'; allowed: mission, places, sections")
+    head = doc.get("mission") or {}
+    if not isinstance(head, dict) or "name" not in head:
+        raise ctx.fail(("mission",), "mission: expected a mapping with 'name' (and 'description')")
+    runways, waypoints = _places(doc, ctx)
+    secs = doc.get("sections")
+    if not isinstance(secs, list) or not secs:
+        raise ctx.fail(("sections",), "sections: expected a non-empty list of sections")
+    sections = []
+    for i, s in enumerate(secs):
+        path = ("sections", i)
+        if not isinstance(s, dict) or "type" not in s:
+            raise ctx.fail(path, f"section {i}: expected a mapping with a 'type' ({', '.join(SECTION_TYPES)})")
+        typ = s["type"]
+        if typ not in SECTION_FIELDS:
+            raise ctx.fail(path + ("type",), f"section {i}: unknown section type {typ!r}; "
+                           f"allowed: {', '.join(SECTION_TYPES)}")
+        spec = SECTION_FIELDS[typ]
+        where = f"section {i} ({typ})"
+        extra = set(s) - set(spec) - {"type", "name"}
+        if extra:
+            k = sorted(extra)[0]
+            raise ctx.fail(path + (k,), f"{where}: unknown field '{k}'; allowed: {', '.join(spec)}, name")
+        fields: list[tuple[str, Any]] = []
+        for key, (kind, required, default, rng, help_) in spec.items():
+            if key not in s:
+                if required:
+                    raise ctx.fail(path, f"{where}: missing field '{key}' ({help_})")
+                fields.append((key, default))
+                continue
+            try:
+                fields.append((key, _field(kind, rng, s[key], runways, waypoints)))
+            except ValueError as e:
+                raise ctx.fail(path + (key,), f"{where} field '{key}': {e}") from None
+        if typ == "GTurns" and ("heading_change_deg" in s) == ("duration_s" in s):
+            raise ctx.fail(path, f"{where}: give exactly one of 'heading_change_deg' or 'duration_s'")
+        if typ == "Custom":
+            cmds = dict(fields)["commands"]
+            if cmds[0][0] != 0.0:
+                raise ctx.fail(path + ("commands",), f"{where} field 'commands': the first command must be at t_s = 0")
+        sections.append(Section(i, typ, str(s.get("name", typ)), tuple(fields)))
+    return Mission(str(head["name"]), str(head.get("description", "")), tuple(runways.items()),
+                   tuple(waypoints.items()), tuple(sections), source)
+
+
+def load_mission(path: str | Path) -> Mission:
+    """Read and validate a mission file (YAML, or a QGroundControl ``.plan``)."""
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except OSError as e:
+        raise MissionError(f"{p}: cannot read the mission file: {e.strerror}") from None
+    if p.suffix == ".plan":
+        from .qgc import plan_to_yaml
+
+        return parse_mission(plan_to_yaml(text, str(p)), str(p) + " (converted)")
+    return parse_mission(text, str(p))

@@ -1,0 +1,249 @@
+"""The mission state machine: runs the sections of a :class:`~.mission.Mission` in order.
+
+Each section becomes an *executor* when it starts (so it can use the state at entry),
+turns the aircraft state into :class:`~.state.Targets` every step, and says when it
+is complete. Completion criteria (explicit, per type):
+
+=================  ==============================================================
+Rolling            calibrated airspeed >= ``rotate_cas_m_s``
+TakeOff            height above the runway >= ``until_height_agl_m`` (after lift-off)
+WaypointFollowing  every waypoint passed (fly-over within ``wp_accept_m`` or abeam;
+                   fly-by at the turn anticipation distance)
+Orbiting           ``turns`` full turns swept around the centre after capture
+GTurns             ``|heading change|`` >= ``heading_change_deg``, or ``duration_s`` elapsed
+Levelling          ``|h - altitude_m|`` < ``tolerance_m`` continuously for ``hold_s``
+Landing            stopped on the runway (ground speed < ``v_stop_m_s``)
+Custom             ``duration_s`` elapsed
+=================  ==============================================================
+
+:attr:`MissionRunner.active_index` and :attr:`~MissionRunner.active_name` report the
+active section at every instant; :attr:`~MissionRunner.history` lists the
+transitions (time, index, name).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from typing import Any
+
+from .approach import ApproachParams, AutoLand, centreline_steer
+from .atmosphere import cas_from_tas, isa
+from .geo import wrap_pi
+from .guidance import L1Guidance, OrbitTracker, WaypointSequencer
+from .mission import Mission, Section
+from .state import AircraftState, Targets
+from .tecs import SpeedCommand, SpeedKind
+
+__all__ = ["MissionRunner"]
+
+_GEAR_UP_AGL_M = 15.0
+_CLIMB_ENGAGE_AGL_M = 10.0
+
+
+class _Exec:
+    """Base executor: holds the section and its start time."""
+
+    def __init__(self, sec: Section, x: AircraftState, t_s: float, ctx: MissionRunner) -> None:
+        self.sec, self.t0, self.ctx = sec, t_s, ctx
+        self.done = False
+
+    def targets(self, **kw: Any) -> Targets:
+        return Targets(self.sec.index, self.sec.name, self.sec.type, **kw)
+
+    def step(self, t_s: float, dt_s: float, x: AircraftState) -> Targets:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+
+class _Rolling(_Exec):
+    def step(self, t_s: float, dt_s: float, x: AircraftState) -> Targets:
+        s, rwy = self.sec, self.sec["runway"]
+        cas = cas_from_tas(x.tas_m_s, isa(x.alt_m, x.dT_isa_K))
+        self.done = cas >= s["rotate_cas_m_s"]
+        steer = centreline_steer(rwy, self.ctx.approach_params, x.pos, x.psi_rad)
+        return self.targets(phase="ROLL", theta_cmd_rad=self.ctx.approach_params.theta_ground_rad, lever=s["lever"],
+                            phi_cmd_rad=0.0, align_heading_rad=rwy.heading_rad, track_cmd_rad=rwy.heading_rad,
+                            xtk_m=rwy.local(x.pos)[1], steer=steer)
+
+
+class _TakeOff(_Exec):
+    def __init__(self, sec: Section, x: AircraftState, t_s: float, ctx: MissionRunner) -> None:
+        super().__init__(sec, x, t_s, ctx)
+        self.theta_cmd = x.theta_rad
+        self.climbing = False
+        self.gear_down = True
+
+    def step(self, t_s: float, dt_s: float, x: AircraftState) -> Targets:
+        s, rwy = self.sec, self.sec["runway"]
+        h_agl = x.alt_m - rwy.elevation_m
+        if h_agl > _GEAR_UP_AGL_M and not x.on_ground:
+            self.gear_down = False
+        common = dict(lever=s["lever"], track_cmd_rad=rwy.heading_rad, xtk_m=rwy.local(x.pos)[1],
+                      gear_down=self.gear_down)
+        if not self.climbing and not x.on_ground and h_agl > _CLIMB_ENGAGE_AGL_M:
+            self.climbing = True
+        if not self.climbing:
+            self.theta_cmd = min(self.theta_cmd + math.radians(s["rotation_rate_deg_s"]) * dt_s,
+                                 math.radians(s["pitch_deg"]))
+            steer = centreline_steer(rwy, self.ctx.approach_params, x.pos, x.psi_rad) if x.on_ground else 0.0
+            return self.targets(phase="ROTATE" if x.on_ground else "LIFTOFF", theta_cmd_rad=self.theta_cmd,
+                                phi_cmd_rad=0.0, align_heading_rad=rwy.heading_rad, steer=steer, **common)
+        self.done = h_agl >= s["until_height_agl_m"]
+        lat = self.ctx.guidance.line(rwy.heading_rad, rwy.local(x.pos)[1], x.vn_m_s, x.ve_m_s, x.psi_rad)
+        return self.targets(phase="CLIMB", alt_cmd_m=rwy.elevation_m + s["until_height_agl_m"] + 200.0,
+                            speed=s["climb_speed"], phi_cmd_rad=lat.phi_cmd_rad, **common)
+
+
+class _Waypoints(_Exec):
+    def __init__(self, sec: Section, x: AircraftState, t_s: float, ctx: MissionRunner) -> None:
+        super().__init__(sec, x, t_s, ctx)
+        g = L1Guidance(dataclasses.replace(ctx.guidance.parameters, wp_fly_by=bool(sec["fly_by"])))
+        self.seq = WaypointSequencer(g, list(sec["waypoints"]), x.pos)
+
+    def step(self, t_s: float, dt_s: float, x: AircraftState) -> Targets:
+        cmd = self.seq.step(x.pos, x.vn_m_s, x.ve_m_s, x.psi_rad)
+        self.done = self.seq.done
+        return self.targets(phase=f"TO_WP{min(self.seq.index, len(self.sec['waypoints']) - 1)}",
+                            alt_cmd_m=self.sec["altitude_m"], speed=self.sec["speed"], phi_cmd_rad=cmd.phi_cmd_rad,
+                            track_cmd_rad=cmd.track_cmd_rad, xtk_m=cmd.xtk_m, gear_down=False)
+
+
+class _Orbit(_Exec):
+    def __init__(self, sec: Section, x: AircraftState, t_s: float, ctx: MissionRunner) -> None:
+        super().__init__(sec, x, t_s, ctx)
+        d = 1 if sec["direction"] == "clockwise" else -1
+        self.orb = OrbitTracker(ctx.guidance, sec["center"], sec["radius_m"], d, sec["turns"])
+
+    def step(self, t_s: float, dt_s: float, x: AircraftState) -> Targets:
+        cmd = self.orb.step(x.pos, x.vn_m_s, x.ve_m_s, x.psi_rad)
+        self.done = self.orb.done
+        phase = f"ORBIT {self.orb.turns_flown:.2f}" if self.orb.captured else "ORBIT_ENTRY"
+        return self.targets(phase=phase, alt_cmd_m=self.sec["altitude_m"], speed=self.sec["speed"],
+                            phi_cmd_rad=cmd.phi_cmd_rad, track_cmd_rad=cmd.track_cmd_rad, xtk_m=cmd.xtk_m,
+                            gear_down=False)
+
+
+class _GTurn(_Exec):
+    def __init__(self, sec: Section, x: AircraftState, t_s: float, ctx: MissionRunner) -> None:
+        super().__init__(sec, x, t_s, ctx)
+        self.alt = sec["altitude_m"] if sec["altitude_m"] is not None else x.alt_m
+        self.speed = sec["speed"] if sec["speed"] is not None else SpeedCommand(x.tas_m_s, SpeedKind.TAS)
+        self.turned = 0.0
+        self.psi_prev = x.psi_rad
+        self.sign = 1.0 if sec["direction"] == "right" else -1.0
+
+    def step(self, t_s: float, dt_s: float, x: AircraftState) -> Targets:
+        self.turned += wrap_pi(x.psi_rad - self.psi_prev)
+        self.psi_prev = x.psi_rad
+        s = self.sec
+        if s["heading_change_deg"] is not None:
+            self.done = abs(self.turned) >= math.radians(s["heading_change_deg"])
+        else:
+            self.done = t_s - self.t0 >= s["duration_s"]
+        phi = self.sign * math.acos(1.0 / s["load_factor"])
+        return self.targets(phase="TURN", alt_cmd_m=self.alt, speed=self.speed, phi_cmd_rad=phi, gear_down=False)
+
+
+class _Level(_Exec):
+    def __init__(self, sec: Section, x: AircraftState, t_s: float, ctx: MissionRunner) -> None:
+        super().__init__(sec, x, t_s, ctx)
+        hd = sec["heading_deg"]
+        self.heading = math.radians(hd) if hd is not None else x.psi_rad
+        self.t_in: float | None = None
+
+    def step(self, t_s: float, dt_s: float, x: AircraftState) -> Targets:
+        s = self.sec
+        if abs(x.alt_m - s["altitude_m"]) < s["tolerance_m"]:
+            self.t_in = t_s if self.t_in is None else self.t_in
+            self.done = t_s - self.t_in >= s["hold_s"]
+        else:
+            self.t_in = None
+        return self.targets(phase="CAPTURE" if self.t_in is None else "HOLD", alt_cmd_m=s["altitude_m"],
+                            speed=s["speed"], heading_cmd_rad=self.heading, track_cmd_rad=self.heading,
+                            gear_down=False)
+
+
+class _Landing(_Exec):
+    def __init__(self, sec: Section, x: AircraftState, t_s: float, ctx: MissionRunner) -> None:
+        super().__init__(sec, x, t_s, ctx)
+        self.land = AutoLand(sec["runway"], sec["approach_altitude_m"], ctx.guidance, ctx.approach_params)
+
+    def step(self, t_s: float, dt_s: float, x: AircraftState) -> Targets:
+        c = self.land.step(dt_s, x.pos, x.alt_m, x.vn_m_s, x.ve_m_s, x.psi_rad, x.tas_m_s, x.theta_rad, x.on_ground)
+        self.done = self.land.done
+        ground = c.theta_cmd_rad is not None
+        return self.targets(phase=c.phase, alt_cmd_m=c.alt_cmd_m, gamma_cmd_rad=c.gamma_cmd_rad,
+                            theta_cmd_rad=c.theta_cmd_rad, speed=self.sec["approach_speed"],
+                            lever=0.0 if c.idle else None, phi_cmd_rad=c.phi_cmd_rad,
+                            align_heading_rad=c.align_heading_rad, track_cmd_rad=self.sec["runway"].heading_rad,
+                            xtk_m=c.ils.loc_m, steer=c.steer, brake=c.brake,
+                            gear_down=ground or c.phase not in ("LOC_ARMED",))
+
+
+class _Custom(_Exec):
+    def step(self, t_s: float, dt_s: float, x: AircraftState) -> Targets:
+        tau = t_s - self.t0
+        cmds = self.sec["commands"]
+        cur = cmds[0]
+        for c in cmds:
+            if c[0] <= tau:
+                cur = c
+        self.done = tau >= self.sec["duration_s"]
+        _, lever, pitch_deg, bank_deg = cur
+        return self.targets(phase="CUSTOM", theta_cmd_rad=math.radians(pitch_deg), lever=lever,
+                            phi_cmd_rad=math.radians(bank_deg), gear_down=x.on_ground)
+
+
+_EXECUTORS: dict[str, type[_Exec]] = {"Rolling": _Rolling, "TakeOff": _TakeOff, "WaypointFollowing": _Waypoints,
+                                      "Orbiting": _Orbit, "GTurns": _GTurn, "Levelling": _Level,
+                                      "Landing": _Landing, "Custom": _Custom}
+
+
+class MissionRunner:
+    """Runs the sections of ``mission`` in order and reports the active one.
+
+    Parameters
+    ----------
+    mission : Mission
+        A validated mission.
+    guidance : L1Guidance, optional
+        Path follower shared by the sections (its parameters are the tunable ones).
+    approach_params : ApproachParams, optional
+        Approach, landing and ground-steering parameters.
+    """
+
+    def __init__(self, mission: Mission, guidance: L1Guidance | None = None,
+                 approach_params: ApproachParams | None = None) -> None:
+        self.mission = mission
+        self.guidance = guidance if guidance is not None else L1Guidance()
+        self.approach_params = approach_params if approach_params is not None else ApproachParams.from_file()
+        self.active_index = 0
+        self._exec: _Exec | None = None
+        self.history: list[tuple[float, int, str]] = []
+
+    @property
+    def finished(self) -> bool:
+        """All sections completed."""
+        return self.active_index >= len(self.mission.sections)
+
+    @property
+    def active_name(self) -> str:
+        """Name of the active section (``"finished"`` after the last)."""
+        return "finished" if self.finished else self.mission.sections[self.active_index].name
+
+    def step(self, t_s: float, dt_s: float, x: AircraftState) -> Targets:
+        """Targets of the active section at time ``t_s`` [s]; advances on completion."""
+        while not self.finished:
+            sec = self.mission.sections[self.active_index]
+            if self._exec is None:
+                self._exec = _EXECUTORS[sec.type](sec, x, t_s, self)
+                self.history.append((t_s, sec.index, sec.name))
+            tg = self._exec.step(t_s, dt_s, x)
+            if not self._exec.done:
+                return tg
+            self.active_index += 1
+            self._exec = None
+        if not self.history or self.history[-1][1] != len(self.mission.sections):
+            self.history.append((t_s, len(self.mission.sections), "finished"))
+        return Targets(len(self.mission.sections), "finished", "finished", "STOPPED", theta_cmd_rad=0.0, lever=0.0,
+                       phi_cmd_rad=0.0, brake=1.0, gear_down=True)

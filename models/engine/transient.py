@@ -12,7 +12,9 @@ accelerates them (:func:`.shaft.spool_acceleration`):
 Heat soakage, volume dynamics and tip-clearance changes are not modelled (a
 quasi-steady gas path, as in most real-time engine models). Integration is a
 fixed step, explicit Euler or Heun (2nd-order), each evaluation warm-started
-from the previous one.
+from the previous one: a first-order predictor in the change of (N1, N2, Wf)
+and quasi-Newton iterations on a cached finite-difference Jacobian (inverse
+kept current by Broyden updates, rebuilt when the iteration stalls).
 
 References
 ----------
@@ -38,6 +40,7 @@ from .shaft import spool_acceleration
 __all__ = ["TransientState", "TurbofanTransient"]
 
 _FREE = (0, 1, 2, 5, 6, 7)          # indices of the matched unknowns in the off-design vector
+_INPUTS = [3, 4, 8]                 # N1, N2, Wf: states and input
 
 
 @dataclass(frozen=True)
@@ -82,6 +85,7 @@ class TurbofanTransient:
         self.od = od
         self.I_lp = p.I_lp_kg_m2 if I_lp_kg_m2 is None else I_lp_kg_m2
         self.I_hp = p.I_hp_kg_m2 if I_hp_kg_m2 is None else I_hp_kg_m2
+        self._cache: tuple[Any, ...] | None = None
         if not (self.I_lp > 0.0 and self.I_hp > 0.0):
             raise OutOfRangeError(f"{p.name}: spool inertias I_lp_kg_m2={self.I_lp!r}, I_hp_kg_m2={self.I_hp!r} "
                                   "must be > 0 (set them in the parameter file)")
@@ -106,24 +110,35 @@ class TurbofanTransient:
         n = x_full.size
         free = list(_FREE) + list(range(9, n))
         rows = list(range(6)) + list(range(9, n))
-        x_full[3], x_full[4], x_full[8] = N1_rpm / p.N1_rpm, N2_rpm / p.N2_rpm, Wf_kg_s / od.ref["Wf"]
+        inputs = np.array([N1_rpm / p.N1_rpm, N2_rpm / p.N2_rpm, Wf_kg_s / od.ref["Wf"]])
+        d_in = inputs - x_full[_INPUTS]
+        x_full[_INPUTS] = inputs
         cond = (alt_m, Mach, dT_isa_K)
         extras = (p.customer_bleed_frac, p.offtake_hp_W, p.offtake_lp_W)
         demand = ("Wf_kg_s", Wf_kg_s)
         last: dict[str, Any] = {}
 
-        def resid(xr: np.ndarray) -> np.ndarray:
+        def full_x(xr: np.ndarray) -> np.ndarray:
             x = x_full.copy()
             x[free] = xr
-            r, info = od._cycle(x, cond, demand, extras, distortion)
+            return x
+
+        def resid(xr: np.ndarray) -> np.ndarray:
+            r, info = od._cycle(full_x(xr), cond, demand, extras, distortion)
             last["r"], last["info"], last["xr"] = r, info, xr.copy()
             return r[rows]
 
-        J0 = None if J_full is None else np.asarray(J_full)[np.ix_(rows, free)]
-        names = RESIDUALS[:6] + ("fan_sector_pressure", "hpc_sector_pressure")[:n - 9]
-        res = newton_solve(resid, x_full[free], names, tol=tol, jacobian=J0,
-                           where=f"transient of {p.name!r} at t={t_s} s, N1={N1_rpm:.6g} rpm, "
-                                 f"N2={N2_rpm:.6g} rpm, Wf={Wf_kg_s:.6g} kg/s")
+        key = (cond, distortion, n)
+        res = self._chord(resid, x_full[free], d_in, key, tol) if isinstance(guess, TransientState) else None
+        if res is None:
+            J0 = None if J_full is None else np.asarray(J_full)[np.ix_(rows, free)]
+            names = RESIDUALS[:6] + ("fan_sector_pressure", "hpc_sector_pressure")[:n - 9]
+            res = newton_solve(resid, x_full[free], names, tol=tol, jacobian=J0,
+                               where=f"transient of {p.name!r} at t={t_s} s, N1={N1_rpm:.6g} rpm, "
+                                     f"N2={N2_rpm:.6g} rpm, Wf={Wf_kg_s:.6g} kg/s")
+            self._cache = None
+        if self._cache is None or self._cache[0] != key:
+            self._cache = (key, *self._fd_jacobian(od, full_x(res.x), cond, demand, extras, distortion, rows, free))
         if not np.array_equal(last["xr"], res.x):
             resid(res.x)
         r, info = last["r"], last["info"]
@@ -136,9 +151,56 @@ class TurbofanTransient:
         return TransientState(t_s, pt, spool_acceleration(net_lp, N1_rpm, self.I_lp),
                               spool_acceleration(net_hp, N2_rpm, self.I_hp), net_lp, net_hp)
 
+    def _fd_jacobian(self, od: TurbofanOffDesign, x: np.ndarray, cond: tuple[float, float, float],
+                     demand: tuple[str, float], extras: tuple[float, float, float],
+                     distortion: tuple[Distortion | None, Distortion | None], rows: list[int], free: list[int]
+                     ) -> tuple[np.ndarray, np.ndarray]:
+        """Inverse of d r/d x_free and the matrix d r/d inputs (N1, N2, Wf), by forward differences."""
+        r0 = od._cycle(x, cond, demand, extras, distortion)[0][rows]
+        cols = free + _INPUTS
+        J = np.empty((len(rows), len(cols)))
+        for j, c in enumerate(cols):
+            xp = x.copy()
+            h = 1e-6 * max(1.0, abs(x[c]))
+            xp[c] += h
+            J[:, j] = (od._cycle(xp, cond, demand, extras, distortion)[0][rows] - r0) / h
+        return np.linalg.inv(J[:, :len(free)]), J[:, len(free):]
+
+    def _chord(self, resid: Callable[[np.ndarray], np.ndarray], x: np.ndarray, d_in: np.ndarray,
+               key: tuple[Any, ...], tol: float) -> NewtonResult | None:
+        """Predictor (first order in the change of N1, N2, Wf) and quasi-Newton iterations on the
+        cached inverse Jacobian, kept up to date by Broyden's inverse update; None if there is no
+        cache for this condition or the iteration stalls (the caller then rebuilds it)."""
+        if self._cache is None or self._cache[0] != key:
+            return None
+        _, H, J_in = self._cache
+        x = x - H @ (J_in @ d_in)
+        try:
+            r = resid(x)
+        except ModelError:
+            return None
+        for it in range(8):
+            norm = float(np.max(np.abs(r)))
+            if norm < tol:
+                self._cache = (key, H, J_in)
+                return NewtonResult(x, r, np.zeros((x.size, x.size)), it, it + 1)
+            dx = -H @ r
+            try:
+                r_new = resid(x + dx)
+            except ModelError:
+                break
+            if float(np.max(np.abs(r_new))) > 0.5 * norm:
+                break
+            y = r_new - r
+            Hy = H @ y
+            H = H + np.outer(dx - Hy, dx @ H) / float(dx @ Hy)     # Broyden's good update of the inverse
+            x, r = x + dx, r_new
+        self._cache = None
+        return None
+
     def simulate(self, start: OffDesignPoint, Wf_of_t: Callable[[float], float], t_end_s: float, dt_s: float,
                  alt_m: float = 0.0, Mach: float = 0.0, dT_isa_K: float = 0.0,
-                 method: str = "heun") -> list[TransientState]:
+                 method: str = "heun", tol: float = 1e-9) -> list[TransientState]:
         """Integrate from a steady state `start` with fuel flow schedule `Wf_of_t` [kg/s] to `t_end_s` [s].
 
         Time is t_k = k dt_s (integer k), the house rule for time stepping.
@@ -150,7 +212,7 @@ class TurbofanTransient:
         cond = (alt_m, Mach, dT_isa_K)
         n_steps = int(math.floor(t_end_s / dt_s + 1e-9))
         N1, N2 = start.N1_rpm, start.N2_rpm
-        s = self.state(0.0, N1, N2, Wf_of_t(0.0), *cond, guess=start)
+        s = self.state(0.0, N1, N2, Wf_of_t(0.0), *cond, guess=start, tol=tol)
         out = [s]
         for k in range(n_steps):
             t1 = (k + 1) * dt_s
@@ -158,9 +220,9 @@ class TurbofanTransient:
                 N1, N2 = N1 + dt_s * s.dN1_dt_rpm_s, N2 + dt_s * s.dN2_dt_rpm_s
             else:
                 p = self.state(t1, N1 + dt_s * s.dN1_dt_rpm_s, N2 + dt_s * s.dN2_dt_rpm_s, Wf_of_t(t1), *cond,
-                               guess=s)
+                               guess=s, tol=tol)
                 N1 = N1 + 0.5 * dt_s * (s.dN1_dt_rpm_s + p.dN1_dt_rpm_s)
                 N2 = N2 + 0.5 * dt_s * (s.dN2_dt_rpm_s + p.dN2_dt_rpm_s)
-            s = self.state(t1, N1, N2, Wf_of_t(t1), *cond, guess=s)
+            s = self.state(t1, N1, N2, Wf_of_t(t1), *cond, guess=s, tol=tol)
             out.append(s)
         return out

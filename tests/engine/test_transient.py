@@ -60,3 +60,16 @@ def test_deceleration_and_bad_input(setup: tuple[TurbofanOffDesign, TurbofanTran
     assert min(h.point.SM_hpc for h in hist) > 0.0
     with pytest.raises(OutOfRangeError, match="inertias"):
         TurbofanTransient(od, I_lp_kg_m2=0.0)
+
+
+def test_distortion_switched_on_during_a_transient(setup: tuple[TurbofanOffDesign, TurbofanTransient]) -> None:
+    """Switching a fan distortion on between two instants: same speeds and fuel, visible SM penalty."""
+    from openemss.models.engine.distortion import Distortion
+    od, tr = setup
+    a = od.solve(N1_pct=95.0)
+    s0 = tr.state(0.0, a.N1_rpm, a.N2_rpm, a.Wf_kg_s, guess=a)
+    s1 = tr.state(0.05, a.N1_rpm, a.N2_rpm, a.Wf_kg_s, guess=s0, distortion=(Distortion(0.25, 0.1), None))
+    s2 = tr.state(0.10, a.N1_rpm, a.N2_rpm, a.Wf_kg_s, guess=s1)
+    assert s1.point.SM_fan < s0.point.SM_fan - 0.05
+    assert s1.dN1_dt_rpm_s != pytest.approx(0.0, abs=1.0)       # the spools are no longer balanced
+    assert s2.point.SM_fan == pytest.approx(s0.point.SM_fan, rel=1e-6)

@@ -246,9 +246,10 @@ class Airframe:
         f["ic/terrain-elevation-ft"] = float(ground_elevation_m) / FT
         f["ic/h-sl-ft"] = _check("alt_m", alt_m, -400.0, 12000.0, " m") / FT
         # The initial condition is given as attitude and body-axis velocity over the ground, with
-        # the initial condition's own wind zero: JSBSim 1.3's initial condition and its wind model
-        # relate air and ground velocity with opposite signs (FGInitialCondition v_air = v_g + w,
-        # FGWinds v_air = v_g - w; checked with a 10 m/s wind). Ground velocity = air velocity + wind.
+        # the initial condition's own wind zero. (With jsbsim 1.3.3, a 10 m/s tailwind set through
+        # ic/vw-mag-fps and ic/vw-dir-deg gave an initial-condition airspeed of ground speed + 10 m/s,
+        # but the flown airspeed was ground speed - 10 m/s, so the initial condition's wind is not used.)
+        # Ground velocity = air velocity + wind.
         tas = _check("tas_m_s", tas_m_s, 0.0, 400.0, " m/s")
         alpha = _check("alpha_rad", alpha_rad, -0.5, 0.8, " rad")
         theta = alpha + float(flight_path_rad)

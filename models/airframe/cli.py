@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 import csv
 import json
+import math
 import sys
 from pathlib import Path
 
@@ -43,6 +44,8 @@ def register(subparsers: argparse._SubParsersAction) -> tuple[type[Exception], .
     t.add_argument("--alt-m", type=float, required=True, metavar="A", help="altitude above mean sea level [m]")
     t.add_argument("--mach", type=float, required=True, metavar="M", help="Mach number [-]")
     t.add_argument("--mass-kg", type=float, metavar="W", help="aircraft mass [kg] (default 2100, MTOM)")
+    t.add_argument("--flight-path-deg", type=float, default=0.0, metavar="G",
+                   help="flight-path angle of a steady climb (> 0) or descent [deg] (default 0: level)")
     t.add_argument("--json", action="store_true", help="print JSON (keys carry SI units)")
     t.set_defaults(handler=cmd_trim)
     p = sub.add_parser("polar", help="drag polar and thrust required over the envelope (PNG + CSV)",
@@ -60,13 +63,14 @@ def register(subparsers: argparse._SubParsersAction) -> tuple[type[Exception], .
 
 def cmd_trim(args: argparse.Namespace) -> int:
     """Handler of ``emss airframe trim``; returns the exit code."""
-    r = trim_level(args.alt_m, args.mach, args.mass_kg)
+    r = trim_level(args.alt_m, args.mach, args.mass_kg, flight_path_rad=math.radians(args.flight_path_deg))
     d = r.as_dict()
     if args.json:
         json.dump(d, sys.stdout, indent=2)
         sys.stdout.write("\n")
         return 0
-    print(f"UPERA level flight at {r.alt_m:g} m, Mach {r.mach:g}, {r.mass_kg:.1f} kg "
+    kind = "level flight" if args.flight_path_deg == 0 else f"flight path {args.flight_path_deg:g} deg"
+    print(f"UPERA {kind} at {r.alt_m:g} m, Mach {r.mach:g}, {r.mass_kg:.1f} kg "
           f"(TAS {r.tas_m_s:.2f} m/s, q {r.qbar_Pa:.0f} Pa)")
     for k in _TRIM_KEYS:
         print(f"  {k:10s} {d[k]:12.5g}")

@@ -1,8 +1,10 @@
-"""Steady level flight of UPERA with an external thrust: angle of attack, elevator and thrust.
+"""Steady level (or straight climbing) flight of UPERA with an external thrust: angle of attack,
+elevator and thrust.
 
 JSBSim's own trim adjusts its engines' throttles, which UPERA does not have (the
 thrust is an external force), so this module solves the steady equations itself:
-wings level, no sideslip, flight-path angle zero, pitch angle = angle of attack,
+wings level, no sideslip, a given flight-path angle (zero: level), pitch angle =
+angle of attack + flight-path angle,
 no rotation, and the three body-axis accelerations u', w', q' that JSBSim
 computes at that state (aerodynamics, gravity, thrust at the engine's position)
 set to zero with :func:`scipy.optimize.root`.
@@ -85,7 +87,7 @@ def _check_range(name: str, value: float, rng: tuple[float, float], unit: str) -
 
 def trim_level(alt_m: float, mach: float, mass_kg: float | None = None, airframe: Airframe | None = None,
                flaps: float = 0.0, gear_down: bool = False, heading_deg: float = 0.0, lat_deg: float = 48.3539,
-               lon_deg: float = 11.7860) -> TrimResult:
+               lon_deg: float = 11.7860, flight_path_rad: float = 0.0) -> TrimResult:
     """Trim UPERA in steady level flight.
 
     Parameters
@@ -105,6 +107,9 @@ def trim_level(alt_m: float, mach: float, mass_kg: float | None = None, airframe
     heading_deg, lat_deg, lon_deg : float
         True heading and position [deg]: JSBSim's Earth rotation and gravity model make the
         trim depend on them slightly (Coriolis: 0.05 % of the thrust at 190 m/s).
+    flight_path_rad : float
+        Flight-path angle [rad] of a steady straight climb (> 0) or descent, -0.2 to 0.3;
+        0 (default) is level flight.
 
     Raises
     ------
@@ -120,6 +125,7 @@ def trim_level(alt_m: float, mach: float, mass_kg: float | None = None, airframe
     mass = g.mtom_kg if mass_kg is None else _check_range("mass", mass_kg, (g.oem_kg, g.mtom_kg), " kg")
     fuel = mass - g.oem_kg
     weight = mass * G0
+    gamma = _check_range("flight-path angle", flight_path_rad, (-0.2, 0.3), " rad")
     a = aero_model()
     fdm = af.fdm
     # Speed of sound from JSBSim's own atmosphere at this altitude.
@@ -127,7 +133,7 @@ def trim_level(alt_m: float, mach: float, mass_kg: float | None = None, airframe
     tas = m * af.get_property("atmosphere/a-fps") * FT
     q = 0.5 * af.state().rho_kg_m3 * tas ** 2
     s = g.wing.area_m2
-    cl_req = weight / (q * s)
+    cl_req = weight * math.cos(gamma) / (q * s)
     where = f"at {alt:g} m, Mach {m:g}, {mass:g} kg"
     cl_max = a.clmax(flaps)
     if cl_req > 0.95 * cl_max:
@@ -135,7 +141,7 @@ def trim_level(alt_m: float, mach: float, mass_kg: float | None = None, airframe
                         "(stall); fly faster or lower")
     cla = float(a.cl_alpha(m))
     alpha0 = (cl_req - float(a.cl_linear(0.0, m))) / cla
-    x0 = np.array([alpha0, 0.0, 0.05])
+    x0 = np.array([alpha0, 0.0, 0.05 + math.sin(gamma)])
 
     ground = min(0.0, alt - 1000.0)  # terrain well below, so no contact point touches it
 
@@ -146,7 +152,7 @@ def trim_level(alt_m: float, mach: float, mass_kg: float | None = None, airframe
         for _ in range(2):
             af.start_air(alt, tas, heading_deg, lat_deg, lon_deg, alpha_rad=float(x[0]), elevator=float(x[1]),
                          thrust_N=float(x[2]) * weight, flaps=flaps, gear_down=gear_down, fuel_kg=fuel,
-                         ground_elevation_m=ground)
+                         ground_elevation_m=ground, flight_path_rad=gamma)
         return np.array([fdm["accelerations/udot-ft_sec2"] * FT / G0,
                          fdm["accelerations/wdot-ft_sec2"] * FT / G0,
                          fdm["accelerations/qdot-rad_sec2"]])

@@ -333,3 +333,15 @@ def test_landing_on_munich_26r(af: Airframe) -> None:
     assert abs(math.degrees(prev.psi_rad) - hdg) < 1.0
     assert prev.on_ground and prev.gs_m_s < 0.5
     assert x - td[3] == pytest.approx(roll_hand, rel=0.25)
+
+
+@pytest.mark.parametrize("gamma", [0.05, -0.05])
+def test_trim_in_steady_climb_and_descent(af: Airframe, gamma: float) -> None:
+    """Straight climb/descent: L + T sin(alpha) = W cos(gamma), D = T cos(alpha) - W sin(gamma)
+    (0.5 %: Earth-rotation terms), and the vertical speed is V sin(gamma)."""
+    r = trim_level(4000.0, 0.5, airframe=af, flight_path_rad=gamma)
+    w = r.mass_kg * G0
+    assert r.lift_N + r.thrust_N * math.sin(r.alpha_rad) == pytest.approx(w * math.cos(gamma), rel=5e-3)
+    assert r.drag_N == pytest.approx(r.thrust_N * math.cos(r.alpha_rad) - w * math.sin(gamma), rel=5e-3)
+    assert af.state().vs_m_s == pytest.approx(r.tas_m_s * math.sin(gamma), rel=1e-3)
+    assert af.state().theta_rad == pytest.approx(r.alpha_rad + gamma, abs=1e-9)

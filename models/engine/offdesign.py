@@ -37,8 +37,7 @@ off-design turbofan: W, BPR, N1, N2, turbine PRs, FAR).
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Any, Protocol
 
@@ -52,11 +51,12 @@ from .cycle_design import DesignPoint, gas_of
 from .design_params import TurbofanParams
 from .distortion import Distortion, flow_residual, map_sectors, pressure_residual
 from .duct import duct
-from .errors import ModelError, OutOfRangeError
+from .errors import ConvergenceError, ModelError, OutOfRangeError
 from .flow import T_STD_K, FlowStation, mix
-from .inlet import inlet
+from .inlet import inlet, ram_recovery_mil_e_5008b
 from .newton import newton_solve
 from .nozzle import convergent_nozzle
+from .offdesign_result import OffDesignPoint
 from .splitter import splitter
 from .turbine import Cooling, turbine
 
@@ -111,89 +111,6 @@ def scaled_maps(dp: DesignPoint, fan: str = "lpc_hbtf", hpc: str = "axi5", hpt: 
     t2 = ScaledTurbineMap.from_design(load_turbine_map(lpt), c["lpt"].Wc_kg_s, c["lpt"].PR, c["lpt"].eta_is,
                                       c["lpt"].Nc_rpm)
     return TurbofanMaps(f, h, t1, t2, f.beta_map, h.beta_map)
-
-
-@dataclass(frozen=True)
-class OffDesignPoint:
-    """An off-design steady state (all SI; ``_pct`` in percent of the design value).
-
-    Attributes
-    ----------
-    stations : Mapping[str, FlowStation]
-        Every station, as in the design point.
-    Fn_N, Fg_N, ram_drag_N, Wf_kg_s, SFC_kg_N_s : float
-        Net and gross thrust, ram drag [N], fuel flow [kg/s], SFC [kg/(N s)].
-    N1_rpm, N2_rpm, N1_pct, N2_pct, N1c_rpm, N1c_pct : float
-        Spool speeds, and N1 corrected to the fan-face temperature.
-    Tt4_K, T41_K, Tt21_K, Tt17_K, Tt7_K, Pt3_Pa, OPR, BPR : float
-        Cycle temperatures [K], HPC delivery pressure [Pa], ratios [-].
-    SM_fan, SM_hpc : float
-        Surge margins [-] of the worst sector (NaN if the map does not provide them).
-    SM_fan_clean, SM_hpc_clean : float
-        Surge margins of the clean sector [-] (equal to SM_fan, SM_hpc without distortion).
-    beta_fan, beta_hpc, PR_hpt, PR_lpt, handling_bleed_frac : float
-        Map coordinates, turbine pressure ratios, handling bleed W/W25.
-    iterations, evaluations : int
-        Newton iterations and residual evaluations.
-    residual_max : float
-        max |r| at the solution [-].
-    distortion : (Distortion or None, Distortion or None)
-        Distortion at the fan and at the HPC face.
-    """
-
-    alt_m: float
-    Mach: float
-    dT_isa_K: float
-    stations: Mapping[str, FlowStation]
-    Fn_N: float
-    Fg_N: float
-    ram_drag_N: float
-    Wf_kg_s: float
-    SFC_kg_N_s: float
-    N1_rpm: float
-    N2_rpm: float
-    N1_pct: float
-    N2_pct: float
-    N1c_rpm: float
-    N1c_pct: float
-    Tt4_K: float
-    T41_K: float
-    Tt21_K: float
-    Tt17_K: float
-    Tt7_K: float
-    Pt3_Pa: float
-    OPR: float
-    BPR: float
-    SM_fan: float
-    SM_hpc: float
-    SM_fan_clean: float
-    SM_hpc_clean: float
-    beta_fan: float
-    beta_hpc: float
-    PR_hpt: float
-    PR_lpt: float
-    handling_bleed_frac: float
-    powers_W: Mapping[str, float]
-    overboard_W_kg_s: float
-    overboard_H_W: float
-    iterations: int
-    evaluations: int
-    residual_max: float
-    x: tuple[float, ...] = field(repr=False)
-    jacobian: np.ndarray = field(repr=False, compare=False)
-    distortion: tuple[Distortion | None, Distortion | None] = (None, None)
-
-    def to_dict(self) -> dict[str, Any]:
-        """Plain dictionary (SI units in the key names) for JSON output."""
-        skip = {"stations", "x", "jacobian", "powers_W", "distortion"}
-        out: dict[str, Any] = {k: getattr(self, k) for k in self.__dataclass_fields__ if k not in skip}
-        out["powers_W"] = dict(self.powers_W)
-        for name, d in zip(("distortion_fan", "distortion_hpc"), self.distortion, strict=True):
-            out[name] = None if d is None else {"sector_frac": d.sector_frac, "dPt_frac": d.dPt_frac,
-                                                "dTt_K": d.dTt_K}
-        out["stations"] = {k: {"W_kg_s": s.W_kg_s, "Tt_K": s.Tt_K, "Pt_Pa": s.Pt_Pa, "FAR": s.FAR}
-                           for k, s in self.stations.items()}
-        return out
 
 
 def _mixed(streams: list[FlowStation], gas: Any) -> FlowStation:
@@ -407,7 +324,27 @@ class TurbofanOffDesign:
         cond = (alt_m, Mach, dT_isa_K)
         free_stream(*cond, self.gas)                       # range checks before iterating
         dist = (distortion_fan, distortion_hpc)
-        x0, J0 = self.start(dist, guess)
+        try:
+            return self._solve(cond, kind, value, extras, dist, guess, tol)
+        except ConvergenceError as exc:
+            if guess is not None:
+                raise
+            first = exc
+        # continuation from the design's corrected operating point at this flight condition
+        try:
+            g = self._solve(cond, "N1c_rpm", self.dp.components["fan_outer"].Nc_rpm, extras, dist, None, tol)
+            v0 = {"Wf_kg_s": g.Wf_kg_s, "N1_rpm": g.N1_rpm, "N1c_rpm": g.N1c_rpm, "Tt4_K": g.Tt4_K,
+                  "Fn_N": g.Fn_N}[kind]
+            for f in (0.25, 0.5, 0.75, 1.0):
+                g = self._solve(cond, kind, v0 + f * (value - v0), extras, dist, g, tol)
+            return g
+        except ConvergenceError:
+            raise first from None
+
+    def _solve(self, cond: tuple[float, float, float], kind: str, value: float, extras: tuple[float, float, float],
+               dist: tuple[Distortion | None, Distortion | None], guess: OffDesignPoint | None,
+               tol: float) -> OffDesignPoint:
+        x0, J0 = self.start(dist, guess, cond)
         names = RESIDUALS + tuple(n for n, d in zip(("fan_sector_pressure", "hpc_sector_pressure"), dist,
                                                     strict=True) if d is not None)
         last: dict[str, Any] = {}
@@ -417,20 +354,33 @@ class TurbofanOffDesign:
             last["x"], last["info"] = x.copy(), info
             return r
 
-        res = newton_solve(resid, x0, names, tol=tol,
-                           jacobian=J0, where=f"offdesign of {p.name!r} at alt {alt_m} m, Mach {Mach}, "
-                                               f"{kind}={value:.6g}")
+        res = newton_solve(resid, x0, names, tol=tol, jacobian=J0,
+                           where=f"offdesign of {self.p.name!r} at alt {cond[0]} m, Mach {cond[1]}, "
+                                 f"{kind}={value:.6g}")
         if "x" in last and np.array_equal(last["x"], res.x):
             info = last["info"]
         else:
             info = self._cycle(res.x, cond, (kind, value), extras, dist)[1]
         return self._result(res, info, cond, dist)
 
-    def start(self, dist: tuple[Distortion | None, Distortion | None], guess: OffDesignPoint | None
-              ) -> tuple[np.ndarray, np.ndarray | None]:
-        """Starting unknowns and Jacobian for a distortion configuration, from a guess if it fits."""
+    def start(self, dist: tuple[Distortion | None, Distortion | None], guess: OffDesignPoint | None,
+              cond: tuple[float, float, float] | None = None) -> tuple[np.ndarray, np.ndarray | None]:
+        """Starting unknowns and Jacobian for a distortion configuration, from a guess if it fits.
+
+        Without a guess: the design point moved to the flight condition `cond` by
+        similarity (same corrected flow, speeds and fuel flow W/(delta sqrt(theta)) at the fan face).
+        """
         if guess is None:
             base, J0 = list(self.x_design), None
+            if cond is not None:
+                fr = free_stream(*cond, self.gas)
+                d2 = self.dp.stations["2"]
+                theta = fr.Tt0_K / d2.Tt_K
+                delta = fr.Pt0_Pa * self.p.inlet_pi * ram_recovery_mil_e_5008b(cond[1]) / d2.Pt_Pa
+                base[0] *= delta / math.sqrt(theta)
+                base[3] *= math.sqrt(theta)
+                base[4] *= math.sqrt(theta)
+                base[8] *= delta * math.sqrt(theta)
         elif tuple(d is None for d in guess.distortion) == tuple(d is None for d in dist):
             return np.array(guess.x), guess.jacobian
         else:

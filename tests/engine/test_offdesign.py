@@ -153,3 +153,14 @@ def test_power_settings_and_errors(dp: DesignPoint) -> None:
         od.solve(Fn_N=1e3, Tt4_K=1000.0)
     with pytest.raises(ConvergenceError, match="fan_flow=.*power_setting="):
         od.solve(Fn_N=60e3)
+
+
+def test_cold_start_far_from_design_uses_similarity_and_continuation(dp: DesignPoint) -> None:
+    """A cold solve at altitude and part power converges (similarity start, continuation in the
+    power setting) and agrees with the same point reached by a sweep."""
+    od = TurbofanOffDesign(dp, scaled_maps(dp))
+    cold = od.solve(7500.0, 0.75, N1_pct=60.0)
+    g = None
+    for pct in (100.0, 90.0, 80.0, 70.0, 60.0):
+        g = od.solve(7500.0, 0.75, N1_pct=pct, guess=g)
+    assert cold.Fn_N == pytest.approx(g.Fn_N, rel=1e-7) and cold.N2_rpm == pytest.approx(g.N2_rpm, rel=1e-8)

@@ -86,7 +86,8 @@ class TurbineMapLike(Protocol):
 
 @dataclass(frozen=True)
 class TurbofanMaps:
-    """The four maps of the turbofan and the beta of the design point on the compressor maps."""
+    """The maps of the turbofan (a booster map only for an engine with a booster) and the beta
+    of the design point on the compressor maps."""
 
     fan: CompressorMapLike
     hpc: CompressorMapLike
@@ -94,11 +95,14 @@ class TurbofanMaps:
     lpt: TurbineMapLike
     beta_fan_design: float = 0.5
     beta_hpc_design: float = 0.5
+    booster: CompressorMapLike | None = None
+    beta_booster_design: float = 0.5
 
 
 def scaled_maps(dp: DesignPoint, fan: str = "lpc_hbtf", hpc: str = "axi5", hpt: str = "hpt1269",
-                lpt: str = "lpt2269") -> TurbofanMaps:
-    """Maps of :mod:`.maps` scaled to the design point `dp` (corrected speeds in rpm)."""
+                lpt: str = "lpt2269", booster: str = "lpc_hbtf") -> TurbofanMaps:
+    """Maps of :mod:`.maps` scaled to the design point `dp` (corrected speeds in rpm); the booster
+    map only if the design has a booster (PR_booster > 1)."""
     from .maps import ScaledCompressorMap, ScaledTurbineMap, load_compressor_map, load_turbine_map
     c = dp.components
     fo = c["fan_outer"]
@@ -110,7 +114,12 @@ def scaled_maps(dp: DesignPoint, fan: str = "lpc_hbtf", hpc: str = "axi5", hpt: 
                                       c["hpt"].Nc_rpm)
     t2 = ScaledTurbineMap.from_design(load_turbine_map(lpt), c["lpt"].Wc_kg_s, c["lpt"].PR, c["lpt"].eta_is,
                                       c["lpt"].Nc_rpm)
-    return TurbofanMaps(f, h, t1, t2, f.beta_map, h.beta_map)
+    b, b_beta = None, 0.5
+    if isinstance(dp.params, TurbofanParams) and dp.params.PR_booster > 1.0:
+        cb = c["booster"]
+        b = ScaledCompressorMap.from_design(load_compressor_map(booster), cb.Wc_kg_s, cb.PR, cb.eta_is, cb.Nc_rpm)
+        b_beta = b.beta_map
+    return TurbofanMaps(f, h, t1, t2, f.beta_map, h.beta_map, b, b_beta)
 
 
 def _mixed(streams: list[FlowStation], gas: Any) -> FlowStation:
@@ -154,9 +163,10 @@ class TurbofanOffDesign:
         p = dp.params
         if not isinstance(p, TurbofanParams):
             raise ModelError("TurbofanOffDesign needs a turbofan design point")
-        if p.PR_booster > 1.0:
+        if p.PR_booster > 1.0 and maps.booster is None:
             raise ModelError(f"{p.name}: off-design of an engine with a booster (PR_booster={p.PR_booster}) "
-                             "needs a booster map, which is not implemented")
+                             "needs a booster map (TurbofanMaps.booster)")
+        self.nb = 1 if p.PR_booster > 1.0 else 0
         if not (0.0 <= handling_bleed_open_frac < 0.5):
             raise OutOfRangeError(f"handling_bleed_open_frac={handling_bleed_open_frac!r} is outside [0, 0.5)")
         self.dp, self.p, self.maps, self.gas = dp, p, maps, gas_of(p)
@@ -165,11 +175,19 @@ class TurbofanOffDesign:
         self.k_inner = (p.PR_fan_inner - 1.0) / (p.PR_fan_outer - 1.0)
         self.eff_ratio_inner = p.eta_fan_inner / p.eta_fan_outer
         st = dp.stations
-        self.ref = dict(W2=st["2"].W_kg_s, Wc2=st["2"].Wc_kg_s, Wc25=c["hpc"].Wc_kg_s, Wc4=c["hpt"].Wc_kg_s,
+        self.ref: dict[str, float] = dict(
+                        W2=st["2"].W_kg_s, Wc2=st["2"].Wc_kg_s, Wc25=c["hpc"].Wc_kg_s, Wc4=c["hpt"].Wc_kg_s,
                         Wc45=c["lpt"].Wc_kg_s, A8=dp.nozzles["core"].A_eff_m2, A18=dp.nozzles["bypass"].A_eff_m2,
                         P_hp=c["hpc"].power_W, P_lp=c["fan_outer"].power_W + c["fan_inner"].power_W,
                         Wf=dp.Wf_kg_s, Fn=dp.Fn_N, Tt4=dp.Tt4_K, PRh=c["hpt"].PR, PRl=c["lpt"].PR)
-        self.x_design = (1.0, maps.beta_fan_design, maps.beta_hpc_design, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0)
+        self.ref["Wc21"] = c["booster"].Wc_kg_s
+        self.x_design = (1.0, maps.beta_fan_design, maps.beta_hpc_design, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0) + (
+            (maps.beta_booster_design,) if self.nb else ())
+
+    def residual_names(self, dist: tuple[Distortion | None, Distortion | None]) -> tuple[str, ...]:
+        """Names of the residuals for a distortion configuration, in order."""
+        return RESIDUALS + ("booster_flow",) * self.nb + tuple(
+            n for n, d in zip(("fan_sector_pressure", "hpc_sector_pressure"), dist, strict=True) if d is not None)
 
     # ------------------------------------------------------------------ cycle
     def _cycle(self, x: np.ndarray, cond: tuple[float, float, float], demand: tuple[str, float],
@@ -182,7 +200,7 @@ class TurbofanOffDesign:
         cust, off_hp, off_lp = extras
         if W2 <= 0.0 or N1 <= 0.0 or N2 <= 0.0 or BPR < 0.0 or Wf <= 0.0 or PRh < 1.0 or PRl < 1.0:
             raise OutOfRangeError("offdesign: unknowns out of range")
-        betas_fan, betas_hpc, i = [b_fan], [b_hpc], 9
+        betas_fan, betas_hpc, i = [b_fan], [b_hpc], 9 + self.nb
         if dist[0] is not None:
             betas_fan.append(x[i])
             i += 1
@@ -205,7 +223,17 @@ class TurbofanOffDesign:
             P_fo += fo.power_W
             P_fi += fi.power_W
         st["13"], st["21"] = _mixed(outer, g), _mixed(inner, g)
-        st["24"] = duct(st["21"], p.dPqP_21_24)
+        d21 = duct(st["21"], p.dPqP_21_24)
+        r_booster: list[float] = []
+        P_bo = 0.0
+        if self.nb:
+            assert m.booster is not None
+            Wc_b, PR_b, eff_b = m.booster.evaluate(N1 / sq(d21.Tt_K / T_STD_K), x[9])
+            r_booster.append((Wc_b - d21.Wc_kg_s) / ref["Wc21"])
+            bo = compressor(d21, PR_b, eff_b, (), g)
+            st["24"], P_bo = bo.out, bo.power_W
+        else:
+            st["24"] = d21
         st["25"] = duct(st["24"], p.dPqP_24_25)
         N2c = N2 / sq(st["25"].Tt_K / T_STD_K)
         hpc = map_sectors(st["25"], dist[1], m.hpc, N2, betas_hpc, g)
@@ -264,12 +292,12 @@ class TurbofanOffDesign:
             nc.A_eff_m2 / ref["A8"] - 1.0,
             nb.A_eff_m2 / ref["A18"] - 1.0,
             (p.eta_mech_hp * ht.power_W - hc.power_W - off_hp) / ref["P_hp"],
-            (p.eta_mech_lp * lt.power_W - P_fo - P_fi - off_lp) / ref["P_lp"],
-            r9] + [pressure_residual(sec) for sec in (fan, hpc) if len(sec) > 1])
+            (p.eta_mech_lp * lt.power_W - P_fo - P_fi - P_bo - off_lp) / ref["P_lp"],
+            r9] + r_booster + [pressure_residual(sec) for sec in (fan, hpc) if len(sec) > 1])
         info = dict(st=st, Fn=Fn, Fg=Fg, ram=ram, Wf=Wf, N1=N1, N2=N2, N1c=N1c, BPR=BPR, hb=hb,
                     b_fan=b_fan, b_hpc=b_hpc, N2c=N2c, PRh=PRh, PRl=PRl,
                     fan_sectors=[(sp.Nc, sp.beta) for sp in fan], hpc_sectors=[(sp.Nc, sp.beta) for sp in hpc],
-                    powers={"fan_outer": P_fo, "fan_inner": P_fi, "hpc": hc.power_W,
+                    powers={"fan_outer": P_fo, "fan_inner": P_fi, "booster": P_bo, "hpc": hc.power_W,
                             "hpt": ht.power_W, "lpt": lt.power_W},
                     bleeds={b.name: (b.sink, bl[b.name]) for b in specs})
         return r, info
@@ -345,8 +373,7 @@ class TurbofanOffDesign:
                dist: tuple[Distortion | None, Distortion | None], guess: OffDesignPoint | None,
                tol: float) -> OffDesignPoint:
         x0, J0 = self.start(dist, guess, cond)
-        names = RESIDUALS + tuple(n for n, d in zip(("fan_sector_pressure", "hpc_sector_pressure"), dist,
-                                                    strict=True) if d is not None)
+        names = self.residual_names(dist)
         last: dict[str, Any] = {}
 
         def resid(x: np.ndarray) -> np.ndarray:
@@ -384,7 +411,7 @@ class TurbofanOffDesign:
         elif tuple(d is None for d in guess.distortion) == tuple(d is None for d in dist):
             return np.array(guess.x), guess.jacobian
         else:
-            base, J0 = list(guess.x[:9]), None
+            base, J0 = list(guess.x[:9 + self.nb]), None
         if dist[0] is not None:
             base.append(base[1])
         if dist[1] is not None:

@@ -34,7 +34,7 @@ import numpy as np
 from .distortion import Distortion
 from .errors import ModelError, OutOfRangeError
 from .newton import NewtonResult, newton_solve
-from .offdesign import RESIDUALS, OffDesignPoint, TurbofanOffDesign
+from .offdesign import OffDesignPoint, TurbofanOffDesign
 from .shaft import spool_acceleration
 
 __all__ = ["TransientState", "TurbofanTransient"]
@@ -132,7 +132,8 @@ class TurbofanTransient:
         res = self._chord(resid, x_full[free], d_in, key, tol) if isinstance(guess, TransientState) else None
         if res is None:
             J0 = None if J_full is None else np.asarray(J_full)[np.ix_(rows, free)]
-            names = RESIDUALS[:6] + ("fan_sector_pressure", "hpc_sector_pressure")[:n - 9]
+            all_names = od.residual_names(distortion)
+            names = all_names[:6] + all_names[9:]
             res = newton_solve(resid, x_full[free], names, tol=tol, jacobian=J0,
                                where=f"transient of {p.name!r} at t={t_s} s, N1={N1_rpm:.6g} rpm, "
                                      f"N2={N2_rpm:.6g} rpm, Wf={Wf_kg_s:.6g} kg/s")

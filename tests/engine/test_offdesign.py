@@ -164,3 +164,25 @@ def test_cold_start_far_from_design_uses_similarity_and_continuation(dp: DesignP
     for pct in (100.0, 90.0, 80.0, 70.0, 60.0):
         g = od.solve(7500.0, 0.75, N1_pct=pct, guess=g)
     assert cold.Fn_N == pytest.approx(g.Fn_N, rel=1e-7) and cold.N2_rpm == pytest.approx(g.N2_rpm, rel=1e-8)
+
+
+def test_engine_with_booster_and_cooling_flows() -> None:
+    """pyCycle's HBTF layout (booster, five HPC bleeds, HP offtake) at 35000 ft / M0.8: the design
+    point is recovered from part power, and mass and energy close, with analytic maps."""
+    dp = design(load_params(preset_path("pycycle_hbtf")))
+    c = dp.components
+    base = analytic_maps(dp)
+    b = c["booster"]
+    maps = TurbofanMaps(base.fan, base.hpc, base.hpt, base.lpt,
+                        booster=AnalyticCompressor(b.Wc_kg_s, b.PR, b.eta_is, b.Nc_rpm))
+    od = TurbofanOffDesign(dp, maps)
+    cond = (dp.params.alt_m, 0.8, 0.0)
+    part = od.solve(*cond, N1_pct=90.0)
+    assert part.powers_W["booster"] > 0.0 and part.overboard_W_kg_s > 0.0
+    dm, de = closure(part, dp, offtake_W=dp.params.offtake_hp_W)
+    assert abs(dm) < 1e-9 and abs(de) < 1e-9
+    back = od.solve(*cond, Wf_kg_s=dp.Wf_kg_s, guess=part)
+    assert back.Fn_N == pytest.approx(dp.Fn_N, rel=1e-7) and back.N1_pct == pytest.approx(100.0, rel=1e-7)
+    assert back.stations["24"].Pt_Pa == pytest.approx(dp.stations["24"].Pt_Pa, rel=1e-7)
+    with pytest.raises(ModelError, match="booster map"):
+        TurbofanOffDesign(dp, base)

@@ -34,8 +34,17 @@ from dataclasses import dataclass
 
 from .atmosphere import G0_M_S2
 from .errors import FcsError
-from .geo import (LatLon, along_track_m, central_angle_rad, cross_track_m, destination, distance_m,
-                  final_bearing_rad, initial_bearing_rad, wrap_pi)
+from .geo import (
+    LatLon,
+    along_track_m,
+    central_angle_rad,
+    cross_track_m,
+    destination,
+    distance_m,
+    final_bearing_rad,
+    initial_bearing_rad,
+    wrap_pi,
+)
 from .tunable import Tunable, load_params
 
 __all__ = ["GuidanceParams", "PathCommand", "L1Guidance", "WaypointSequencer", "OrbitTracker"]

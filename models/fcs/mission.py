@@ -304,7 +304,7 @@ def _field(kind: str, spec: Any, v: Any, runways: dict, waypoints: dict) -> Any:
             if not isinstance(c, dict) or set(c) != set(_CUSTOM_KEYS):
                 raise ValueError(f"each command needs exactly {', '.join(_CUSTOM_KEYS)}, got {c!r}")
             pts.append(tuple(_number(c[k], *_CUSTOM_KEYS[k]) for k in _CUSTOM_KEYS))
-        if any(b[0] <= a[0] for a, b in zip(pts, pts[1:])):
+        if any(b[0] <= a[0] for a, b in zip(pts, pts[1:], strict=False)):
             raise ValueError("command times t_s must increase")
         return tuple(pts)
     raise AssertionError(kind)

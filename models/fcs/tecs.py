@@ -50,7 +50,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from enum import Enum
+from enum import StrEnum
 
 from .atmosphere import G0_M_S2, cas_from_tas, isa, tas_from_cas, tas_from_mach
 from .errors import FcsError
@@ -62,7 +62,7 @@ __all__ = ["TecsParams", "SpeedKind", "SpeedCommand", "TecsInput", "TecsOutput",
 RHO0_KG_M3 = 1.225
 
 
-class SpeedKind(str, Enum):
+class SpeedKind(StrEnum):
     """How a speed command is expressed."""
 
     MACH = "mach"

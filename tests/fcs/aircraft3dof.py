@@ -54,7 +54,7 @@ class Aircraft3Dof:
     Vdot: float = 0.0
     psidot: float = 0.0
     fuel_burnt: float = 0.0
-    touchdown: tuple[float, float] | None = None  # (sink rate, time) of the first touchdown after flight
+    touchdown: tuple[float, float, LatLon] | None = None  # (sink rate, time, position) of the first touchdown
     t: float = 0.0
 
     def atm(self):
@@ -127,7 +127,7 @@ class Aircraft3Dof:
             self.h += self.V * math.sin(self.gamma) * dt
             if self.h <= self.elev_ground:
                 if self.touchdown is None:
-                    self.touchdown = (-self.V * math.sin(self.gamma), self.t)
+                    self.touchdown = (-self.V * math.sin(self.gamma), self.t, self.pos)
                 self.on_ground, self.h, self.gamma, self.phi, self.p = True, self.elev_ground, 0.0, 0.0, 0.0
         st = self.state()
         vg = math.hypot(st.vn_m_s, st.ve_m_s)

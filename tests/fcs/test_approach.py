@@ -15,10 +15,10 @@ import math
 
 import numpy as np
 import pytest
+from kinematic import Kinematic
 
 from openemss.models.fcs.approach import ApproachParams, AutoLand, Runway, ils_deviation
 from openemss.models.fcs.geo import LatLon, distance_m
-from kinematic import Kinematic
 
 DT = 0.05
 KT = 0.514444
@@ -42,7 +42,6 @@ def test_glide_path_geometry() -> None:
 @pytest.mark.parametrize("xwind_kt", [0.0, 10.0, -10.0])
 def test_ils_approach_to_full_stop(xwind_kt: float) -> None:
     land = AutoLand(RWY, approach_alt_m=RWY.elevation_m + 760.0)
-    p = land.parameters
     # 10 NM out, 2 km right of the centre line, intercepting at 30 deg, 65 m/s
     start = RWY.point(-18520.0, 2000.0)
     hdg = RWY.heading_rad - math.radians(30.0)

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import pytest
 
 from openemss.models.fcs.errors import ParameterError
-from openemss.models.fcs.fuel_control import FuelControlParams, FuelController
+from openemss.models.fcs.fuel_control import FuelController, FuelControlParams
 
 TAU_S = 1.0
 G_PCT_PER_KG_S = 400.0
@@ -71,7 +71,7 @@ def test_small_step_follows_first_order_analytic_response() -> None:
     assert max(abs(x) for x in h["dWf"]) < p.stp_max_kg_s
     tau_cl = TAU_S / (p.kp_kg_s_pct * G_PCT_PER_KG_S)
     # discrete-time loop (one step of delay) against the continuous first-order law: 6 % of the step
-    err = max(abs((n - 80.0) - step * (1 - math.exp(-t / tau_cl))) for t, n in zip(h["t"], h["N1c"]))
+    err = max(abs((n - 80.0) - step * (1 - math.exp(-t / tau_cl))) for t, n in zip(h["t"], h["N1c"], strict=True))
     assert err < 0.06 * step
     assert h["N1c"][-1] == pytest.approx(80.0 + step, abs=1e-3 * step)
 

@@ -19,8 +19,18 @@ import pytest
 
 from openemss.models.fcs.errors import GeometryError
 from openemss.models.fcs.geo import (
-    LatLon, along_track_m, central_angle_rad, cross_track_m, destination, distance_m, final_bearing_rad,
-    from_local_ne, initial_bearing_rad, local_ne_m, midpoint, wrap_pi,
+    LatLon,
+    along_track_m,
+    central_angle_rad,
+    cross_track_m,
+    destination,
+    distance_m,
+    final_bearing_rad,
+    from_local_ne,
+    initial_bearing_rad,
+    local_ne_m,
+    midpoint,
+    wrap_pi,
 )
 
 NM_ARC_RADIUS_M = 1852.0 * 180 * 60 / math.pi  # Williams' sphere: 1 nm per arc minute

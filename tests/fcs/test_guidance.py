@@ -18,11 +18,11 @@ import math
 
 import numpy as np
 import pytest
+from kinematic import Kinematic
 
 from openemss.models.fcs.errors import FcsError
-from openemss.models.fcs.geo import LatLon, destination, distance_m, final_bearing_rad, initial_bearing_rad
+from openemss.models.fcs.geo import LatLon, destination, distance_m, initial_bearing_rad
 from openemss.models.fcs.guidance import L1Guidance, OrbitTracker, WaypointSequencer
-from kinematic import Kinematic
 
 DT = 0.05
 EDDM = LatLon.from_deg(48.3538, 11.7861)

@@ -2,9 +2,10 @@
 
 Stated bounds: the Munich mission completes every section; in the level parts of the
 waypoint and orbit sections (from the first altitude capture within 10 m to the end of the
-section, which includes Mach 0.1 speed steps and 30-deg bank turns; at 7500 m the Mach 0.7 -> 0.8 step saturates the thrust and TECS then
-trades some height for speed by design) altitude stays within 50 m of the command and Mach within 0.01 of it once the speed
-is captured; touchdown in the touchdown zone (150-900 m past the threshold), within 5 m of
+section, which includes Mach 0.1 speed steps and 30-deg bank turns; at 7500 m the
+Mach 0.7 -> 0.8 step saturates the thrust and TECS then trades some height for speed by
+design) altitude stays within 50 m of the command, and Mach within 0.01 of it once the
+speed is captured; touchdown in the touchdown zone (150-900 m past the threshold), within 5 m of
 the centre line, sink rate below 2 m/s; stop on the runway. A G-turn holds its load factor
 within 0.1 g; a Levelling section captures its altitude within 10 m.
 """
@@ -16,8 +17,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from aircraft3dof import Aircraft3Dof
+
 from openemss.models.fcs.atmosphere import isa
 from openemss.models.fcs.fcs import FlightControlSystem
 from openemss.models.fcs.mission import Mission, load_mission, parse_mission
@@ -43,7 +44,7 @@ def fly(m: Mission, ac: Aircraft3Dof, t_end: float) -> tuple[FlightControlSystem
         mach_cmd = sp.value if (sp is not None and sp.kind is SpeedKind.MACH) else math.nan
         for key, v in zip(keys, (t, tg.section_index, ac.h, ac.V / a.a_m_s,
                                  tg.alt_cmd_m if tg.alt_cmd_m is not None else math.nan, mach_cmd,
-                                 _load_factor(ac), ac.on_ground)):
+                                 _load_factor(ac), ac.on_ground), strict=True):
             log[key].append(v)
         k += 1
     return fcs, {k: np.array(v) for k, v in log.items()}
@@ -96,8 +97,10 @@ def test_munich_landing(munich) -> None:
     m, ac, fcs, log = munich
     rwy = m.sections[-1]["runway"]
     assert ac.touchdown is not None
-    sink, t_td = ac.touchdown
+    sink, t_td, td_pos = ac.touchdown
     assert sink < 2.0
+    td_along, td_cross = rwy.local(td_pos)
+    assert 150.0 < td_along < 900.0 and abs(td_cross) < 5.0
     i = int(np.searchsorted(log["t"], t_td))
     assert log["on_ground"][i + 1]
     along, cross = rwy.local(ac.pos)
@@ -146,7 +149,7 @@ def _fly_with(fcs: FlightControlSystem, ac: Aircraft3Dof, t_end: float):
         out = fcs.step(k * DT, DT, ac.state(), ac.engine())
         for _ in range(N_SUB):
             ac.step(DT / N_SUB, out.elevator, out.aileron, out.steer, out.brake, out.Wf_cmd_kg_s)
-        for key, v in zip(keys, (k * DT, out.targets.section_index, ac.h, _load_factor(ac))):
+        for key, v in zip(keys, (k * DT, out.targets.section_index, ac.h, _load_factor(ac)), strict=True):
             log[key].append(v)
         k += 1
     return fcs, {k: np.array(v) for k, v in log.items()}

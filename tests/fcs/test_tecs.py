@@ -8,14 +8,12 @@ given to the controller.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pytest
+from pointmass import G, PointMass, trimmed
 
 from openemss.models.fcs.pitch import PitchController
 from openemss.models.fcs.tecs import SpeedCommand, SpeedKind, Tecs, TecsInput, TecsParams, specific_energy_rate_m_s
-from pointmass import G, PointMass, trimmed
 
 DT_CTRL = 0.05
 N_SUB = 5

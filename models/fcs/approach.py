@@ -18,7 +18,7 @@ Phases of :class:`AutoLand` (each reported as a string):
                (V sin gs - hdot_td) for a continuous sink rate at flare entry; thrust idle;
                heading aligned with the runway (de-crab). -> ``DEROTATION`` on touchdown.
 ``DEROTATION`` pitch command lowered at theta_derot_rate to theta_ground, idle.
-               -> ``ROLLOUT`` when the pitch reaches theta_ground + 0.5 deg.
+               -> ``ROLLOUT`` when the pitch is within nose_down_tol of theta_ground.
 ``ROLLOUT``    nose-wheel steering and rudder on the centre line, brakes.
                -> ``STOPPED`` below v_stop.
 
@@ -101,6 +101,10 @@ class ApproachParams:
     k_psi_steer_1_rad: float
     brake: float
     v_stop_m_s: float
+    nose_down_tol_rad: float
+    flare_gamma_max_rad: float
+    gear_up_agl_m: float
+    climb_engage_agl_m: float
 
     @classmethod
     def from_file(cls, **overrides: float) -> ApproachParams:
@@ -276,7 +280,7 @@ class AutoLand(Tunable[ApproachParams]):
         if self.phase in ("GS", "FLARE") and on_ground:
             self.phase = "DEROTATION"
             self._theta_cmd = theta_rad
-        if self.phase == "DEROTATION" and theta_rad <= p.theta_ground_rad + math.radians(0.5):
+        if self.phase == "DEROTATION" and theta_rad <= p.theta_ground_rad + p.nose_down_tol_rad:
             self.phase = "ROLLOUT"
         if self.phase == "ROLLOUT" and vg < p.v_stop_m_s:
             self.phase = "STOPPED"
@@ -287,7 +291,7 @@ class AutoLand(Tunable[ApproachParams]):
             gamma = -p.gs_angle_rad - p.k_gs_1_s * ils.gs_m / V
         elif self.phase == "FLARE":
             hdot = -max(ils.h_agl_m, 0.0) / self._tau_flare - p.hdot_td_m_s
-            gamma = math.asin(max(min(hdot / V, 0.2), -0.2))
+            gamma = math.asin(max(min(hdot / V, p.flare_gamma_max_rad), -p.flare_gamma_max_rad))
             idle, align = True, rwy.heading_rad
         else:  # on the ground
             phi, idle, align = 0.0, True, rwy.heading_rad

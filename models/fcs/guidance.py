@@ -58,10 +58,13 @@ class GuidanceParams:
     L1_damping: float
     L1_min_turn_radii: float
     L1_orbit_max_radii: float
+    L1_min_m: float
     phi_max_rad: float
     wp_accept_m: float
     wp_fly_by: bool
+    fly_by_bank_frac: float
     orbit_capture_frac: float
+    orbit_capture_track_rad: float
 
     @classmethod
     def from_file(cls, **overrides: float) -> GuidanceParams:
@@ -116,7 +119,7 @@ class L1Guidance(Tunable[GuidanceParams]):
         """
         p = self._params
         return max(p.L1_damping * p.L1_period_s * vg_m_s / math.pi, p.L1_min_turn_radii * self.turn_radius_m(vg_m_s),
-                   50.0)
+                   p.L1_min_m)
 
     def _command(self, path_brg: float, xtk: float, vn: float, ve: float, ff_m_s2: float,
                  dist_to_go: float, L1_max_m: float = math.inf, psi_rad: float | None = None) -> PathCommand:
@@ -196,7 +199,7 @@ class WaypointSequencer:
     when the along-track distance of its leg is flown (the aircraft is abeam or beyond),
     or -- with ``wp_fly_by`` set: fly-by waypoints, as in ARINC 424 -- when the distance to go is below the
     turn anticipation R tan(|dpsi|/2), with dpsi the course change to the next leg and R
-    the turn radius at 80 % of the bank limit. Fly-by turns stay close to the legs but
+    the turn radius at ``fly_by_bank_frac`` (80 %) of the bank limit. Fly-by turns stay close to the legs but
     pass the waypoint at a distance of the order of R (1/cos(dpsi/2) - 1) or more;
     fly-over (the default) passes within ``wp_accept_m`` and overshoots the next leg.
 
@@ -239,7 +242,8 @@ class WaypointSequencer:
         if self._g.parameters.wp_fly_by and self.index + 1 < len(self._wps):
             dpsi = wrap_pi(initial_bearing_rad(b, self._wps[self.index + 1]) - final_bearing_rad(a, b))
             vg = math.hypot(vn_m_s, ve_m_s)
-            r = vg * vg / (G0_M_S2 * math.tan(0.8 * max(self._g.parameters.phi_max_rad, 1e-3)))
+            gp = self._g.parameters
+            r = vg * vg / (G0_M_S2 * math.tan(gp.fly_by_bank_frac * max(gp.phi_max_rad, 1e-3)))
             lead = r * math.tan(min(abs(dpsi), math.radians(150.0)) / 2)
         if not self.done and (cmd.dist_to_go_m <= lead or distance_m(pos, b) < self._g.parameters.wp_accept_m):
             self._prev = b
@@ -289,7 +293,7 @@ class OrbitTracker:
         brg = initial_bearing_rad(self.center, pos) if distance_m(self.center, pos) > 1.0 else 0.0
         chi = math.atan2(ve_m_s, vn_m_s)
         if (not self.captured and abs(cmd.xtk_m) < self._g.parameters.orbit_capture_frac * self.radius_m
-                and abs(wrap_pi(chi - cmd.track_cmd_rad)) < math.radians(30.0)):
+                and abs(wrap_pi(chi - cmd.track_cmd_rad)) < self._g.parameters.orbit_capture_track_rad):
             self.captured = True
         elif self.captured and self._brg_prev is not None:
             self.swept_rad += max(0.0, self.direction * wrap_pi(brg - self._brg_prev))

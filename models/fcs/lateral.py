@@ -29,10 +29,6 @@ from .tunable import Tunable, load_params
 
 __all__ = ["LateralParams", "LateralState", "LateralOutput", "LateralController"]
 
-#: The bank-error integral (it only trims lateral asymmetry: the roll loop is type 1 already)
-#: integrates within this band of the command, so large bank changes do not overshoot [rad].
-_I_BAND_RAD = 0.05
-
 
 @dataclass(frozen=True, slots=True)
 class LateralParams:
@@ -41,6 +37,8 @@ class LateralParams:
     k_phi_1_rad: float
     k_p_s_rad: float
     k_phi_i_1_rad_s: float
+    phi_i_band_rad: float
+    phi_i_limit: float
     k_r_s_rad: float
     k_beta_1_rad: float
     qbar_ref_Pa: float
@@ -157,8 +155,8 @@ class LateralController(Tunable[LateralParams]):
         e = phi_cmd_rad - x.phi_rad
         u_p = s * (p.k_phi_1_rad * e - p.k_p_s_rad * x.p_rad_s)
         u = u_p + self._i_phi
-        if abs(e) < _I_BAND_RAD and (-1.0 < u < 1.0 or (u >= 1.0) != (e > 0)):
-            self._i_phi = min(max(self._i_phi + s * p.k_phi_i_1_rad_s * e * dt_s, -0.3), 0.3)
+        if abs(e) < p.phi_i_band_rad and (-1.0 < u < 1.0 or (u >= 1.0) != (e > 0)):
+            self._i_phi = min(max(self._i_phi + s * p.k_phi_i_1_rad_s * e * dt_s, -p.phi_i_limit), p.phi_i_limit)
         aileron = min(max(u_p + self._i_phi, -1.0), 1.0)
         r_c = G0_M_S2 * math.sin(x.phi_rad) * math.cos(x.theta_rad) / max(x.tas_m_s, 1.0)
         rudder = min(max(s * (p.k_beta_1_rad * x.beta_rad - p.k_r_s_rad * (x.r_rad_s - r_c)), -1.0), 1.0)

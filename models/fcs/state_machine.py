@@ -37,8 +37,6 @@ from .tecs import SpeedCommand, SpeedKind
 
 __all__ = ["MissionRunner"]
 
-_GEAR_UP_AGL_M = 15.0
-_CLIMB_ENGAGE_AGL_M = 10.0
 
 
 class _Exec:
@@ -76,11 +74,12 @@ class _TakeOff(_Exec):
     def step(self, t_s: float, dt_s: float, x: AircraftState) -> Targets:
         s, rwy = self.sec, self.sec["runway"]
         h_agl = x.alt_m - rwy.elevation_m
-        if h_agl > _GEAR_UP_AGL_M and not x.on_ground:
+        ap = self.ctx.approach_params
+        if h_agl > ap.gear_up_agl_m and not x.on_ground:
             self.gear_down = False
         common = dict(lever=s["lever"], track_cmd_rad=rwy.heading_rad, xtk_m=rwy.local(x.pos)[1],
                       gear_down=self.gear_down)
-        if not self.climbing and not x.on_ground and h_agl > _CLIMB_ENGAGE_AGL_M:
+        if not self.climbing and not x.on_ground and h_agl > ap.climb_engage_agl_m:
             self.climbing = True
         if not self.climbing:
             self.theta_cmd = min(self.theta_cmd + math.radians(s["rotation_rate_deg_s"]) * dt_s,

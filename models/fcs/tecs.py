@@ -107,6 +107,7 @@ class TecsParams:
     lever_min: float
     lever_max: float
     V_min_cas_m_s: float
+    underspeed_margin: float
     mach_max: float
 
     @classmethod
@@ -242,7 +243,7 @@ class Tecs(Tunable[TecsParams]):
         cas = cas_from_tas(V, atm)
         underspeed = cas < p.V_min_cas_m_s
         if underspeed:
-            V_c = max(V_c, tas_from_cas(p.V_min_cas_m_s * 1.05, atm))
+            V_c = max(V_c, tas_from_cas(p.V_min_cas_m_s * p.underspeed_margin, atm))
         if alt_cmd_m is not None:
             g_c = p.k_h_1_s * (alt_cmd_m - x.alt_m) / V
         else:

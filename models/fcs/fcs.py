@@ -93,13 +93,17 @@ class FlightControlSystem:
         The validated mission to fly.
     Wf0_kg_s : float
         Fuel flow at the start (engine running at idle) [kg/s].
+    elevator0 : float
+        Elevator at the start [-] (e.g. the trim of an air start): the pitch loop's
+        integral starts from it, so the engagement is bumpless.
     """
 
-    def __init__(self, mission: Mission, Wf0_kg_s: float | None = None) -> None:
+    def __init__(self, mission: Mission, Wf0_kg_s: float | None = None, elevator0: float = 0.0) -> None:
         self.guidance = L1Guidance()
         self.runner = MissionRunner(mission, self.guidance)
         self.tecs = Tecs()
         self.pitch = PitchController()
+        self.pitch.reset(elevator0)
         self.lateral = LateralController()
         self.fuel = FuelController(Wf0_kg_s=Wf0_kg_s)
         self._approach = _ParamHolder(self.runner)

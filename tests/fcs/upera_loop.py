@@ -31,7 +31,7 @@ class Run:
     on_ground: list[bool] = field(default_factory=list)
     vs: list[float] = field(default_factory=list)
     wf: list[float] = field(default_factory=list)
-    n1c_dem: list[float] = field(default_factory=list)
+    nz: list[float] = field(default_factory=list)
 
 
 def fly_upera(af, s, fcs: FlightControlSystem, t_end: float, N1c0: float, dt: float = 0.05) -> Run:
@@ -82,6 +82,7 @@ def fly_upera(af, s, fcs: FlightControlSystem, t_end: float, N1c0: float, dt: fl
         run.on_ground.append(s.on_ground)
         run.vs.append(s.vs_m_s)
         run.wf.append(out.Wf_cmd_kg_s)
+        run.nz.append(s.load_factor)
         k += 1
     _ = isa  # the ISA of the FCS is what the laws use; the airframe has its own
     return run

@@ -89,8 +89,12 @@ def load_params(cls: type[P], filename: str, section: str, **overrides: float) -
             raise ParameterError(f"{where}: unknown parameter '{key}'; {cls.__name__} has: {', '.join(names)}")
         if not isinstance(entry, dict) or "value" not in entry:
             raise ParameterError(f"{where}.{key}: expected a mapping with 'value' (and 'unit', 'note')")
-        lo = float(entry.get("min", -math.inf))
-        hi = float(entry.get("max", math.inf))
+        try:
+            lo = float(entry.get("min", -math.inf))
+            hi = float(entry.get("max", math.inf))
+        except (TypeError, ValueError):
+            raise ParameterError(f"{where}.{key}: min/max must be numbers, got {entry.get('min')!r}, "
+                                 f"{entry.get('max')!r}") from None
         _BOUNDS[(cls.__name__, key)] = (lo, hi)
         values[key] = entry["value"]
     missing = [n for n in names if n not in values]
@@ -99,12 +103,15 @@ def load_params(cls: type[P], filename: str, section: str, **overrides: float) -
     values.update(overrides)
     for key, v in values.items():
         _check(cls, key, v, where)
-    return cls(**values)
+    return cls(**{k: v if isinstance(v, bool) else float(v) for k, v in values.items()})
 
 
 def _check(cls: type, name: str, value: Any, where: str) -> None:
     if isinstance(value, bool):
         return
+    if isinstance(value, str):
+        raise ParameterError(f"{where}.{name}: value {value!r} is a string, not a number (YAML reads 1.0e6 "
+                             "as text: write 1.0e+6)")
     try:
         x = float(value)
     except (TypeError, ValueError):

@@ -137,3 +137,13 @@ def test_qgc_unsupported_item_is_named(tmp_path: Path) -> None:
     p.write_text(_plan([_item(0, 16, 48.3, 11.5, 500.0), _item(1, 20, 48.3, 11.5, 500.0)]))
     with pytest.raises(MissionError, match=r"mission item 1: MAV_CMD 20 is not supported; allowed: WAYPOINT \(16\)"):
         load_mission(p)
+
+
+def test_readme_documents_every_section_and_field() -> None:
+    from openemss.models.fcs.mission import SECTION_FIELDS
+
+    text = (ROOT / "missions" / "README.md").read_text()
+    for typ, fields in SECTION_FIELDS.items():
+        assert f"### {typ}" in text
+        for f in fields:
+            assert f"`{f}`" in text, (typ, f)

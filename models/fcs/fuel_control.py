@@ -4,36 +4,35 @@ The law of SPEC.md, stated exactly:
 
 1. Demand. The thrust lever delta in [0, 1] gives the corrected fan speed demand
    ``N1c_dem = k_delta * delta`` [%].
-2. Limiting. The demand is limited by the turbine-temperature and fan-speed
-   limits through a *min-select* of three N1c errors [%]::
+2. Three regulators, each an incremental (velocity-form) PI computing a fuel-flow
+   change per controller step from its own error::
 
-       e_dem = N1c_dem - N1c
-       e_T   = g_T * (Tt41_max - Tt41)
-       e_N   = g_N * (N1_max - N1)
-       e     = min(e_dem, e_T, e_N)
+       demand:  e_D = N1c_dem - N1c  [%]   dWf_D = kp   (e_D - e_D,prev) + ki   dt e_D
+       Tt41:    e_T = Tt41_max - Tt41 [K]  dWf_T = kp_T (e_T - e_T,prev) + ki_T dt e_T
+       N1:      e_N = N1_max - N1     [%]  dWf_N = kp_N (e_N - e_N,prev) + ki_N dt e_N
 
-   i.e. the limited demand is ``N1c_lim = N1c + e = min(N1c_dem, N1c + g_T
-   (Tt41_max - Tt41), N1c + g_N (N1_max - N1))``. Below the limits (with margin)
-   e = e_dem and the demand is untouched; when Tt41 or N1 reaches its limit,
-   that error becomes the smallest and the demand is reduced in proportion to
-   the exceedance (limiter gains g_T, g_N); the loop then holds the limited
-   quantity at its limit with zero steady error, since the PI below integrates
-   the selected error.
-3. Fuel-flow step. A PI in velocity (incremental) form turns the selected
-   error into a fuel-flow increment, which is clipped to +-stp_max per
-   controller step::
+3. Limiting by min-select: ``dWf = min(dWf_D, dWf_T, dWf_N)``. Far below its limit
+   a limiter asks for a large increase and is never the smallest; as Tt41 or N1
+   approaches its limit its regulator's request falls below the demand's, it
+   takes over, and it holds the limited quantity at the limit with zero steady
+   error (integral action). So the N1c demand is limited to what the engine can
+   run at Tt41_max or N1_max; the reported ``N1c_lim_pct`` is the measured N1c
+   while a limiter is selected.
+4. Fuel-flow step. The selected change is clipped to +-stp_max per controller
+   step, and the command to [Wf_min, Wf_max]::
 
-       dWf = clip(kp (e_k - e_{k-1}) + ki dt e_k, -stp_max, +stp_max)
-       Wf_k = clip(Wf_{k-1} + dWf, Wf_min, Wf_max)
+       Wf_k = clip(Wf_{k-1} + clip(dWf, -stp_max, +stp_max), Wf_min, Wf_max)
 
-Why a rate-limited PI rather than ``Wf += stp_max * sign(e)``: the sign law
-never settles -- it chatters +-stp_max around the demand at every step, which
-shows in Tt4 and thrust traces and in fuel burn -- whereas the velocity-form PI
-reaches zero error, and for large errors it *is* the sign law (the clip binds),
-so SPEC.md's "steps of at most stp_max toward the demand" holds in every case.
-The velocity form keeps its state in Wf itself: switching between the demand,
-Tt41 and N1 errors is bumpless and there is no integrator to wind up against
-Wf_min/Wf_max.
+Why rate-limited PIs rather than ``Wf += stp_max * sign(e)``: the sign law never
+settles -- it chatters +-stp_max around the demand at every step, which shows in
+Tt4 and thrust traces and in fuel burn -- whereas the PIs reach zero error, and for
+large errors the demand PI *is* the sign law (the clip binds), so SPEC.md's "steps
+of at most stp_max toward the demand" holds in every case. Why a min-select of
+increments: each limit gets a regulator tuned to its own dynamics (Tt41 answers a
+fuel change at once, ~3600 K per kg/s at constant spool speeds on the Larzac-sized
+engine: an integral-only regulator suits it; N1 follows the spool), switching is
+bumpless because the state is Wf itself, and no integrator winds up against the
+limits.
 
 One call of :meth:`FuelController.step` is one controller step: stp_max is per
 call, so the slew rate is stp_max/dt.
@@ -69,14 +68,12 @@ class FuelControlParams:
         HP turbine rotor inlet temperature limit [K].
     N1_max_pct : float
         Fan (LP spool) mechanical speed limit [%].
-    g_Tt41_pct_K : float
-        Limiter gain: N1c error per kelvin of Tt41 margin [%/K].
-    g_N1_pct_pct : float
-        Limiter gain: N1c error per percent of N1 margin [-].
-    kp_kg_s_pct : float
-        Proportional gain of the incremental PI [kg/s per %].
-    ki_kg_s2_pct : float
-        Integral gain of the incremental PI [kg/s^2 per %].
+    kp_kg_s_pct, ki_kg_s2_pct : float
+        Demand (N1c) regulator: proportional [kg/s per %] and integral [kg/s^2 per %] gains.
+    kp_T_kg_s_K, ki_T_kg_s2_K : float
+        Tt41 limiter: proportional [kg/s per K] and integral [kg/s^2 per K] gains.
+    kp_N1_kg_s_pct, ki_N1_kg_s2_pct : float
+        N1 limiter: proportional [kg/s per %] and integral [kg/s^2 per %] gains.
     stp_max_kg_s : float
         Largest fuel-flow change per controller step [kg/s].
     Wf_min_kg_s, Wf_max_kg_s : float
@@ -86,10 +83,12 @@ class FuelControlParams:
     k_delta_pct: float
     Tt41_max_K: float
     N1_max_pct: float
-    g_Tt41_pct_K: float
-    g_N1_pct_pct: float
     kp_kg_s_pct: float
     ki_kg_s2_pct: float
+    kp_T_kg_s_K: float
+    ki_T_kg_s2_K: float
+    kp_N1_kg_s_pct: float
+    ki_N1_kg_s2_pct: float
     stp_max_kg_s: float
     Wf_min_kg_s: float
     Wf_max_kg_s: float
@@ -113,7 +112,7 @@ class FuelControlOutput:
     N1c_dem_pct : float
         Demand from the lever, k_delta * delta [%].
     N1c_lim_pct : float
-        Limited demand N1c + e [%].
+        Limited demand: N1c_dem, or the measured N1c while a limiter is selected [%].
     limiter : str
         Which error was selected: ``"demand"``, ``"Tt41"`` or ``"N1"``.
     """
@@ -142,7 +141,7 @@ class FuelController(Tunable[FuelControlParams]):
         self._params = params if params is not None else FuelControlParams.from_file()
         self._check_consistent()
         self._Wf = self._params.Wf_min_kg_s if Wf0_kg_s is None else float(Wf0_kg_s)
-        self._e_prev: float | None = None
+        self._e_prev: tuple[float, float, float] | None = None
 
     def _on_parameters_changed(self) -> None:
         self._check_consistent()
@@ -186,16 +185,15 @@ class FuelController(Tunable[FuelControlParams]):
         p = self._params
         d = min(max(delta, 0.0), 1.0)
         N1c_dem = p.k_delta_pct * d
-        e_dem = N1c_dem - N1c_pct
-        e_T = p.g_Tt41_pct_K * (p.Tt41_max_K - Tt41_K)
-        e_N = p.g_N1_pct_pct * (p.N1_max_pct - N1_pct)
-        e, limiter = e_dem, "demand"
-        if e_T < e:
-            e, limiter = e_T, "Tt41"
-        if e_N < e:
-            e, limiter = e_N, "N1"
-        e_prev = e if self._e_prev is None else self._e_prev
-        dWf = p.kp_kg_s_pct * (e - e_prev) + p.ki_kg_s2_pct * dt_s * e
+        e = (N1c_dem - N1c_pct, p.Tt41_max_K - Tt41_K, p.N1_max_pct - N1_pct)
+        e0 = e if self._e_prev is None else self._e_prev
+        dWf, limiter = p.kp_kg_s_pct * (e[0] - e0[0]) + p.ki_kg_s2_pct * dt_s * e[0], "demand"
+        d_T = p.kp_T_kg_s_K * (e[1] - e0[1]) + p.ki_T_kg_s2_K * dt_s * e[1]
+        if d_T < dWf:
+            dWf, limiter = d_T, "Tt41"
+        d_N = p.kp_N1_kg_s_pct * (e[2] - e0[2]) + p.ki_N1_kg_s2_pct * dt_s * e[2]
+        if d_N < dWf:
+            dWf, limiter = d_N, "N1"
         dWf = min(max(dWf, -p.stp_max_kg_s), p.stp_max_kg_s)
         # bounds, approached at the same limited rate if the command was outside them
         target = min(max(self._Wf + dWf, p.Wf_min_kg_s), p.Wf_max_kg_s)
@@ -203,4 +201,5 @@ class FuelController(Tunable[FuelControlParams]):
         Wf_new = self._Wf + dWf
         self._Wf = Wf_new
         self._e_prev = e
-        return FuelControlOutput(Wf_new, dWf, N1c_dem, N1c_pct + e, limiter)
+        N1c_lim = N1c_dem if limiter == "demand" else N1c_pct
+        return FuelControlOutput(Wf_new, dWf, N1c_dem, N1c_lim, limiter)

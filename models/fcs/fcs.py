@@ -11,6 +11,7 @@ one dotted name, ``"<controller>.<parameter>"``, e.g. ``"tecs.k_TP"`` or
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -28,7 +29,28 @@ from .state_machine import MissionRunner
 from .tecs import Tecs, TecsInput
 from .tunable import Tunable
 
-__all__ = ["FcsOutput", "FlightControlSystem"]
+__all__ = ["FcsOutput", "FlightControlSystem", "OUTPUT_SIGNALS"]
+
+#: Flat output signals of :meth:`FcsOutput.signals`: name -> description with unit (for FMU variables).
+OUTPUT_SIGNALS: dict[str, str] = {
+    "elevator": "Elevator command, normalised, > 0 trailing edge down (nose down) [-]",
+    "aileron": "Aileron command, normalised, > 0 rolls right [-]",
+    "rudder": "Rudder command, normalised, > 0 yaws the nose right [-]",
+    "steer": "Nose-wheel steering command, > 0 right [-]",
+    "brake": "Wheel brake command [0-1]",
+    "gear_down": "Landing gear command, 1 down [-]",
+    "lever": "Thrust lever command [0-1]",
+    "Wf_cmd_kg_s": "Fuel-flow command [kg/s]",
+    "theta_cmd_rad": "Pitch attitude command [rad]",
+    "phi_cmd_rad": "Bank angle command [rad]",
+    "section_index": "Active mission section index (number of sections when finished) [-]",
+    "section_name": "Active mission section name [-]",
+    "section_phase": "Phase within the active section [-]",
+    "alt_cmd_m": "Commanded altitude above mean sea level (NaN when none) [m]",
+    "tas_cmd_m_s": "Commanded true airspeed (NaN when none) [m/s]",
+    "track_cmd_rad": "Commanded true track (NaN when none) [rad]",
+    "xtk_m": "Cross-track error of the active path, right positive (NaN when none) [m]",
+}
 
 
 class _ParamHolder(Tunable[ApproachParams]):
@@ -83,6 +105,16 @@ class FcsOutput:
     targets: Targets
     tas_cmd_m_s: float
 
+    def signals(self) -> dict[str, float | int | str | bool]:
+        """The outputs as a flat mapping named as :data:`OUTPUT_SIGNALS` (what an FMU exposes)."""
+        tg = self.targets
+        return {"elevator": self.elevator, "aileron": self.aileron, "rudder": self.rudder, "steer": self.steer,
+                "brake": self.brake, "gear_down": self.gear_down, "lever": self.lever,
+                "Wf_cmd_kg_s": self.Wf_cmd_kg_s, "theta_cmd_rad": self.theta_cmd_rad,
+                "phi_cmd_rad": self.phi_cmd_rad, "section_index": tg.section_index, "section_name": tg.section_name,
+                "section_phase": tg.phase, "alt_cmd_m": math.nan if tg.alt_cmd_m is None else tg.alt_cmd_m,
+                "tas_cmd_m_s": self.tas_cmd_m_s, "track_cmd_rad": tg.track_cmd_rad, "xtk_m": tg.xtk_m}
+
 
 class FlightControlSystem:
     """Mission, guidance, longitudinal, lateral and propulsion control of one aircraft.
@@ -112,6 +144,7 @@ class FlightControlSystem:
                                                 "fuel_control": self.fuel}
         self._tecs_engaged = False
         self._lever = 0.0
+        self._tas_prev: float | None = None
 
     # -- parameters -----------------------------------------------------------------------
     def parameter_names(self) -> tuple[str, ...]:
@@ -142,7 +175,15 @@ class FlightControlSystem:
         return self.runner.finished
 
     def step(self, t_s: float, dt_s: float, x: AircraftState, eng: EngineState) -> FcsOutput:
-        """One FCS step at time ``t_s`` [s] of length ``dt_s`` [s]."""
+        """One FCS step at time ``t_s`` [s] of length ``dt_s`` [s].
+
+        If ``x.Vdot_m_s2`` is NaN (an airframe that does not output it), the rate of the
+        true airspeed is taken from its change since the previous step.
+        """
+        if math.isnan(x.Vdot_m_s2):
+            vdot = 0.0 if self._tas_prev is None or dt_s <= 0.0 else (x.tas_m_s - self._tas_prev) / dt_s
+            x = dataclasses.replace(x, Vdot_m_s2=vdot)
+        self._tas_prev = x.tas_m_s
         tg = self.runner.step(t_s, dt_s, x)
         tas_cmd = math.nan
         if tg.theta_cmd_rad is not None:

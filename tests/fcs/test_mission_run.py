@@ -172,3 +172,22 @@ def test_every_gain_is_reachable_by_name() -> None:
 
     with pytest.raises(ParameterError, match="controller one of tecs, pitch"):
         fcs.get_parameter("k_TP")
+
+
+def test_output_signals_have_units_and_vdot_is_estimated() -> None:
+    from openemss.models.fcs.fcs import OUTPUT_SIGNALS
+    from openemss.models.fcs.geo import LatLon
+
+    m = parse_mission(GTURN)
+    a = isa(3000.0)
+    ac = Aircraft3Dof(LatLon.from_deg(48.0, 11.0), 3000.0, 0.5 * a.a_m_s, 0.0, 0.0, on_ground=False, theta=0.02,
+                      N1c=60.0)
+    fcs = FlightControlSystem(m, Wf0_kg_s=0.09)
+    x = ac.state()
+    import dataclasses
+
+    out = fcs.step(0.0, DT, dataclasses.replace(x, Vdot_m_s2=math.nan), ac.engine())
+    sig = out.signals()
+    assert set(sig) == set(OUTPUT_SIGNALS)
+    assert all(d.rstrip().endswith("]") for d in OUTPUT_SIGNALS.values())
+    assert sig["section_name"] == "Levelling" and sig["alt_cmd_m"] == 3000.0

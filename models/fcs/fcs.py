@@ -143,7 +143,7 @@ class FlightControlSystem:
                                                 "guidance": self.guidance, "approach": self._approach,
                                                 "fuel_control": self.fuel}
         self._tecs_engaged = False
-        self._lever = 0.0
+        self._lever: float | None = None
         self._tas_prev: float | None = None
 
     # -- parameters -----------------------------------------------------------------------
@@ -193,7 +193,10 @@ class FlightControlSystem:
         else:
             W = x.mass_kg * G0_M_S2
             if not self._tecs_engaged:
-                self.tecs.reset(self._lever * self.tecs.available_thrust_N(x.alt_m, x.dT_isa_K), W, x.theta_rad)
+                # bumpless: from the last lever, or at the start the lever that demands the engine's N1c
+                lever0 = self._lever if self._lever is not None else \
+                    min(max(eng.N1c_pct / max(self.fuel.parameters.k_delta_pct, 1e-6), 0.0), 1.0)
+                self.tecs.reset(lever0 * self.tecs.available_thrust_N(x.alt_m, x.dT_isa_K), W, x.theta_rad)
                 self._tecs_engaged = True
             alt_cmd = tg.alt_cmd_m if tg.gamma_cmd_rad is None else None
             out = self.tecs.step(dt_s, TecsInput(x.alt_m, x.tas_m_s, x.Vdot_m_s2, x.gamma_rad, x.mass_kg, x.dT_isa_K),

@@ -22,10 +22,11 @@ Weights (w_g, w_v) are (1, 1) normally. When the thrust saturates (maximum in a
 climb, idle in a descent) or below V_min (underspeed protection) the thrust
 channel can no longer supply the energy error: the thrust integral stops and
 the pitch channel takes *speed priority*, (w_g, w_v) = (0, 2): pitch flies the
-speed, the height follows from the energy available. In a climb (descent) held at
-its flight-path limit, the speed change asked of pitch is limited to what the
-energy rate gives at level flight, so an idle descent that must also slow down does
-not first climb (and a full-thrust climb that must also accelerate does not descend). This is how a speed step
+speed, the height follows from the energy available. While a climb (descent)
+steeper than gamma_priority is commanded, the speed change asked of pitch is
+limited to what the energy rate gives at level flight, so an idle descent that must
+also slow down does not first climb, and a full-thrust climb that must also
+accelerate does not first descend; at level flight the height pays for the speed. This is how a speed step
 at constant (limiting) thrust is flown by pitch. In *path priority* (flare,
 idle thrust by command), (w_g, w_v) = (2, 0). In underspeed the thrust lever is
 also set to its maximum and the speed command raised to V_min.
@@ -109,6 +110,7 @@ class TecsParams:
     thrust_lapse_exp: float
     lever_min: float
     lever_max: float
+    gamma_priority_rad: float
     V_min_cas_m_s: float
     underspeed_margin: float
     mach_max: float
@@ -276,13 +278,13 @@ class Tecs(Tunable[TecsParams]):
             T_c = lever * T_avail
             priority = "speed" if (sat_hi and E_err > 0) or (sat_lo and E_err < 0) or underspeed else "normal"
         if priority == "speed" and alt_cmd_m is not None and not underspeed:
-            # a climb (descent) at its flight-path limit with the thrust at maximum (idle): pitch flies
+            # a climb (descent) asked for with the thrust at maximum (idle): pitch flies
             # the speed, but not against the height -- the speed change is limited to what the energy
             # rate allows at level flight, E_rate = sin(gamma) + Vdot/g, so gamma keeps its sign
             E_rate = math.sin(x.gamma_rad) + x.Vdot_m_s2 / G0_M_S2
-            if g_c >= p.gamma_max_rad and a_c > G0_M_S2 * E_rate:
+            if g_c >= p.gamma_priority_rad and a_c > G0_M_S2 * E_rate:
                 a_c = max(G0_M_S2 * E_rate, 0.0)
-            elif g_c <= p.gamma_min_rad and a_c < G0_M_S2 * E_rate:
+            elif g_c <= -p.gamma_priority_rad and a_c < G0_M_S2 * E_rate:
                 a_c = min(G0_M_S2 * E_rate, 0.0)
             e_v = (a_c - x.Vdot_m_s2) / G0_M_S2
         w_g, w_v = {"normal": (1.0, 1.0), "speed": (0.0, 2.0), "path": (2.0, 0.0)}[priority]

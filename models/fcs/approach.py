@@ -16,7 +16,8 @@ Phases of :class:`AutoLand` (each reported as a string):
 ``GS``         path mode: gamma_c = -gs + k_gs (h_gp - h) / V. -> ``FLARE`` below h_flare.
 ``FLARE``      exponential flare, hdot_c = -h / tau - hdot_td, with tau = h_flare /
                (V sin gs - hdot_td) for a continuous sink rate at flare entry; thrust idle;
-               heading aligned with the runway (de-crab). -> ``DEROTATION`` on touchdown.
+               below decrab_height the rudder aligns the heading with the runway (de-crab;
+               late, so the aircraft has little time to drift). -> ``DEROTATION`` on touchdown.
 ``DEROTATION`` pitch command lowered at theta_derot_rate to theta_ground, idle.
                -> ``ROLLOUT`` when the pitch is within nose_down_tol of theta_ground.
 ``ROLLOUT``    nose-wheel steering and rudder on the centre line, brakes.
@@ -102,6 +103,7 @@ class ApproachParams:
     brake: float
     v_stop_m_s: float
     nose_down_tol_rad: float
+    decrab_height_m: float
     flare_gamma_max_rad: float
     gear_up_agl_m: float
     climb_engage_agl_m: float
@@ -292,7 +294,8 @@ class AutoLand(Tunable[ApproachParams]):
         elif self.phase == "FLARE":
             hdot = -max(ils.h_agl_m, 0.0) / self._tau_flare - p.hdot_td_m_s
             gamma = math.asin(max(min(hdot / V, p.flare_gamma_max_rad), -p.flare_gamma_max_rad))
-            idle, align = True, rwy.heading_rad
+            idle = True
+            align = rwy.heading_rad if ils.h_agl_m < p.decrab_height_m else None
         else:  # on the ground
             phi, idle, align = 0.0, True, rwy.heading_rad
             self._theta_cmd = max(self._theta_cmd - p.theta_derot_rad_s * dt_s, p.theta_ground_rad)

@@ -191,3 +191,46 @@ def test_output_signals_have_units_and_vdot_is_estimated() -> None:
     assert set(sig) == set(OUTPUT_SIGNALS)
     assert all(d.rstrip().endswith("]") for d in OUTPUT_SIGNALS.values())
     assert sig["section_name"] == "Levelling" and sig["alt_cmd_m"] == 3000.0
+
+
+def test_custom_section_runs_for_its_duration() -> None:
+    from openemss.models.fcs.geo import LatLon
+
+    m = parse_mission("""
+mission: {name: custom}
+sections:
+  - {type: Custom, duration_s: 12, commands: [{t_s: 0, lever: 0.8, pitch_deg: 3, bank_deg: 0},
+                                              {t_s: 6, lever: 0.8, pitch_deg: 2, bank_deg: 20}]}
+  - {type: Levelling, altitude_m: 3000, speed: {mach: 0.45}, hold_s: 5, tolerance_m: 30}
+""")
+    a = isa(3000.0)
+    ac = Aircraft3Dof(LatLon.from_deg(48.0, 11.0), 3000.0, 0.45 * a.a_m_s, 0.0, 0.0, on_ground=False, theta=0.03,
+                      N1c=60.0)
+    fcs, log = fly(m, ac, 300.0)
+    assert fcs.finished
+    t_switch = fcs.runner.history[1][0]
+    assert t_switch == pytest.approx(12.0, abs=DT)
+    i = int(np.searchsorted(log["t"], 11.0))
+    assert log["sec"][i] == 0 and log["sec"][-1] == 1
+
+
+def test_qgc_plan_flown_to_the_end(tmp_path: Path) -> None:
+    import json
+
+    home = (48.3538, 11.7861, 453.0)
+    items = [
+        {"type": "SimpleItem", "command": 22, "frame": 3, "params": [10, 0, 0, None, 48.3600, 11.7000, 300.0]},
+        {"type": "SimpleItem", "command": 16, "frame": 3, "params": [0, 0, 0, None, 48.3000, 11.5000, 1000.0]},
+        {"type": "SimpleItem", "command": 18, "frame": 3, "params": [1, 0, 6000, None, 48.2000, 11.6000, 1000.0]},
+        {"type": "SimpleItem", "command": 16, "frame": 3, "params": [0, 0, 0, None, 48.3500, 12.1000, 600.0]},
+        {"type": "SimpleItem", "command": 21, "frame": 3, "params": [0, 0, 0, None, 48.3538, 11.7861, 0.0]},
+    ]
+    plan = {"fileType": "Plan", "mission": {"cruiseSpeed": 130, "plannedHomePosition": list(home), "items": items}}
+    p = tmp_path / "demo.plan"
+    p.write_text(json.dumps(plan))
+    m = load_mission(p)
+    rwy = m.sections[0]["runway"]
+    ac = Aircraft3Dof(rwy.threshold, rwy.elevation_m, 0.0, rwy.heading_rad, rwy.elevation_m)
+    fcs, log = fly(m, ac, 4000.0)
+    assert fcs.finished, fcs.runner.active_name
+    assert ac.on_ground and ac.V < 1.0

@@ -8,12 +8,14 @@ type per step, no allocation, no dict lookups.
 """
 from __future__ import annotations
 
+import atexit
 import collections
 import shutil
 import tempfile
 import time
 from ctypes import Array, byref, c_double, c_int, c_uint
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 from fmpy import extract
@@ -29,6 +31,32 @@ from .errors import SlaveError
 from .system import ComponentModel, VariableInfo
 
 _STATUS = ("ok", "warning", "discard", "error", "fatal", "pending")
+_EXTRACTED: dict[tuple[str, int, int], str] = {}
+
+
+def extracted(fmu_path: Path) -> str:
+    """The folder where an FMU file is extracted, once per file (path, size, mtime) and process.
+
+    Every instance of the same FMU then loads the same shared library (dlopen of
+    one path), as FMI 2.0 intends for multiple instances. Extracting per instance
+    would load a separate copy of the library each time, and since libraries are
+    never unloaded (see ``Slave.free``), a long test session or a study would
+    accumulate hundreds of copies of the same code in the process.
+    """
+    path = Path(fmu_path).resolve()
+    st = path.stat()
+    key = (str(path), st.st_size, st.st_mtime_ns)
+    folder = _EXTRACTED.get(key)
+    if folder is None or not Path(folder).is_dir():
+        folder = extract(str(path), unzipdir=tempfile.mkdtemp(prefix="emss_fmu_"))
+        _EXTRACTED[key] = folder
+    return folder
+
+
+@atexit.register
+def _remove_extractions() -> None:
+    for folder in _EXTRACTED.values():
+        shutil.rmtree(folder, ignore_errors=True)
 _MAX_MESSAGES = 20
 
 
@@ -138,7 +166,7 @@ class Slave:
         """Extract the FMU into its own folder, load it and call fmi2Instantiate."""
         md = self.model.model_description
         try:
-            self._unzip_dir = extract(str(self.model.fmu_path), unzipdir=tempfile.mkdtemp(prefix="emss_fmu_"))
+            self._unzip_dir = extracted(self.model.fmu_path)
             self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=self._unzip_dir,
                                  modelIdentifier=md.coSimulation.modelIdentifier, instanceName=self.name)
             self.fmu.instantiate(callbacks=self.log.callbacks, loggingOn=True)
@@ -197,9 +225,7 @@ class Slave:
                 except Exception:  # a failed FMU may refuse to be freed; nothing more to do
                     pass
             self.fmu = None
-        if self._unzip_dir is not None:
-            shutil.rmtree(self._unzip_dir, ignore_errors=True)
-            self._unzip_dir = None
+        self._unzip_dir = None  # the extraction is shared and stays until the process ends
 
     # -- batched I/O ------------------------------------------------------------------------
     def bind_io(self, type_name: str, direction: str, variables: list[VariableInfo], buffer: np.ndarray) -> None:

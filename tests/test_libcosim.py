@@ -4,7 +4,7 @@ libcosim's fixed-step algorithm is a Jacobi scheme: every slave steps from the
 inputs set at the start of the step, then outputs are transferred. Our Jacobi
 master must give the same trajectories to within 1e-9 on the same system files
 (same FMUs, same parameter bindings: inline on a component and an .ssv file on
-the system).
+the system). libcosim runs in a child process (see thirdparty.py).
 """
 from __future__ import annotations
 
@@ -12,39 +12,23 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from thirdparty import run_isolated
 
 from openemss.orchestrator.execution import Execution
 from openemss.orchestrator.observers import MemoryRecorder
 from openemss.orchestrator.ssp import load_system
 from openemss.orchestrator.system import bind_system
 
-libcosim = pytest.importorskip("libcosimpy.CosimExecution", reason="libcosimpy is a test dependency")
+pytest.importorskip("libcosimpy.CosimExecution", reason="libcosimpy is a test dependency")
 
 RATE_HZ = 50.0
 STEPS = 200
 
 
 def libcosim_run(system: Path, names: list[str]) -> dict[str, np.ndarray]:
-    from libcosimpy.CosimEnums import CosimVariableType  # noqa: F401  (import checks the API version)
-    from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
-    from libcosimpy.CosimObserver import CosimObserver
-
-    log_output_level(CosimLogLevel.ERROR)
-    ex = libcosim.CosimExecution.from_ssp_file(str(system), step_size=int(round(1e9 / RATE_HZ)))
-    observer = CosimObserver.create_last_value()
-    ex.add_observer(observer)
-    refs = {}
-    for name in names:
-        comp, var = name.split(".", 1)
-        idx = ex.slave_index_from_instance_name(comp)
-        ref = next(v.reference for v in ex.slave_variables(idx) if v.name.decode() == var)
-        refs[name] = (idx, ref)
-    out: dict[str, list[float]] = {n: [] for n in names}
-    for _ in range(STEPS):
-        ex.step(1)
-        for n, (idx, ref) in refs.items():
-            out[n].append(observer.last_real_values(idx, [ref])[0])
-    return {n: np.array(v) for n, v in out.items()}
+    out = run_isolated("libcosim_run", system=str(system), variables=names, steps=STEPS,
+                       step_ns=int(round(1e9 / RATE_HZ)))
+    return {n: np.array(v) for n, v in out["values"].items()}
 
 
 def test_libcosim_and_our_jacobi_master_agree(oscillator: Path) -> None:
@@ -67,24 +51,14 @@ def test_libcosim_and_our_jacobi_master_agree(oscillator: Path) -> None:
 
 def test_linear_transformation_agrees_with_libcosim(tmp_path: Path, fmu_dir: Path) -> None:
     """libcosim applies ssc:LinearTransformation on connections (it converts no units, so none are used here)."""
-    from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
-    from libcosimpy.CosimObserver import CosimObserver
     from test_ssp_features import connection, final, gain, make, system_xml
 
     lin = '<ssc:LinearTransformation factor="3.0" offset="1.0"/>'
     xml = system_xml(gain("a", u_real=2.0) + gain("b") + gain("c"),
                      connection("a.y_real", "b.u_real", lin) + connection("b.y_real", "c.u_real", lin))
     folder = make(tmp_path, fmu_dir, xml)
-    log_output_level(CosimLogLevel.ERROR)
-    ex = libcosim.CosimExecution.from_ssp_file(str(folder), step_size=100_000_000)
-    observer = CosimObserver.create_last_value()
-    ex.add_observer(observer)
-    ex.step(3)
-    theirs = {}
-    for comp in ("b", "c"):
-        idx = ex.slave_index_from_instance_name(comp)
-        ref = next(v.reference for v in ex.slave_variables(idx) if v.name.decode() == "u_real")
-        theirs[comp] = observer.last_real_values(idx, [ref])[0]
+    theirs = run_isolated("libcosim_run", system=str(folder), variables=["b.u_real", "c.u_real"], steps=3,
+                          step_ns=100_000_000)["values"]
     ours = final(folder, "b.u_real", "c.u_real")
-    assert theirs["b"] == ours["b.u_real"] == pytest.approx(7.0)       # 3*2 + 1
-    assert theirs["c"] == ours["c.u_real"] == pytest.approx(22.0)      # 3*7 + 1
+    assert theirs["b.u_real"][-1] == ours["b.u_real"] == pytest.approx(7.0)   # 3*2 + 1
+    assert theirs["c.u_real"][-1] == ours["c.u_real"] == pytest.approx(22.0)  # 3*7 + 1

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from fmpy import read_model_description, simulate_fmu
+from fmpy import read_model_description
 from fmpy.fmi2 import FMU2Slave
 
 from openemss.models.airframe.adapter import Airframe
@@ -102,7 +102,7 @@ def test_fmu_and_adapter_identical(fmu: Path, tmp_path: Path) -> None:
         slave.doStep(currentCommunicationPoint=k * H, communicationStepSize=H)
         got.append(slave.getReal(out_vr))
     slave.terminate()
-    slave.freeInstance()
+    slave.fmi2FreeInstance(slave.component)  # keep the library loaded: unloading pythonfmu is unsafe (thirdparty.py)
     got = np.array(got)
     # the manoeuvre did something
     assert np.ptp(ref[:, OUT.index("phi_rad")]) > math.radians(5)
@@ -110,23 +110,31 @@ def test_fmu_and_adapter_identical(fmu: Path, tmp_path: Path) -> None:
     np.testing.assert_allclose(got, ref, rtol=1e-9, atol=1e-9)
 
 
+def _simulate(fmu: Path, outputs: list[str], **kwargs: object) -> dict[str, np.ndarray]:
+    """fmpy.simulate_fmu, in a child process: it unloads the FMU's library afterwards (thirdparty.py)."""
+    from thirdparty import run_isolated
+
+    res = run_isolated("fmpy_simulate_fmu", fmu=str(fmu), outputs=outputs, **kwargs)
+    return {k: np.array(v) for k, v in res.items()}
+
+
 def test_trimmed_air_start_in_fmpy_simulate(fmu: Path) -> None:
     """fmpy.simulate_fmu runs the FMU from a trimmed air start; with the trim's elevator and thrust
     held (as start values of the inputs) the altitude stays within 5 m for 30 s."""
     r = trim_level(5000.0, 0.6, heading_deg=263.4, lat_deg=48.366886, lon_deg=11.821172)  # the FMU's defaults
-    res = simulate_fmu(str(fmu), start_time=0.0, stop_time=30.0, output_interval=H,
-                       start_values={"start_on_runway": False, "trim_at_start": True, "alt0_m": 5000.0,
-                                     "tas0_m_s": r.tas_m_s, "gear_down": False, "elevator_norm": r.elevator,
-                                     "thrust_N": r.thrust_N},
-                       output=["alt_msl_m", "tas_m_s", "trim_elevator_norm", "trim_thrust_N", "on_ground"])
+    res = _simulate(fmu, start_time=0.0, stop_time=30.0, output_interval=H,
+                    start_values={"start_on_runway": False, "trim_at_start": True, "alt0_m": 5000.0,
+                                  "tas0_m_s": r.tas_m_s, "gear_down": False, "elevator_norm": r.elevator,
+                                  "thrust_N": r.thrust_N},
+                    outputs=["alt_msl_m", "tas_m_s", "trim_elevator_norm", "trim_thrust_N", "on_ground"])
     assert res["trim_thrust_N"][-1] == pytest.approx(r.thrust_N, rel=1e-6)
     assert np.max(np.abs(res["alt_msl_m"] - 5000.0)) < 5.0
     assert not res["on_ground"].any()
 
 
 def test_runway_start_rolls(fmu: Path) -> None:
-    res = simulate_fmu(str(fmu), start_time=0.0, stop_time=10.0, output_interval=H,
-                       start_values={"thrust_N": 13000.0}, output=["gs_m_s", "on_ground", "alt_agl_m"])
+    res = _simulate(fmu, start_time=0.0, stop_time=10.0, output_interval=H,
+                    start_values={"thrust_N": 13000.0}, outputs=["gs_m_s", "on_ground", "alt_agl_m"])
     assert res["on_ground"].all()
     # 13 kN on 2100 kg less drag and rolling friction: about 6 m/s^2 -> 55 to 65 m/s after 10 s
     assert 50.0 < res["gs_m_s"][-1] < 65.0
@@ -177,21 +185,13 @@ def test_runs_in_our_orchestrator_and_libcosim(fmu: Path, tmp_path: Path) -> Non
         np.testing.assert_allclose(ours[f"airframe.{n}"][1:], ref[n], rtol=1e-9, atol=1e-9, err_msg=n)
     assert ours["airframe.theta_rad"][-1] > r.alpha_rad + 0.02  # it did pitch up
     # libcosim
-    libcosim = pytest.importorskip("libcosimpy.CosimExecution", reason="libcosimpy is a test dependency")
-    from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
-    from libcosimpy.CosimObserver import CosimObserver
+    pytest.importorskip("libcosimpy.CosimExecution", reason="libcosimpy is a test dependency")
+    from thirdparty import run_isolated
 
-    log_output_level(CosimLogLevel.ERROR)
-    lx = libcosim.CosimExecution.from_ssp_file(str(folder), step_size=int(round(H * 1e9)))
-    obs = CosimObserver.create_last_value()
-    lx.add_observer(obs)
-    idx = lx.slave_index_from_instance_name("airframe")
-    refs = [next(v.reference for v in lx.slave_variables(idx) if v.name.decode() == n) for n in outs]
-    theirs = []
-    for _ in range(steps):
-        lx.step(1)
-        theirs.append(obs.last_real_values(idx, refs))
-    np.testing.assert_allclose(np.array(theirs), np.array([ref[n] for n in outs]).T, rtol=1e-9, atol=1e-9)
+    got = run_isolated("libcosim_run", system=str(folder), variables=[f"airframe.{n}" for n in outs], steps=steps,
+                       step_ns=int(round(H * 1e9)))["values"]
+    theirs = np.array([got[f"airframe.{n}"] for n in outs]).T
+    np.testing.assert_allclose(theirs, np.array([ref[n] for n in outs]).T, rtol=1e-9, atol=1e-9)
 
 
 def test_fmu_is_self_contained(fmu: Path, tmp_path: Path) -> None:

@@ -1,0 +1,80 @@
+"""Run third-party co-simulation tools (libcosim, fmpy's runners) in a child process.
+
+libcosim and fmpy's ``simulate_fmu``/``simulate_ssp`` unload an FMU's shared
+library when they are done with it. A pythonfmu FMU runs inside the calling
+interpreter and leaves objects behind that refer to its library's code, so
+unloading it in the test process corrupts the heap and the process may abort
+at exit (seen as "corrupted double-linked list" in glibc's thread teardown, in
+about one run in ten). Our own master never unloads a library (see
+``orchestrator/slave.py``). The comparisons with other tools therefore run in
+a child process that hands back its results as JSON and leaves with
+``os._exit``, before any finalization.
+"""
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+HERE = Path(__file__).resolve().parent
+
+
+def run_isolated(function: str, **kwargs: Any) -> Any:
+    """Call ``thirdparty.<function>(**kwargs)`` in a child interpreter and return its JSON result."""
+    code = ("import json, os, sys\n"
+            f"sys.path.insert(0, {str(HERE)!r})\n"
+            "import thirdparty\n"
+            f"result = thirdparty.{function}(**json.loads(sys.argv[1]))\n"
+            "sys.stdout.write('\\n@@RESULT@@' + json.dumps(result))\n"
+            "sys.stdout.flush()\n"
+            "os._exit(0)\n")
+    proc = subprocess.run([sys.executable, "-c", code, json.dumps(kwargs)], capture_output=True, text=True)
+    marker = proc.stdout.rfind("@@RESULT@@")
+    if proc.returncode != 0 or marker < 0:
+        raise RuntimeError(f"{function} failed in the child process (exit {proc.returncode}):\n{proc.stderr[-3000:]}")
+    return json.loads(proc.stdout[marker + len("@@RESULT@@"):])
+
+
+# -- what runs in the child ------------------------------------------------------------------------
+def libcosim_run(system: str, variables: list[str], steps: int, step_ns: int | None = None,
+                 history: bool = True) -> dict[str, Any]:
+    """Run an SSP system in libcosim: values of ``component.variable`` after every step (or the last),
+    and the final time [ns]."""
+    from libcosimpy.CosimExecution import CosimExecution
+    from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
+    from libcosimpy.CosimObserver import CosimObserver
+
+    log_output_level(CosimLogLevel.ERROR)
+    ex = CosimExecution.from_ssp_file(system, step_size=step_ns) if step_ns else CosimExecution.from_ssp_file(system)
+    observer = CosimObserver.create_last_value()
+    ex.add_observer(observer)
+    refs = {}
+    for name in variables:
+        comp, var = name.split(".", 1)
+        idx = ex.slave_index_from_instance_name(comp)
+        refs[name] = (idx, next(v.reference for v in ex.slave_variables(idx) if v.name.decode() == var))
+    out: dict[str, list[float]] = {n: [] for n in variables}
+    for k in range(steps):
+        ex.step(1)
+        if history or k == steps - 1:
+            for n, (idx, ref) in refs.items():
+                out[n].append(observer.last_real_values(idx, [ref])[0])
+    return {"values": out, "time_ns": ex.status().current_time}
+
+
+def fmpy_simulate_ssp(archive: str, stop_time: float, step_size: float, variables: list[str]) -> dict[str, list]:
+    """fmpy's SSP runner on an archive: the recorded columns asked for."""
+    from fmpy.ssp.simulation import simulate_ssp
+
+    result = simulate_ssp(archive, stop_time=stop_time, step_size=step_size)
+    return {n: [float(v) for v in result[n]] for n in variables}
+
+
+def fmpy_simulate_fmu(fmu: str, outputs: list[str], **kwargs: Any) -> dict[str, list]:
+    """fmpy.simulate_fmu on one FMU: time and the outputs asked for."""
+    from fmpy import simulate_fmu
+
+    result = simulate_fmu(fmu, output=outputs, **kwargs)
+    return {n: [float(v) for v in result[n]] for n in ("time", *outputs)}

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from openemss.models.fcs.errors import MissionError
-from openemss.models.fcs.geo import LatLon, distance_m
+from openemss.models.fcs.geo import LatLon
 from openemss.models.fcs.mission import SECTION_TYPES, load_mission, parse_mission
 from openemss.models.fcs.tecs import SpeedKind
 
@@ -70,8 +70,26 @@ def test_munich_mission_loads_and_follows_spec() -> None:
     # WP 14 lies on the extended centre line of the landing runway
     along, cross = rwy.local(wps["WP14"])
     assert along < -15e3 and abs(cross) < 5.0
-    # the runway is within 2.5 km of the published EDDM reference point (it lies between the runways)
-    assert distance_m(rwy.threshold, LatLon.from_deg(48.353783, 11.786086)) < 2.6e3
+
+
+
+def test_munich_runway_data_is_consistent_with_published_geometry() -> None:
+    """Independent published figures (AIP via SKYbrary/Wikipedia): runways 4000 m long, centre lines
+    2300 m apart, ILS courses 080/260 deg magnetic with about 3 deg E variation; the aerodrome
+    reference point 48 21 14 N 011 47 10 E lies between the runways."""
+    m = load_mission(ROOT / "missions" / "munich.yaml")
+    r = {name: m.runway(name) for name in ("EDDM_08L", "EDDM_26R", "EDDM_08R", "EDDM_26L")}
+    for a, b in (("EDDM_08L", "EDDM_26R"), ("EDDM_08R", "EDDM_26L")):
+        along, cross = r[a].local(r[b].threshold)
+        assert along == pytest.approx(4000.0, abs=2.0) and abs(cross) < 1.0
+        assert math.degrees(r[b].heading_rad - r[a].heading_rad) == pytest.approx(180.0, abs=0.05)
+        assert 82.0 < math.degrees(r[a].heading_rad) < 85.0
+    _, sep = r["EDDM_08L"].local(r["EDDM_08R"].threshold)
+    assert sep == pytest.approx(2300.0, abs=10.0)  # the 08R centre line is 2300 m right of 08L's
+    arp = LatLon.from_deg(48.353783, 11.786086)
+    _, c_north = r["EDDM_08L"].local(arp)
+    _, c_south = r["EDDM_08R"].local(arp)
+    assert c_north > 0.0 > c_south  # right of the northern runway, left of the southern one
 
 
 def test_all_section_types_parse() -> None:

@@ -25,16 +25,16 @@ input connector that nothing feeds.
 
 Runners, all in this one process on the same built FMU and the same SSD:
 
-* ``bare loop``: the least any master must do. Per FMU and step one
-  fmi2SetReal/Integer/Boolean (not for g0), fmi2DoStep, fmi2GetReal/Integer/Boolean
-  through fmpy's raw ctypes functions with prebuilt arrays; the input array of FMU
-  i+1 *is* the output array of FMU i, so transfers cost nothing. Only the stepping
-  loop is timed. This is the floor of a master that calls the FMUs as ours and
-  fmpy's do; libcosim (C++) is not bound by it.
-* ``bare loop, no argtypes``: the same loop through function pointers without the
-  ``argtypes`` fmpy declares, with every argument prebuilt as a ctypes object. It is
-  not a floor for the others; it shows what ctypes' per-call argument conversion
-  costs (about 0.45 us per call).
+* ``bare loop, fmpy functions``: per FMU and step one fmi2SetReal/Integer/Boolean
+  (not for g0), fmi2DoStep, fmi2GetReal/Integer/Boolean through fmpy's ctypes
+  functions (with the ``argtypes`` fmpy declares) and prebuilt arrays; the input
+  array of FMU i+1 *is* the output array of FMU i, so transfers cost nothing. Only
+  the stepping loop is timed.
+* ``bare loop``: the same loop through function pointers without fmpy's
+  ``argtypes``, every argument prebuilt as a ctypes object: the least a master in
+  Python can do, and the floor the overheads are measured from. Our master calls
+  get and set this way (ctypes' per-call argument conversion costs about 0.45 us
+  per call); libcosim (C++) is not bound by it.
 * ``ours``: :class:`openemss.orchestrator.execution.Execution`, Jacobi and
   Gauss-Seidel without observers, and Jacobi with a ``MemoryRecorder`` of every
   connector (fmpy's runner records every connector too). ``initialize()`` is called
@@ -478,10 +478,10 @@ def bench_chain(kind: str, fmu: Path, work: Path, n: int, steps: int, repeat: in
           f"best of {repeat}; load average {os.getloadavg()[0]:.2f}")
     print()
     rows = [
-        measure("bare loop", "raw fmi2Set/DoStep/Get through fmpy's ctypes functions; the floor", n,
-                lambda: bare_loop(fmu, n, steps, repeat)),
-        measure("bare loop, no argtypes", "the same calls without fmpy's ctypes argtypes (not the floor: see README)",
+        measure("bare loop", "raw fmi2Set/DoStep/Get, prebuilt ctypes arguments, no argtypes; the floor",
                 n, lambda: bare_loop(fmu, n, steps, repeat, no_argtypes=True)),
+        measure("bare loop, fmpy functions", "the same calls through fmpy's ctypes functions (with argtypes)", n,
+                lambda: bare_loop(fmu, n, steps, repeat)),
         measure("ours, Jacobi", "Execution.run after initialize()", n,
                 lambda: ours(chain, n, "jacobi", steps, repeat)),
         measure("ours, Gauss-Seidel", "Execution.run after initialize()", n,
@@ -502,9 +502,9 @@ def bench_chain(kind: str, fmu: Path, work: Path, n: int, steps: int, repeat: in
         return False
     print_table(rows, bare.per_fmu_step_s, jacobi.per_fmu_step_s)
     print()
-    # The bare loop is the floor of a master in Python calling the FMU through fmpy's ctypes functions,
-    # as ours and fmpy's do. libcosim is a C++ master that calls the FMU directly: with compiled FMUs
-    # it can go below that floor, so it is left out of this check.
+    # The bare loop is the floor of a master in Python calling the FMU through ctypes. libcosim is a
+    # C++ master that calls the FMU directly: with compiled FMUs it can go below that floor, so it is
+    # left out of this check.
     below = [r.runner for r in rows[2:6] if r.per_fmu_step_s is not None
              and r.per_fmu_step_s < 0.97 * bare.per_fmu_step_s]
     load = os.getloadavg()[0]
@@ -535,8 +535,9 @@ def bench_chain(kind: str, fmu: Path, work: Path, n: int, steps: int, repeat: in
             print(f"          the bare loop (the floor) is {floor / theirs:.2f} x fmpy's runner: with compiled "
                   f"FMUs the masters' own costs dominate, so the target is meaningful here.")
         if raw.per_fmu_step_s is not None:
-            print(f"          Without fmpy's argtypes the bare loop would be {raw.per_fmu_step_s / theirs:.2f} x "
-                  f"fmpy's runner ({(floor - raw.per_fmu_step_s) * 1e6:.2f} us per FMU-step less).")
+            print(f"          Through fmpy's functions (with argtypes) the bare loop is "
+                  f"{raw.per_fmu_step_s / theirs:.2f} x fmpy's runner "
+                  f"({(raw.per_fmu_step_s - floor) * 1e6:.2f} us per FMU-step more).")
         if theirs > floor:
             print(f"          Overhead over that floor, ours / fmpy's: Jacobi "
                   f"{(jacobi.per_fmu_step_s - floor) / (theirs - floor):.2f}, Gauss-Seidel "

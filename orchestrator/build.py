@@ -10,6 +10,12 @@ resources folder to ``sys.path``, so a plain name such as ``models`` or
 installed openEMSS of another version, or another FMU's helper. Unique names
 cannot collide.
 
+A slave may also list data files of the repository it needs at run time in a
+module-level ``DATA_FILES`` list (paths relative to the repository root, e.g.
+``["missions/munich.yaml"]``); they are copied to the same relative path under the
+FMU's ``resources/`` folder, where the slave finds them through pythonfmu's
+``resources`` argument.
+
 Also added to the FMU: ``requirements.txt`` (the slave's ``REQUIREMENTS`` list, for
 ``pythonfmu deploy``), ``openemss_build.json`` (source hash, for staleness), and
 the ``ModelStructure/InitialUnknowns`` that pythonfmu leaves out (without them
@@ -48,6 +54,7 @@ class SlaveSource:
     siblings: tuple[Path, ...]  # helper modules beside the script
     model_packages: tuple[str, ...]  # sub-packages of openemss.models
     requirements: tuple[str, ...]
+    data_files: tuple[str, ...] = ()
 
     @property
     def name(self) -> str:
@@ -76,16 +83,17 @@ def _is_slave(tree: ast.Module) -> bool:
     return False
 
 
-def _requirements(tree: ast.Module, script: Path) -> tuple[str, ...]:
+def _literal_list(tree: ast.Module, script: Path, name: str) -> tuple[str, ...]:
+    """A module-level ``NAME = [...]`` list of strings, or () when absent."""
     for node in tree.body:
-        if isinstance(node, ast.Assign) and any(isinstance(t, ast.Name) and t.id == "REQUIREMENTS"
-                                                for t in node.targets):
+        if isinstance(node, ast.Assign) and any(isinstance(t, ast.Name) and t.id == name for t in node.targets):
             try:
                 value = ast.literal_eval(node.value)
             except ValueError:
-                raise BuildError(f"{script}:{node.lineno}: REQUIREMENTS must be a literal list of "
-                                 "requirement strings") from None
-            return tuple(str(v) for v in value)
+                raise BuildError(f"{script}:{node.lineno}: {name} must be a literal list of strings") from None
+            if not (isinstance(value, (list, tuple)) and all(isinstance(v, str) for v in value)):
+                raise BuildError(f"{script}:{node.lineno}: {name} must be a literal list of strings")
+            return tuple(value)
     return ()
 
 
@@ -116,7 +124,13 @@ def analyse(script: Path) -> SlaveSource:
     for pkg in packages:
         if not (MODELS_DIR / pkg / "__init__.py").is_file():
             raise BuildError(f"{script}: imports openemss.models.{pkg}, which does not exist in {MODELS_DIR}")
-    return SlaveSource(script, tuple(sorted(siblings)), tuple(sorted(packages)), _requirements(tree, script))
+    data_files = _literal_list(tree, script, "DATA_FILES")
+    for f in data_files:
+        target = (PACKAGE_ROOT / f).resolve()
+        if ".." in Path(f).parts or Path(f).is_absolute() or not target.is_file():
+            raise BuildError(f"{script}: DATA_FILES entry '{f}' must name a file below {PACKAGE_ROOT}")
+    return SlaveSource(script, tuple(sorted(siblings)), tuple(sorted(packages)),
+                       _literal_list(tree, script, "REQUIREMENTS"), data_files)
 
 
 def _package_files(pkg: str) -> list[Path]:
@@ -133,6 +147,7 @@ def source_hash(src: SlaveSource) -> str:
         named.append(("models/__init__.py", MODELS_DIR / "__init__.py"))
     for pkg in src.model_packages:
         named.extend((f"models/{f.relative_to(MODELS_DIR).as_posix()}", f) for f in _package_files(pkg))
+    named.extend((f"data/{f}", PACKAGE_ROOT / f) for f in src.data_files)
     for name, f in named:
         h.update(name.encode())
         h.update(f.read_bytes())
@@ -211,7 +226,14 @@ def _stage(src: SlaveSource, digest: str, stage: Path) -> tuple[Path, list[Path]
 
     info.write_text(json.dumps({"source": src.script.name, "source_sha256": digest, "openemss": __version__},
                                indent=2))
-    return script, [lib_dir, req, info]
+    project = [lib_dir, req, info]
+    for f in src.data_files:  # pythonfmu copies a project folder under its own name into resources/
+        top = Path(f).parts[0]
+        (stage / f).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(PACKAGE_ROOT / f, stage / f)
+        if stage / top not in project:
+            project.append(stage / top)
+    return script, project
 
 
 def _add_initial_unknowns(fmu: Path) -> None:

@@ -97,3 +97,34 @@ def test_command_line_unknown_name_is_one_line(slave_dir: Path, tmp_path: Path,
     rc = main(["--src", str(slave_dir), "--out", str(tmp_path / "o"), "nothing_here"])
     err = capsys.readouterr().err.strip().splitlines()
     assert rc == 1 and len(err) == 1 and "available: vendor_probe" in err[0]
+
+
+def test_data_files_travel_in_the_resources(tmp_path: Path) -> None:
+    src = tmp_path / "src"
+    src.mkdir()
+    (src / "reader.py").write_text(textwrap.dedent('''
+        from pathlib import Path
+        from pythonfmu import Fmi2Causality, Fmi2Slave, Real
+
+        DATA_FILES = ["missions/README.md"]
+
+
+        class DataReader(Fmi2Slave):
+            """size = bytes of the data file found in the resources."""
+
+            def __init__(self, **kwargs):
+                super().__init__(**kwargs)
+                self.size = float(len((Path(self.resources) / "missions" / "README.md").read_bytes()))
+                self.register_variable(Real("size", causality=Fmi2Causality.output, description="Size [B]"))
+
+            def do_step(self, current_time, step_size):
+                return True
+    '''))
+    fmu = build_fmu(src / "reader.py", tmp_path / "out")
+    root = Path(__file__).resolve().parent.parent
+    data = zipfile.ZipFile(fmu).read("resources/missions/README.md")
+    assert data == (root / "missions" / "README.md").read_bytes()
+    (src / "bad.py").write_text("from pythonfmu import Fmi2Slave\nDATA_FILES = ['../etc/passwd']\n"
+                                "class Bad(Fmi2Slave):\n    def do_step(self, t, h):\n        return True\n")
+    with pytest.raises(BuildError, match="DATA_FILES entry '../etc/passwd'"):
+        build_fmu(src / "bad.py", tmp_path / "out")

@@ -11,6 +11,15 @@ both discharge to the same exit pressure, which is the extra matching
 equation per distorted compressor. The distorted sector runs closer to surge;
 the compressor's surge margin is that of its worst sector.
 
+Critical sector angle: a spoiled sector narrower than a critical angle
+(about 60 deg of the annulus) hurts the compressor less than the same deficit
+over a wider sector, and widening it beyond the critical angle adds little
+(Reid 1969; the reason for the DC(60) descriptor). The flow redistributes ahead
+of a narrow sector and the rotor passes it before responding. Here the deficit
+the rotor sees is the nominal one scaled by min(1, theta / theta_crit)
+(``critical_angle_deg``, 60 deg by default); at and above theta_crit the model is
+the plain parallel compressor.
+
 Here the sectors' exit flows are mixed (mass, air, fuel, enthalpy conserved)
 before the next component, i.e. the distortion is not carried downstream.
 
@@ -19,7 +28,8 @@ References
 W. M. Pearson, A. McKenzie, "Wakes in axial compressors", J. R. Aeronaut. Soc.
 63 (1959) 415-416 (the parallel compressor idea); C. Reid, "The response of
 axial flow compressors to intake flow distortion", ASME 69-GT-29, 1969.
-SAE ARP1420C, "Gas Turbine Engine Inlet Flow Distortion Guidelines", 2017, and
+N. A. Cumpsty, "Compressor Aerodynamics", 2nd ed., 2004, ch. 9 (inlet distortion:
+parallel compressor, critical sector angle of about 60 deg). SAE ARP1420C, "Gas Turbine Engine Inlet Flow Distortion Guidelines", 2017, and
 SAE AIR1419C (parallel compressor methodology, surge margin stack-up).
 P. P. Walsh, P. Fletcher, "Gas Turbine Performance", 2nd ed., 2004, sec. 5.2.6.
 """
@@ -54,11 +64,20 @@ class Distortion:
         Total-pressure deficit of the distorted sector, relative to the clean inlet [-], in [0, 0.5).
     dTt_K : float
         Total-temperature excess of the distorted sector [K], in [0, 300].
+    critical_angle_deg : float
+        Critical sector angle [deg], in (0, 360]: narrower sectors act with a deficit scaled
+        by their angle over this one.
     """
 
     sector_frac: float
     dPt_frac: float = 0.0
     dTt_K: float = 0.0
+    critical_angle_deg: float = 60.0
+
+    @property
+    def attenuation(self) -> float:
+        """Share of the nominal deficits the rotor sees, min(1, theta / theta_crit) [-]."""
+        return min(1.0, 360.0 * self.sector_frac / self.critical_angle_deg)
 
     def __post_init__(self) -> None:
         if not (0.0 < self.sector_frac < 1.0):
@@ -67,6 +86,8 @@ class Distortion:
             raise OutOfRangeError(f"distortion: dPt_frac={self.dPt_frac!r} is outside [0, 0.5)")
         if not (0.0 <= self.dTt_K <= 300.0):
             raise OutOfRangeError(f"distortion: dTt_K={self.dTt_K!r} is outside [0, 300] K")
+        if not (0.0 < self.critical_angle_deg <= 360.0):
+            raise OutOfRangeError(f"distortion: critical_angle_deg={self.critical_angle_deg!r} is outside (0, 360]")
 
 
 @dataclass(frozen=True, slots=True)
@@ -118,7 +139,7 @@ def map_sectors(face: FlowStation, d: Distortion | None, cmap: _Map, N_rpm: floa
     """
     states = [(1.0, face.Tt_K, face.Pt_Pa)] if d is None else [
         (1.0 - d.sector_frac, face.Tt_K, face.Pt_Pa),
-        (d.sector_frac, face.Tt_K + d.dTt_K, face.Pt_Pa * (1.0 - d.dPt_frac))]
+        (d.sector_frac, face.Tt_K + d.attenuation * d.dTt_K, face.Pt_Pa * (1.0 - d.attenuation * d.dPt_frac))]
     out = []
     for (frac, Tt, Pt), beta in zip(states, betas, strict=True):
         Nc = N_rpm / math.sqrt(Tt / T_STD_K)

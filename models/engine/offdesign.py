@@ -191,8 +191,10 @@ class TurbofanOffDesign:
 
     # ------------------------------------------------------------------ cycle
     def _cycle(self, x: np.ndarray, cond: tuple[float, float, float], demand: tuple[str, float],
-               extras: tuple[float, float, float], dist: tuple[Distortion | None, Distortion | None] = (None, None)
-               ) -> tuple[np.ndarray, dict[str, Any]]:
+               extras: tuple[float, float, float], dist: tuple[Distortion | None, Distortion | None] = (None, None),
+               hb_frac: float | None = None) -> tuple[np.ndarray, dict[str, Any]]:
+        """Residuals and every station at unknowns `x`; `hb_frac` [-] overrides the handling bleed's
+        N2 schedule (a valve position set from outside, e.g. with hysteresis by the transient model)."""
         p, g, ref, m = self.p, self.gas, self.ref, self.maps
         W2, b_fan, b_hpc = x[0] * ref["W2"], x[1], x[2]
         N1, N2 = x[3] * p.N1_rpm, x[4] * p.N2_rpm
@@ -239,7 +241,10 @@ class TurbofanOffDesign:
         hpc = map_sectors(st["25"], dist[1], m.hpc, N2, betas_hpc, g)
         PR_h = hpc[0].PR
         specs = list(p.bleeds)
-        hb = max(p.handling_bleed_frac, self.hb_open * _smoothstep((self.hb_N2 + 0.01 - N2 / p.N2_rpm) / 0.02))
+        if hb_frac is None:
+            hb = max(p.handling_bleed_frac, self.hb_open * _smoothstep((self.hb_N2 + 0.01 - N2 / p.N2_rpm) / 0.02))
+        else:
+            hb = max(p.handling_bleed_frac, hb_frac)
         if hb > 0.0:
             fP, fw = stage_fractions(p.handling_bleed_stage, p.hpc_stages, PR_h)
             specs.append(BleedSpec("handling", hb, fP, fw, "bypass"))

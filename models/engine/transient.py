@@ -92,12 +92,18 @@ class TurbofanTransient:
 
     def state(self, t_s: float, N1_rpm: float, N2_rpm: float, Wf_kg_s: float, alt_m: float = 0.0,
               Mach: float = 0.0, dT_isa_K: float = 0.0, guess: TransientState | OffDesignPoint | None = None,
-              tol: float = 1e-9, distortion: tuple[Distortion | None, Distortion | None] = (None, None)
-              ) -> TransientState:
+              tol: float = 1e-9, distortion: tuple[Distortion | None, Distortion | None] = (None, None),
+              customer_bleed_frac: float | None = None, offtake_hp_W: float | None = None,
+              offtake_lp_W: float | None = None, handling_bleed_frac: float | None = None) -> TransientState:
         """Matched gas path and spool accelerations at speeds [rpm] and fuel flow [kg/s].
 
         `distortion` is the (fan, HPC) sector distortion of :mod:`.distortion`, switchable
-        from one call to the next.
+        from one call to the next. `customer_bleed_frac` (W/W25 [-]), `offtake_hp_W` and
+        `offtake_lp_W` [W] default to the design parameters'; `handling_bleed_frac` [-], if
+        given, replaces the handling bleed's N2 schedule (a valve position set by the caller).
+        The cached Jacobian is kept across changes of flight condition, offtakes and bleeds
+        (chord iterations with Broyden updates absorb them) and rebuilt when the distortion
+        configuration changes or the iteration stalls.
 
         Raises
         ------
@@ -114,7 +120,10 @@ class TurbofanTransient:
         d_in = inputs - x_full[_INPUTS]
         x_full[_INPUTS] = inputs
         cond = (alt_m, Mach, dT_isa_K)
-        extras = (p.customer_bleed_frac, p.offtake_hp_W, p.offtake_lp_W)
+        extras = (p.customer_bleed_frac if customer_bleed_frac is None else customer_bleed_frac,
+                  p.offtake_hp_W if offtake_hp_W is None else offtake_hp_W,
+                  p.offtake_lp_W if offtake_lp_W is None else offtake_lp_W)
+        hb = handling_bleed_frac
         demand = ("Wf_kg_s", Wf_kg_s)
         last: dict[str, Any] = {}
 
@@ -124,11 +133,11 @@ class TurbofanTransient:
             return x
 
         def resid(xr: np.ndarray) -> np.ndarray:
-            r, info = od._cycle(full_x(xr), cond, demand, extras, distortion)
+            r, info = od._cycle(full_x(xr), cond, demand, extras, distortion, hb)
             last["r"], last["info"], last["xr"] = r, info, xr.copy()
             return r[rows]
 
-        key = (cond, distortion, n)
+        key = (tuple(d is None for d in distortion), n)
         res = self._chord(resid, x_full[free], d_in, key, tol) if isinstance(guess, TransientState) else None
         if res is None:
             J0 = None if J_full is None else np.asarray(J_full)[np.ix_(rows, free)]
@@ -139,7 +148,8 @@ class TurbofanTransient:
                                      f"N2={N2_rpm:.6g} rpm, Wf={Wf_kg_s:.6g} kg/s")
             self._cache = None
         if self._cache is None or self._cache[0] != key:
-            self._cache = (key, *self._fd_jacobian(od, full_x(res.x), cond, demand, extras, distortion, rows, free))
+            self._cache = (key, *self._fd_jacobian(od, full_x(res.x), cond, demand, extras, distortion, rows, free,
+                                                   hb))
         if not np.array_equal(last["xr"], res.x):
             resid(res.x)
         r, info = last["r"], last["info"]
@@ -154,17 +164,17 @@ class TurbofanTransient:
 
     def _fd_jacobian(self, od: TurbofanOffDesign, x: np.ndarray, cond: tuple[float, float, float],
                      demand: tuple[str, float], extras: tuple[float, float, float],
-                     distortion: tuple[Distortion | None, Distortion | None], rows: list[int], free: list[int]
-                     ) -> tuple[np.ndarray, np.ndarray]:
+                     distortion: tuple[Distortion | None, Distortion | None], rows: list[int], free: list[int],
+                     hb: float | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Inverse of d r/d x_free and the matrix d r/d inputs (N1, N2, Wf), by forward differences."""
-        r0 = od._cycle(x, cond, demand, extras, distortion)[0][rows]
+        r0 = od._cycle(x, cond, demand, extras, distortion, hb)[0][rows]
         cols = free + _INPUTS
         J = np.empty((len(rows), len(cols)))
         for j, c in enumerate(cols):
             xp = x.copy()
             h = 1e-6 * max(1.0, abs(x[c]))
             xp[c] += h
-            J[:, j] = (od._cycle(xp, cond, demand, extras, distortion)[0][rows] - r0) / h
+            J[:, j] = (od._cycle(xp, cond, demand, extras, distortion, hb)[0][rows] - r0) / h
         return np.linalg.inv(J[:, :len(free)]), J[:, len(free):]
 
     def _chord(self, resid: Callable[[np.ndarray], np.ndarray], x: np.ndarray, d_in: np.ndarray,
@@ -184,7 +194,7 @@ class TurbofanTransient:
             norm = float(np.max(np.abs(r)))
             if norm < tol:
                 self._cache = (key, H, J_in)
-                return NewtonResult(x, r, np.zeros((x.size, x.size)), it, it + 1)
+                return NewtonResult(x, r, np.linalg.inv(H), it, it + 1)
             dx = -H @ r
             try:
                 r_new = resid(x + dx)

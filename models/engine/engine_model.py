@@ -1,0 +1,468 @@
+"""The engine in time, as the engine FMU sees it: inputs, a fixed-step ``step(dt)`` and outputs.
+
+:class:`EngineModel` wraps :class:`.transient.TurbofanTransient` for a co-simulation
+slave. It owns the states (N1, N2 [rpm], the handling-bleed valve position [-], the
+burned fuel [kg]) and turns every step into a number of internal steps of at most
+``dt_internal_s`` (explicit Euler or Heun), with the inputs held over the step.
+
+Robustness (what a mission needs from an engine that is driven by a controller):
+
+* Surge (surge margin of the worst sector below zero), flameout (burner fuel-air
+  ratio below a lean limit, or a fuel flow below the minimum the burner model
+  takes) and overspeed (N1 or N2 above their limits) are flags, counted as events
+  on their rising edge and reported through the logger; the model carries on.
+* If the gas path cannot be matched in a step (a point beyond the maps, an input
+  outside the atmosphere's range), the last good state is kept, ``solver_failed``
+  is set and a message goes to the logger; :meth:`EngineModel.step` never raises a
+  :class:`~.errors.ModelError` after :meth:`EngineModel.start`.
+* Inputs are clipped to the ranges the components accept (distortion sector and
+  deficits, bleed fraction, offtakes >= 0, fuel flow >= 1 % of design); a clipped
+  input is logged once per kind.
+* The handling bleed (HPC stage into the bypass) is a valve with hysteresis: it is
+  commanded open when N2 falls below ``threshold - band/2`` and closed when N2 rises
+  above ``threshold + band/2``, and strokes at a finite rate, so it cannot chatter.
+
+Inlet distortion (parallel compressor, :mod:`.distortion`) is switched by an input at
+any step; it applies to the fan face, the HPC face or both (``distortion_target``).
+
+References
+----------
+P. P. Walsh, P. Fletcher, "Gas Turbine Performance", 2nd ed., 2004, ch. 8 (transient
+performance, handling bleed, surge and flameout as transient limits), sec. 5.2.6
+(inlet distortion).
+A. H. Lefebvre, D. R. Ballal, "Gas Turbine Combustion", 3rd ed., 2010, ch. 5 (weak
+extinction: overall fuel-air ratios of about 0.002 to 0.005 at idle conditions).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+import dataclasses
+from dataclasses import dataclass
+from typing import Any
+
+from .cycle_design import design
+from .design_params import TurbofanParams, load_params, preset_path
+from .distortion import Distortion
+from .errors import ModelError, OutOfRangeError
+from .offdesign import OffDesignPoint, TurbofanMaps, TurbofanOffDesign, scaled_maps
+from .transient import TransientState, TurbofanTransient
+
+__all__ = ["EngineInputs", "EngineLimits", "BleedValve", "EngineModel", "OUTPUTS", "FLAGS"]
+
+#: Real outputs of :attr:`EngineModel.values`, in order: (name, description with unit).
+OUTPUTS: tuple[tuple[str, str], ...] = (
+    ("thrust_N", "Net thrust [N]"), ("gross_thrust_N", "Gross thrust [N]"), ("ram_drag_N", "Ram drag [N]"),
+    ("fuel_flow_kg_s", "Fuel flow burnt [kg/s]"), ("N1_rpm", "LP spool speed N1 [rpm]"),
+    ("N2_rpm", "HP spool speed N2 [rpm]"), ("N1_pct", "LP spool speed N1, percent of design [%]"),
+    ("N2_pct", "HP spool speed N2, percent of design [%]"),
+    ("N1c_pct", "N1 corrected to the fan-face temperature, percent of design [%]"),
+    ("Tt4_K", "Burner exit total temperature Tt4 [K]"), ("T41_K", "HPT rotor inlet total temperature T41 [K]"),
+    ("Tt21_K", "Fan core exit total temperature Tt21 [K]"),
+    ("Tt17_K", "Bypass nozzle inlet total temperature Tt17 [K]"),
+    ("Tt7_K", "Core nozzle inlet total temperature Tt7 [K]"), ("Pt3_Pa", "HPC exit total pressure Pt3 [Pa]"),
+    ("OPR", "Overall pressure ratio Pt3/Pt2 [-]"), ("BPR", "Bypass ratio [-]"),
+    ("SM_fan", "Fan surge margin, worst (spoiled) sector [-]"),
+    ("SM_hpc", "HPC surge margin, worst (spoiled) sector [-]"),
+    ("SM_fan_clean", "Fan surge margin of the clean sector [-]"),
+    ("SM_hpc_clean", "HPC surge margin of the clean sector [-]"),
+    ("SFC_kg_N_s", "Specific fuel consumption, fuel flow over net thrust [kg/(N s)]"),
+    ("fuel_burned_kg", "Fuel burned since the start [kg]"),
+    ("dN1_dt_rpm_s", "LP spool acceleration [rpm/s]"), ("dN2_dt_rpm_s", "HP spool acceleration [rpm/s]"),
+    ("handling_bleed_frac", "Handling bleed flow over HPC inlet flow [-]"),
+    ("FAR4", "Burner exit fuel-air ratio [-]"), ("W2_kg_s", "Engine inlet mass flow [kg/s]"),
+)
+#: Boolean outputs of :attr:`EngineModel.flags`, in order: (name, description).
+FLAGS: tuple[tuple[str, str], ...] = (
+    ("surge", "A compressor sector is beyond its surge line (margin < 0) [-]"),
+    ("flameout", "Burner fuel-air ratio below the lean limit, or fuel flow below the minimum [-]"),
+    ("overspeed", "N1 or N2 above its limit [-]"),
+    ("solver_failed", "The last step could not be matched; the last good state is held [-]"),
+    ("fuel_limited", "Fuel flow limited to the largest the gas path can match (surge side of the HPC map) [-]"),
+)
+_IDX = {name: i for i, (name, _) in enumerate(OUTPUTS)}
+
+
+@dataclass(frozen=True)
+class EngineInputs:
+    """Inputs held over one step.
+
+    Attributes
+    ----------
+    Wf_kg_s : float
+        Fuel flow [kg/s].
+    alt_m, Mach, dT_isa_K : float
+        Flight condition: geopotential altitude [m], Mach [-], ISA deviation [K].
+    offtake_hp_W, offtake_lp_W : float
+        Shaft power offtakes [W].
+    customer_bleed_frac : float
+        Customer bleed from the HPC exit, W/W25 [-].
+    distortion_on : bool
+        Inlet distortion switched on.
+    sector_deg, dPt_frac, dTt_K : float
+        Spoiled sector angle [deg], its total-pressure deficit [-] and temperature excess [K].
+    """
+
+    Wf_kg_s: float
+    alt_m: float = 0.0
+    Mach: float = 0.0
+    dT_isa_K: float = 0.0
+    offtake_hp_W: float = 0.0
+    offtake_lp_W: float = 0.0
+    customer_bleed_frac: float = 0.0
+    distortion_on: bool = False
+    sector_deg: float = 90.0
+    dPt_frac: float = 0.0
+    dTt_K: float = 0.0
+
+
+@dataclass(frozen=True)
+class EngineLimits:
+    """Limits that raise flags.
+
+    Attributes
+    ----------
+    N1_max_pct, N2_max_pct : float
+        Overspeed limits [% of design speed].
+    FAR_lean : float
+        Lean (weak-extinction) limit of the burner fuel-air ratio [-]; Lefebvre & Ballal ch. 5.
+    Wf_min_frac : float
+        Smallest fuel flow the burner model takes, fraction of the design fuel flow [-]; lower
+        inputs are clipped to it and flag a flameout.
+    """
+
+    N1_max_pct: float = 105.0
+    N2_max_pct: float = 105.0
+    FAR_lean: float = 0.003
+    Wf_min_frac: float = 0.01
+
+
+@dataclass(frozen=True)
+class BleedValve:
+    """Handling bleed valve with hysteresis.
+
+    Attributes
+    ----------
+    threshold_N2_pct : float
+        Centre of the switching band [% of design N2].
+    band_pct : float
+        Width of the hysteresis band [% of design N2].
+    stroke_s : float
+        Time for a full stroke [s].
+    open_frac : float
+        Bleed flow over HPC inlet flow when fully open [-].
+    """
+
+    threshold_N2_pct: float = 60.0
+    band_pct: float = 2.0
+    stroke_s: float = 0.5
+    open_frac: float = 0.10
+
+
+@dataclass(frozen=True)
+class _SpeedClampedTurbine:
+    """A scaled turbine map read at its lowest (highest) corrected speed beyond its speed range.
+
+    In a slam acceleration the LP turbine's corrected speed N1/sqrt(Tt45) falls below
+    the lowest speed line of the shipped map (0.6 of design, extrapolated to 0.54).
+    A turbine's flow capacity hardly depends on speed once its nozzle guide vanes
+    choke, so the flow of the lowest speed line is a fair value; its efficiency
+    there is optimistic (efficiency falls with the blade-speed ratio). Used only by
+    :class:`EngineModel`; steady points inside the map are unchanged.
+    """
+
+    inner: Any
+    Nc_min: float
+    Nc_max: float
+
+    def evaluate(self, Nc: float, PR: float) -> Any:
+        return self.inner.evaluate(Nc if Nc > self.Nc_min else (self.Nc_min if Nc < self.Nc_max else self.Nc_max)
+                                   if Nc < self.Nc_max else self.Nc_max, PR)
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self.inner, name)
+
+
+def _robust_maps(maps: TurbofanMaps) -> TurbofanMaps:
+    clamp = [_SpeedClampedTurbine(t, t.map.nc_rel_range[0] * t.s_Nc, t.map.nc_rel_range[1] * t.s_Nc)
+             if hasattr(t, "map") else t
+             for t in (maps.hpt, maps.lpt)]
+    return dataclasses.replace(maps, hpt=clamp[0], lpt=clamp[1])
+
+
+def _params(preset: str | TurbofanParams) -> TurbofanParams:
+    p = load_params(preset_path(preset)) if isinstance(preset, str) else preset
+    if not isinstance(p, TurbofanParams):
+        raise ModelError(f"EngineModel needs turbofan parameters, got {type(p).__name__}")
+    return p
+
+
+class EngineModel:
+    """Two-spool turbofan in time for a co-simulation slave.
+
+    Parameters
+    ----------
+    params : str or TurbofanParams
+        A preset name (``larzac04_sls``, ``reference_study``) or design parameters.
+    I_lp_kg_m2, I_hp_kg_m2 : float, optional
+        Spool inertias [kg m^2]; default the parameters'.
+    dt_internal_s : float
+        Largest internal step [s].
+    method : str
+        ``"euler"`` or ``"heun"``.
+    tol : float
+        Tolerance of the gas-path matching, max |residual| [-].
+    limits : EngineLimits
+        Flag limits.
+    valve : BleedValve
+        Handling bleed valve.
+    distortion_target : int
+        Where the inlet distortion acts: 1 fan face, 2 HPC face, 3 both.
+    critical_angle_deg : float
+        Critical sector angle of the distortion model [deg].
+    logger : callable, optional
+        Receives one line per event or failure.
+    """
+
+    def __init__(self, params: str | TurbofanParams = "larzac04_sls", *, I_lp_kg_m2: float | None = None,
+                 I_hp_kg_m2: float | None = None, dt_internal_s: float = 0.05, method: str = "euler",
+                 tol: float = 1e-8, limits: EngineLimits = EngineLimits(), valve: BleedValve = BleedValve(),
+                 distortion_target: int = 1, critical_angle_deg: float = 60.0,
+                 logger: Callable[[str], None] | None = None) -> None:
+        if method not in ("euler", "heun"):
+            raise ModelError(f"EngineModel: method={method!r} must be 'euler' or 'heun'")
+        if not dt_internal_s > 0.0:
+            raise OutOfRangeError(f"EngineModel: dt_internal_s={dt_internal_s!r} must be > 0")
+        if distortion_target not in (1, 2, 3):
+            raise OutOfRangeError(f"EngineModel: distortion_target={distortion_target!r} must be 1 (fan), "
+                                  "2 (HPC) or 3 (both)")
+        if not (valve.band_pct >= 0.0 and valve.stroke_s > 0.0 and 0.0 <= valve.open_frac < 0.5):
+            raise OutOfRangeError(f"EngineModel: bleed valve {valve} needs band_pct >= 0, stroke_s > 0, "
+                                  "open_frac in [0, 0.5)")
+        p = _params(params)
+        self.dp = design(p)
+        self.od = TurbofanOffDesign(self.dp, _robust_maps(scaled_maps(self.dp)), valve.open_frac,
+                                     valve.threshold_N2_pct)
+        self.tr = TurbofanTransient(self.od, I_lp_kg_m2, I_hp_kg_m2)
+        self.p, self.dt_internal_s, self.method, self.tol = p, dt_internal_s, method, tol
+        self.limits, self.valve, self.target, self.crit = limits, valve, distortion_target, critical_angle_deg
+        self.log: Callable[[str], None] = logger if logger is not None else (lambda msg: None)
+        self.t_s = 0.0
+        self.N1_rpm = self.N2_rpm = 0.0
+        self.valve_pos = 0.0
+        self.valve_open_cmd = False
+        self.fuel_burned_kg = 0.0
+        self.values: list[float] = [0.0] * len(OUTPUTS)
+        self.flags: list[bool] = [False] * len(FLAGS)
+        self.events = 0
+        self.failures = 0
+        self.fuel_limited = False
+        self.message = ""
+        self.state: TransientState | None = None
+        self._key: tuple[float, ...] | None = None
+        self._clipped: set[str] = set()
+
+    # ------------------------------------------------------------------ inputs
+    def _clip(self, kind: str, v: float, lo: float, hi: float) -> float:
+        if lo <= v <= hi:
+            return v
+        if kind not in self._clipped:
+            self._clipped.add(kind)
+            self.log(f"engine: input {kind}={v!r} clipped to [{lo}, {hi}] at t={self.t_s:.6g} s")
+        return min(hi, max(lo, v)) if v == v else lo
+
+    def _kwargs(self, u: EngineInputs) -> tuple[float, dict[str, object]]:
+        """Fuel flow [kg/s] and keyword arguments of :meth:`.transient.TurbofanTransient.state`."""
+        Wf_min = self.limits.Wf_min_frac * self.dp.Wf_kg_s
+        Wf = u.Wf_kg_s if u.Wf_kg_s >= Wf_min else Wf_min          # fuel cut: flagged, not clipped-logged
+        dist: tuple[Distortion | None, Distortion | None] = (None, None)
+        if u.distortion_on:
+            d = Distortion(self._clip("sector_deg", u.sector_deg, 1.0, 359.0) / 360.0,
+                           self._clip("dPt_frac", u.dPt_frac, 0.0, 0.45), self._clip("dTt_K", u.dTt_K, 0.0, 300.0),
+                           self.crit)
+            dist = (d if self.target & 1 else None, d if self.target & 2 else None)
+        kw: dict[str, object] = dict(
+            alt_m=u.alt_m, Mach=u.Mach, dT_isa_K=u.dT_isa_K, distortion=dist, tol=self.tol,
+            customer_bleed_frac=self._clip("customer_bleed_frac", u.customer_bleed_frac, 0.0, 0.3),
+            offtake_hp_W=self._clip("offtake_hp_W", u.offtake_hp_W, 0.0, math.inf),
+            offtake_lp_W=self._clip("offtake_lp_W", u.offtake_lp_W, 0.0, math.inf))
+        return Wf, kw
+
+    # ------------------------------------------------------------------ start
+    def start(self, u: EngineInputs, N1_pct: float | None = None) -> list[float]:
+        """Steady state at the flight condition of `u` and its fuel flow, or at `N1_pct` [%] if given.
+
+        Raises
+        ------
+        ModelError
+            If no steady state exists there (the only place this model raises).
+        """
+        Wf, kw = self._kwargs(u)
+        dist = kw["distortion"]
+        assert isinstance(dist, tuple)
+        setting = {"N1_pct": N1_pct} if N1_pct is not None else {"Wf_kg_s": Wf}
+        pt: OffDesignPoint = self.od.solve(u.alt_m, u.Mach, u.dT_isa_K, customer_bleed_frac=kw["customer_bleed_frac"],
+                                           offtake_hp_W=kw["offtake_hp_W"], offtake_lp_W=kw["offtake_lp_W"],
+                                           distortion_fan=dist[0], distortion_hpc=dist[1], **setting)
+        self.N1_rpm, self.N2_rpm = pt.N1_rpm, pt.N2_rpm
+        self.valve_open_cmd = pt.N2_pct < self.valve.threshold_N2_pct
+        self.valve_pos = 1.0 if self.valve_open_cmd else 0.0
+        self.t_s, self.fuel_burned_kg, self.events, self.failures = 0.0, 0.0, 0, 0
+        self.state, self._key = None, None
+        self.tr._cache = None
+        self.state = self.tr.state(0.0, self.N1_rpm, self.N2_rpm, pt.Wf_kg_s, guess=pt,
+                                   handling_bleed_frac=self.valve_pos * self.valve.open_frac, **kw)  # type: ignore[arg-type]
+        self._key = self._make_key(pt.Wf_kg_s, u)
+        self._publish(pt.Wf_kg_s, u.Wf_kg_s)
+        return self.values
+
+    # ------------------------------------------------------------------ step
+    def _make_key(self, Wf: float, u: EngineInputs) -> tuple[float, ...]:
+        return (self.N1_rpm, self.N2_rpm, self.valve_pos, Wf, u.alt_m, u.Mach, u.dT_isa_K, u.offtake_hp_W,
+                u.offtake_lp_W, u.customer_bleed_frac, float(u.distortion_on), u.sector_deg, u.dPt_frac, u.dTt_K)
+
+    def _evaluate(self, t_s: float, N1: float, N2: float, Wf: float, u: EngineInputs,
+                  kw: dict[str, object]) -> TransientState | None:
+        """The matched state at speeds N1, N2 [rpm]; None (and the failure logged) if it cannot be matched."""
+        try:
+            return self.tr.state(t_s, N1, N2, Wf, guess=self.state,
+                                 handling_bleed_frac=self.valve_pos * self.valve.open_frac, **kw)  # type: ignore[arg-type]
+        except (ModelError, FloatingPointError, ZeroDivisionError, OverflowError, ValueError) as exc:
+            self.failures += 1
+            self.tr._cache = None
+            self.message = (f"engine: t={t_s:.6g} s: gas path not matched at N1={N1:.6g} rpm, N2={N2:.6g} rpm, "
+                            f"Wf={Wf:.6g} kg/s, alt={u.alt_m:.6g} m, Mach={u.Mach:.4g}; last good state held: "
+                            f"{exc}")
+            return None
+
+    def _evaluate_limited(self, t_s: float, N1: float, N2: float, Wf: float, u: EngineInputs,
+                          kw: dict[str, object]) -> tuple[TransientState, float] | None:
+        """As :meth:`_evaluate`; if the fuel flow cannot be matched (a slam beyond the compressor map's
+        surge side), the largest fuel flow between the last matched one and `Wf` that can be
+        (bisection, 6 halvings), with the ``fuel_limited`` flag."""
+        s = self._evaluate(t_s, N1, N2, Wf, u, kw)
+        self.fuel_limited = False
+        if s is not None or self.state is None:
+            return None if s is None else (s, Wf)
+        lo, hi = self.state.point.Wf_kg_s, Wf
+        if abs(hi - lo) <= 1e-9 * abs(hi):
+            return None
+        Wf_min = self.limits.Wf_min_frac * self.dp.Wf_kg_s
+        good: tuple[TransientState, float] | None = None
+        for f in (1.0, 0.8, 0.6, 0.4, 0.2):                   # a fuel flow the new speeds can match
+            s = self._evaluate(t_s, N1, N2, max(Wf_min, f * lo), u, kw)
+            if s is not None:
+                good = (s, max(Wf_min, f * lo))
+                break
+        if good is None:
+            return None
+        lo = good[1]
+        for _ in range(6):
+            mid = 0.5 * (lo + hi)
+            s = self._evaluate(t_s, N1, N2, mid, u, kw)
+            if s is None:
+                hi = mid
+            else:
+                good, lo = (s, mid), mid
+        self.fuel_limited = True
+        return good
+
+    def _valve(self, h: float) -> None:
+        v = self.valve
+        N2_pct = 100.0 * self.N2_rpm / self.p.N2_rpm
+        if self.valve_open_cmd and N2_pct > v.threshold_N2_pct + 0.5 * v.band_pct:
+            self.valve_open_cmd = False
+        elif not self.valve_open_cmd and N2_pct < v.threshold_N2_pct - 0.5 * v.band_pct:
+            self.valve_open_cmd = True
+        target = 1.0 if self.valve_open_cmd else 0.0
+        rate = h / v.stroke_s
+        self.valve_pos = min(target, self.valve_pos + rate) if target > self.valve_pos else \
+            max(target, self.valve_pos - rate)
+
+    def step(self, dt_s: float, u: EngineInputs) -> list[float]:
+        """Advance by `dt_s` [s] with the inputs `u` held; returns :attr:`values` (flags in :attr:`flags`)."""
+        if self.state is None:
+            raise ModelError("EngineModel.step before start()")
+        n = max(1, math.ceil(dt_s / self.dt_internal_s - 1e-9))
+        h = dt_s / n
+        Wf, kw = self._kwargs(u)
+        t0 = self.t_s
+        failed = False
+        s = self.state
+        key = self._make_key(Wf, u)
+        Wf_used = self.state.point.Wf_kg_s
+        if key != self._key:                                   # inputs changed: derivative at the step start
+            res = self._evaluate_limited(t0, self.N1_rpm, self.N2_rpm, Wf, u, kw)
+            if res is None:
+                failed = True
+            else:
+                (self.state, Wf_used), s = res, res[0]
+        t, t_end = t0, t0 + dt_s
+        while not failed and t < t_end - 1e-9 * dt_s:
+            hh = min(h, t_end - t)
+            for _ in range(4):                                  # halve the step where the match fails
+                t1 = t + hh
+                N1, N2 = self.N1_rpm + hh * s.dN1_dt_rpm_s, self.N2_rpm + hh * s.dN2_dt_rpm_s
+                pred_ok = True
+                if self.method == "heun":
+                    pred = self._evaluate(t1, N1, N2, s.point.Wf_kg_s, u, kw)
+                    if pred is None:
+                        pred_ok = False
+                    else:
+                        N1 = self.N1_rpm + 0.5 * hh * (s.dN1_dt_rpm_s + pred.dN1_dt_rpm_s)
+                        N2 = self.N2_rpm + 0.5 * hh * (s.dN2_dt_rpm_s + pred.dN2_dt_rpm_s)
+                res = None
+                if pred_ok and N1 > 0.0 and N2 > 0.0:
+                    pos, N1_old, N2_old, cmd_old = self.valve_pos, self.N1_rpm, self.N2_rpm, self.valve_open_cmd
+                    self.N1_rpm, self.N2_rpm = N1, N2
+                    self._valve(hh)
+                    res = self._evaluate_limited(t1, N1, N2, Wf, u, kw)
+                    if res is None:
+                        self.N1_rpm, self.N2_rpm, self.valve_pos, self.valve_open_cmd = N1_old, N2_old, pos, cmd_old
+                if res is not None:
+                    break
+                hh *= 0.5
+            if res is None:
+                failed = True
+                break
+            (self.state, Wf_used), s = res, res[0]
+            t = t1
+        self.t_s = t0 + dt_s
+        Wf_used = self.state.point.Wf_kg_s
+        self.fuel_burned_kg += Wf_used * dt_s
+        self._key = self._make_key(Wf, u) if not (failed or self.fuel_limited) else None
+        if failed and not self.flags[3]:
+            self.log(self.message)
+        self._publish(Wf_used, u.Wf_kg_s, failed)
+        return self.values
+
+    # ------------------------------------------------------------------ outputs
+    def _publish(self, Wf: float, Wf_in: float, failed: bool = False) -> None:
+        s = self.state
+        assert s is not None
+        pt = s.point
+        FAR4 = pt.stations["4"].FAR
+        lim = self.limits
+        v = self.values
+        for i, x in enumerate((pt.Fn_N, pt.Fg_N, pt.ram_drag_N, Wf, pt.N1_rpm, pt.N2_rpm, pt.N1_pct, pt.N2_pct,
+                               pt.N1c_pct, pt.Tt4_K, pt.T41_K, pt.Tt21_K, pt.Tt17_K, pt.Tt7_K, pt.Pt3_Pa, pt.OPR,
+                               pt.BPR, pt.SM_fan, pt.SM_hpc, pt.SM_fan_clean, pt.SM_hpc_clean,
+                               Wf / pt.Fn_N if pt.Fn_N > 0.0 else math.inf, self.fuel_burned_kg,
+                               s.dN1_dt_rpm_s, s.dN2_dt_rpm_s, pt.handling_bleed_frac, FAR4,
+                               pt.stations["2"].W_kg_s)):
+            v[i] = float(x)
+        new = [bool(pt.SM_fan < 0.0 or pt.SM_hpc < 0.0),
+               bool(FAR4 < lim.FAR_lean or Wf_in < lim.Wf_min_frac * self.dp.Wf_kg_s),
+               bool(pt.N1_pct > lim.N1_max_pct or pt.N2_pct > lim.N2_max_pct), failed, self.fuel_limited]
+        for i, (name, _) in enumerate(FLAGS[:3] + FLAGS[4:]):
+            i = i if i < 3 else 4
+            if new[i] and not self.flags[i]:
+                self.events += 1
+                self.log(f"engine: t={self.t_s:.6g} s: {name} (N1 {pt.N1_pct:.2f} %, N2 {pt.N2_pct:.2f} %, "
+                         f"SM fan {pt.SM_fan:.4f}, SM HPC {pt.SM_hpc:.4f}, FAR4 {FAR4:.5f})")
+        self.flags[:] = new
+
+    def value(self, name: str) -> float:
+        """One output by name (see :data:`OUTPUTS`)."""
+        return self.values[_IDX[name]]

@@ -122,6 +122,8 @@ class Coupling(Protocol):
     def set_inputs(self, i: int) -> None: ...
     def transfer_to(self, i: int) -> None: ...
     def transfer_all(self) -> None: ...
+    @property
+    def observed(self) -> bool: ...
 
 
 class Algorithm:
@@ -173,5 +175,7 @@ class GaussSeidel(Algorithm):
                 coupling.step_component(i, k)
             if (k + 1) % n == 0:
                 coupling.get_outputs(i)
-        # Inputs as seen at the new time, so observers record them consistently with the outputs.
-        coupling.transfer_all()
+        # Inputs as seen at the new time, so observers record them consistently with the outputs
+        # (each component takes its own inputs again before its next step).
+        if coupling.observed:
+            coupling.transfer_all()

@@ -303,6 +303,8 @@ class Execution:
             for t in IO_TYPES for i in range(n) for j, v in enumerate(sets[i][t])}
         self._transfers: list[Transfer] = []
         self._slave_transfers: list[list[Transfer]] = [[] for _ in range(n)]
+        pairs: list[list[tuple[np.ndarray, int, np.ndarray, int, tuple[float, float] | None]]] = [[] for _ in range(n)]
+        mapped_slaves: set[int] = set()
         for t, vec in self.vectors.items():
             scale = np.ones(len(vec.inputs))
             offset = np.zeros(len(vec.inputs))
@@ -321,6 +323,14 @@ class Execution:
                     local = [(k - a, m) for k, m in mapped if a <= k < b]
                     self._slave_transfers[i].append(Transfer(vec.outputs, vec.source_index[a:b], vec.inputs[a:b],
                                                              scale[a:b], offset[a:b], local))
+                    for k in range(a, b):
+                        linear = None if scale[k] == 1.0 and offset[k] == 0.0 else (float(scale[k]), float(offset[k]))
+                        pairs[i].append((vec.inputs, k, vec.outputs, int(vec.source_index[k]), linear))
+                    if local:
+                        mapped_slaves.add(i)
+        # One element loop per component across all types, for components with a few plain inputs
+        # (Gauss-Seidel transfers per component: one Python loop costs less than a numpy call per type).
+        self._slave_pairs = [p if len(p) <= 8 and i not in mapped_slaves else None for i, p in enumerate(pairs)]
 
     # -- coupling interface used by the algorithms ---------------------------------------------
     def step_component(self, i: int, k: int) -> None:
@@ -334,10 +344,20 @@ class Execution:
         self.slaves[i].set_inputs()
 
     def transfer_to(self, i: int) -> None:
-        for transfer in self._slave_transfers[i]:
-            transfer()
+        pairs = self._slave_pairs[i]
+        if pairs is not None:
+            for inputs, k, outputs, src, linear in pairs:
+                inputs[k] = outputs[src] if linear is None else outputs[src] * linear[0] + linear[1]
+        else:
+            for transfer in self._slave_transfers[i]:
+                transfer()
         for vec, j, value in self._overrides:
             vec[j] = value
+
+    @property
+    def observed(self) -> bool:
+        """Whether anything samples the exchange vectors after a step (observers or manipulators)."""
+        return bool(self.observers or self.manipulators)
 
     def transfer_all(self) -> None:
         for transfer in self._transfers:

@@ -40,6 +40,8 @@ def test_independent_parts_and_feedthrough_into_a_cycle() -> None:
 class MockCoupling:
     """Records the calls an algorithm makes."""
 
+    observed = True
+
     def __init__(self) -> None:
         self.calls: list[tuple[str, int | None]] = []
 

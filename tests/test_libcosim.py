@@ -12,14 +12,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from thirdparty import run_isolated
 
 from openemss.orchestrator.execution import Execution
 from openemss.orchestrator.observers import MemoryRecorder
 from openemss.orchestrator.ssp import load_system
 from openemss.orchestrator.system import bind_system
-
-pytest.importorskip("libcosimpy.CosimExecution", reason="libcosimpy is a test dependency")
+from thirdparty import require_libcosim, run_isolated
 
 RATE_HZ = 50.0
 STEPS = 200
@@ -32,6 +30,7 @@ def libcosim_run(system: Path, names: list[str]) -> dict[str, np.ndarray]:
 
 
 def test_libcosim_and_our_jacobi_master_agree(oscillator: Path) -> None:
+    require_libcosim()
     names = ["mass1.x1_m", "mass1.v1_m_s", "mass2.x2_m", "mass2.f_c_N"]
     bound = bind_system(load_system(oscillator))
     ex = Execution(bound, rate_hz=RATE_HZ, algorithm="jacobi")
@@ -51,6 +50,7 @@ def test_libcosim_and_our_jacobi_master_agree(oscillator: Path) -> None:
 
 def test_linear_transformation_agrees_with_libcosim(tmp_path: Path, fmu_dir: Path) -> None:
     """libcosim applies ssc:LinearTransformation on connections (it converts no units, so none are used here)."""
+    require_libcosim()
     from test_ssp_features import connection, final, gain, make, system_xml
 
     lin = '<ssc:LinearTransformation factor="3.0" offset="1.0"/>'

@@ -11,13 +11,13 @@ import zipfile
 from pathlib import Path
 
 import pytest
-from thirdparty import run_isolated
 
 from openemss.orchestrator.execution import Execution
 from openemss.orchestrator.observers import MemoryRecorder
 from openemss.orchestrator.ssp import load_system
 from openemss.orchestrator.system import bind_system
 from systems import Comp, write_ssv, write_system
+from thirdparty import run_isolated
 
 PROBE = [("u_in", "input", "Real"), ("u_at_init", "output", "Real"), ("u_at_first_step", "output", "Real"),
          ("gain_at_init", "output", "Real"), ("count_at_init", "output", "Integer")]

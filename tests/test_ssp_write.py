@@ -7,13 +7,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 from lxml import etree
-from thirdparty import run_isolated
 
 from openemss.orchestrator.execution import Execution
 from openemss.orchestrator.observers import MemoryRecorder
 from openemss.orchestrator.ssp import load_system
 from openemss.orchestrator.ssp_write import MappingEntry, SystemBuilder, connectors_from_fmu
 from openemss.orchestrator.system import bind_system
+from thirdparty import require_libcosim, run_isolated
 
 
 def build(fmu: Path) -> SystemBuilder:
@@ -78,7 +78,7 @@ def test_connectors_from_fmu_refuses_unknown_names(fmu_dir: Path) -> None:
 
 
 def test_libcosim_loads_what_we_write(tmp_path: Path, fmu_dir: Path) -> None:
-    pytest.importorskip("libcosimpy.CosimExecution")
+    require_libcosim()
 
     fmu = fmu_dir / "Gain.fmu"
     sys_ = SystemBuilder("ForLibcosim").experiment(0.0, 1.0, 0.1)

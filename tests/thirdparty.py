@@ -21,6 +21,16 @@ from typing import Any
 HERE = Path(__file__).resolve().parent
 
 
+def require_libcosim() -> None:
+    """Skip the calling test when libcosimpy is not installed, without loading it in this process."""
+    import importlib.util
+
+    import pytest
+
+    if importlib.util.find_spec("libcosimpy") is None:
+        pytest.skip("libcosimpy is a test dependency (pip install -e '.[test]')")
+
+
 def run_isolated(function: str, **kwargs: Any) -> Any:
     """Call ``thirdparty.<function>(**kwargs)`` in a child interpreter and return its JSON result."""
     code = ("import json, os, sys\n"

@@ -185,8 +185,9 @@ def test_runs_in_our_orchestrator_and_libcosim(fmu: Path, tmp_path: Path) -> Non
         np.testing.assert_allclose(ours[f"airframe.{n}"][1:], ref[n], rtol=1e-9, atol=1e-9, err_msg=n)
     assert ours["airframe.theta_rad"][-1] > r.alpha_rad + 0.02  # it did pitch up
     # libcosim
-    pytest.importorskip("libcosimpy.CosimExecution", reason="libcosimpy is a test dependency")
-    from thirdparty import run_isolated
+    from thirdparty import require_libcosim, run_isolated
+
+    require_libcosim()
 
     got = run_isolated("libcosim_run", system=str(folder), variables=[f"airframe.{n}" for n in outs], steps=steps,
                        step_ns=int(round(H * 1e9)))["values"]

@@ -1,0 +1,431 @@
+"""The FCS FMU (fmus/fcs.py, built by build-fmus) against the Python FlightControlSystem.
+
+The FMU is a thin adapter, so fed with the same measured states it must give the
+Python controller's commands to floating-point round-off: 1e-12 (the same operations
+in the same order; only the conversions of the inputs could differ). The input
+sequence is a synthetic take-off from EDDM 26R (positions on the runway heading,
+an airspeed ramp, lift-off, a climb, small attitude oscillations and an engine
+spooling up), played into the FCS by a tiny player FMU in our orchestrator. The Python
+side rebuilds the measured state from the same table as tests/fcs/upera_loop.py does
+(ground velocity from successive positions), written independently of the FMU.
+
+Also: every variable has a unit, every FCS gain is a tunable parameter that an .ssv
+reaches, a bad mission file fails the initialization with a clear one-line message,
+and a coupled run (airframe FMU + FCS FMU + first-order engine stand-in FMU) takes off
+from EDDM and climbs.
+"""
+from __future__ import annotations
+
+import json
+import math
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+from fmpy import read_model_description
+
+from openemss.models.fcs.fcs import FlightControlSystem
+from openemss.models.fcs.geo import LatLon, from_local_ne, local_ne_m
+from openemss.models.fcs.mission import load_mission
+from openemss.models.fcs.state import AircraftState, EngineState
+from openemss.orchestrator.build import build_fmu, ensure_built
+from openemss.orchestrator.execution import Execution
+from openemss.orchestrator.observers import MemoryRecorder
+from openemss.orchestrator.ssp import load_system
+from openemss.orchestrator.system import bind_system
+from systems import Comp, write_ssv, write_system
+
+ROOT = Path(__file__).resolve().parents[2]
+MUNICH = ROOT / "missions" / "munich.yaml"
+H = 0.05  # communication step [s] (20 Hz, the default rate)
+
+REAL_IN = ("lat_deg", "lon_deg", "alt_msl_m", "tas_m_s", "gs_m_s", "vs_m_s", "phi_rad", "theta_rad", "psi_rad",
+           "p_rad_s", "q_rad_s", "r_rad_s", "beta_rad", "rho_amb_kg_m3", "mass_kg", "N1_pct", "N1c_pct", "Tt41_K")
+REAL_OUT = ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "brakes_norm", "steering_norm",
+            "lever_norm", "fuel_flow_cmd_kg_s", "theta_cmd_rad", "phi_cmd_rad", "alt_cmd_m", "tas_cmd_m_s",
+            "mach_cmd", "track_cmd_rad", "xtk_m")
+# FMU output -> FcsOutput.signals() name (the Python reference)
+PY_NAME = {"aileron_norm": "aileron", "elevator_norm": "elevator", "rudder_norm": "rudder", "brakes_norm": "brake",
+           "steering_norm": "steer", "lever_norm": "lever", "fuel_flow_cmd_kg_s": "Wf_cmd_kg_s"}
+
+# A player FMU: plays the rows of a JSON table (one per communication step) on outputs named as the FCS's
+# inputs; after its k-th step it shows row k+1, so under Jacobi the FCS's k-th step sees row k.
+PLAYER = '''"""Test player: outputs row k of a JSON table after k steps."""
+import json
+
+from pythonfmu import Boolean, Fmi2Causality, Fmi2Slave, Fmi2Variability, Real, String
+
+NAMES = {names!r}
+
+
+class Player(Fmi2Slave):
+    """Plays a table of recorded inputs."""
+
+    author = "openEMSS tests"
+    description = "Table player [-]"
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        self.table_file = ""
+        self.register_variable(String("table_file", causality=Fmi2Causality.parameter,
+                                      variability=Fmi2Variability.fixed, description="JSON table [-]"))
+        self._rows = [dict.fromkeys(NAMES, 0.0) | {{"on_ground": True}}]
+        self._k = 0
+        for n in NAMES:
+            self.register_variable(Real(n, causality=Fmi2Causality.output, description=n + " [-]",
+                                        getter=lambda n=n: float(self._rows[self._k][n])))
+        self.register_variable(Boolean("on_ground", causality=Fmi2Causality.output,
+                                       variability=Fmi2Variability.discrete, description="on ground [-]",
+                                       getter=lambda: bool(self._rows[self._k]["on_ground"])))
+
+    def exit_initialization_mode(self):
+        with open(self.table_file) as fh:
+            self._rows = json.load(fh)
+        self._k = 0
+
+    def do_step(self, current_time, step_size):
+        self._k = min(self._k + 1, len(self._rows) - 1)
+        return True
+'''
+
+# A first-order engine stand-in (as tests/fcs/upera_loop.py): N1c follows 400 %/(kg/s) of corrected fuel flow
+# with a 1 s lag; thrust 13 kN (rho/rho0)^0.7 (N1c/100)^2; Tt41 = 700 K + 7 K/% N1c.
+ENGINE = '''"""Test engine stand-in: first-order corrected fan speed, thrust from N1c and density."""
+import math
+
+from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Real
+
+
+class EngineStandIn(Fmi2Slave):
+    """First-order turbofan stand-in."""
+
+    author = "openEMSS tests"
+    description = "First-order engine stand-in [-]"
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        self.N1c0_pct = 25.0
+        self.register_variable(Real("N1c0_pct", causality=Fmi2Causality.parameter,
+                                    variability=Fmi2Variability.fixed, description="initial N1c [%]"))
+        self.fuel_flow_cmd_kg_s = 0.012
+        self.p_amb_Pa = 101325.0
+        self.T_amb_K = 288.15
+        self.rho_amb_kg_m3 = 1.225
+        for n in ("fuel_flow_cmd_kg_s", "p_amb_Pa", "T_amb_K", "rho_amb_kg_m3"):
+            self.register_variable(Real(n, causality=Fmi2Causality.input, description=n + " [-]"))
+        self.N1c_pct = 25.0
+        self.N1_pct = 25.0
+        self.Tt41_K = 875.0
+        self.thrust_N = 0.0
+        self.fuel_flow_kg_s = 0.012
+        for n in ("N1c_pct", "N1_pct", "Tt41_K", "thrust_N", "fuel_flow_kg_s"):
+            self.register_variable(Real(n, causality=Fmi2Causality.output, description=n + " [-]"))
+
+    def _outputs(self):
+        th = self.T_amb_K / 288.15
+        self.N1_pct = self.N1c_pct * math.sqrt(th)
+        self.Tt41_K = 700.0 + 7.0 * self.N1c_pct
+        self.thrust_N = 13000.0 * (self.rho_amb_kg_m3 / 1.225) ** 0.7 * (self.N1c_pct / 100.0) ** 2
+        self.fuel_flow_kg_s = self.fuel_flow_cmd_kg_s
+
+    def exit_initialization_mode(self):
+        self.N1c_pct = self.N1c0_pct
+        self._outputs()
+
+    def do_step(self, current_time, step_size):
+        th = self.T_amb_K / 288.15
+        delta = self.p_amb_Pa / 101325.0
+        target = min(400.0 * self.fuel_flow_cmd_kg_s / (delta * math.sqrt(th)), 115.0)
+        self.N1c_pct += (target - self.N1c_pct) * (1.0 - math.exp(-step_size))
+        self._outputs()
+        return True
+'''
+
+
+@pytest.fixture(scope="module")
+def fmus(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The FCS FMU built by build-fmus, with the test player and engine stand-in FMUs beside it."""
+    out = tmp_path_factory.mktemp("fcs_fmu")
+    ensure_built(ROOT / "fmus", out, names=["fcs"], force=True)
+    src = tmp_path_factory.mktemp("fcs_fmu_src")
+    (src / "player.py").write_text(PLAYER.format(names=list(REAL_IN)))
+    (src / "engine_stand_in.py").write_text(ENGINE)
+    build_fmu(src / "player.py", out)
+    build_fmu(src / "engine_stand_in.py", out)
+    return out
+
+
+# -- the input sequence ---------------------------------------------------------------------------
+def synthetic_takeoff(n_steps: int) -> list[dict[str, float | bool]]:
+    """A take-off from the EDDM 26R threshold: 2.5 m/s^2 to 75 m/s, lift-off at 28 s, 8 m/s climb;
+    small roll, pitch and sideslip oscillations; the engine spools up with a 3 s lag."""
+    thr = LatLon.from_deg(48.366887, 11.821173)
+    hdg = math.radians(263.42)
+    elev = 441.7
+    rows = []
+    for k in range(n_steps + 1):
+        t = k * H
+        V = 2.5 * t if t < 30.0 else 75.0 + 0.2 * (t - 30.0)
+        s = 1.25 * t * t if t < 30.0 else 1125.0 + 75.0 * (t - 30.0) + 0.1 * (t - 30.0) ** 2
+        climb = t >= 28.0
+        vs = 8.0 if climb else 0.0
+        alt = elev + (8.0 * (t - 28.0) if climb else 0.0)
+        track = hdg + (0.02 * math.sin(0.1 * t) if climb else 0.0)
+        p = from_local_ne(thr, s * math.cos(hdg) + 3.0 * math.sin(0.2 * t), s * math.sin(hdg))
+        N1c = 60.0 + 35.0 * (1.0 - math.exp(-t / 3.0))
+        rows.append({"lat_deg": p.lat_deg, "lon_deg": p.lon_deg, "alt_msl_m": alt, "tas_m_s": V, "gs_m_s": V,
+                     "vs_m_s": vs, "phi_rad": 0.05 * math.sin(0.7 * t) if climb else 0.0,
+                     "theta_rad": (0.12 if climb else 0.0) + 0.01 * math.sin(1.3 * t),
+                     "psi_rad": track + 0.01 * math.sin(0.5 * t),
+                     "p_rad_s": 0.035 * math.cos(0.7 * t) if climb else 0.0,
+                     "q_rad_s": 0.013 * math.cos(1.3 * t), "r_rad_s": 0.005 * math.cos(0.5 * t),
+                     "beta_rad": 0.01 * math.sin(0.9 * t), "rho_amb_kg_m3": 1.17 * (1.0 - 9.5e-5 * (alt - elev)),
+                     "mass_kg": 2100.0 - 0.2 * t, "N1_pct": 0.99 * N1c, "N1c_pct": N1c,
+                     "Tt41_K": 700.0 + 6.0 * N1c, "on_ground": not climb})
+    return rows
+
+
+def python_reference(rows: list[dict[str, float | bool]], n_steps: int,
+                     gains: dict[str, float] | None = None) -> dict[str, list]:
+    """The Python FlightControlSystem fed with the rows, the measured state built as upera_loop.py does."""
+    fcs = FlightControlSystem(load_mission(MUNICH))
+    for name, value in (gains or {}).items():
+        fcs.set_parameter(name, value)
+    out: dict[str, list] = {}
+    prev = None
+    for k in range(n_steps):
+        r = rows[k]
+        pos = LatLon.from_deg(r["lat_deg"], r["lon_deg"])
+        if prev is None:
+            vn, ve = r["gs_m_s"] * math.cos(r["psi_rad"]), r["gs_m_s"] * math.sin(r["psi_rad"])
+        else:
+            n, e = local_ne_m(prev, pos)
+            vn, ve = n / H, e / H
+        prev = pos
+        gamma = math.asin(max(-1.0, min(1.0, r["vs_m_s"] / max(r["tas_m_s"], 1.0))))
+        x = AircraftState(pos, r["alt_msl_m"], r["tas_m_s"], math.nan, gamma, vn, ve, r["psi_rad"], r["phi_rad"],
+                          r["theta_rad"], r["p_rad_s"], r["q_rad_s"], r["r_rad_s"], r["beta_rad"],
+                          0.5 * r["rho_amb_kg_m3"] * r["tas_m_s"] ** 2, r["mass_kg"], bool(r["on_ground"]))
+        o = fcs.step(k * H, H, x, EngineState(r["N1_pct"], r["N1c_pct"], r["Tt41_K"]))
+        for name, v in o.signals().items():
+            out.setdefault(name, []).append(v)
+    return out
+
+
+class Probe:
+    """Observer reading variables of one component at every sample with single gets (the recorders take
+    inputs and outputs of numeric types only: this reads String outputs and parameters)."""
+
+    def __init__(self, component: str, names: tuple[str, ...]) -> None:
+        self.component, self.names = component, names
+        self.values: dict[str, list[str]] = {n: [] for n in names}
+
+    def start(self, execution: Execution) -> None:
+        i = [c.name for c in execution.system.components].index(self.component)
+        self._slave = execution.slaves[i]
+        self._vars = [execution.system.components[i].variables[n] for n in self.names]
+
+    def sample(self, k: int, time_s: float) -> None:
+        for n, v in zip(self.names, self._vars, strict=True):
+            value = self._slave.get_value(v)
+            self.values[n].append(value.decode() if isinstance(value, bytes) else value)
+
+    def finish(self, execution: Execution, error: BaseException | None) -> None:
+        pass
+
+
+def fcs_connectors() -> list[tuple[str, str, str]]:
+    return ([(n, "input", "Real") for n in REAL_IN] + [("on_ground", "input", "Boolean")]
+            + [(n, "output", "Real") for n in REAL_OUT] + [("gear_down", "output", "Boolean"),
+                                                            ("section_index", "output", "Integer"),
+                                                            ("mission_completed", "output", "Boolean")])
+
+
+def played_system(folder: Path, fmus: Path, rows: list[dict[str, float | bool]],
+                  fcs_params: dict[str, float | int | bool] | None = None) -> Path:
+    """Player -> FCS system in ``folder``; the table is written beside it."""
+    table = folder / "table.json"
+    folder.mkdir(parents=True, exist_ok=True)
+    table.write_text(json.dumps(rows))
+    player = [(n, "output", "Real") for n in REAL_IN] + [("on_ground", "output", "Boolean")]
+    ssd = write_system(folder, fmus, [Comp("player", "Player.fmu", player), Comp("fcs", "Fcs.fmu", fcs_connectors(),
+                                                                                   fcs_params or {})],
+                       [(f"player.{n}", f"fcs.{n}") for n in (*REAL_IN, "on_ground")])
+    # the table path is a String parameter: bind it inline (tests/systems.py writes numbers only)
+    text = ssd.read_text().replace(
+        '      <ssd:Component name="fcs"',
+        '      <!-- player table -->\n      <ssd:Component name="fcs"', 1)
+    marker = '        </ssd:Connectors>\n      </ssd:Component>\n      <!-- player table -->'
+    assert marker in text
+    text = text.replace(marker, '        </ssd:Connectors>\n        <ssd:ParameterBindings><ssd:ParameterBinding>'
+                                '<ssd:ParameterValues><ssv:ParameterSet version="1.0" name="table"><ssv:Parameters>'
+                                f'<ssv:Parameter name="table_file"><ssv:String value="{table}"/></ssv:Parameter>'
+                                '</ssv:Parameters></ssv:ParameterSet></ssd:ParameterValues></ssd:ParameterBinding>'
+                                '</ssd:ParameterBindings>\n      </ssd:Component>\n')
+    ssd.write_text(text)
+    return ssd
+
+
+def run_played(folder: Path, n_steps: int, probe_names: tuple[str, ...] = ("section_name", "section_phase")) \
+        -> tuple[dict, Probe]:
+    ex = Execution(bind_system(load_system(folder)), rate_hz=1.0 / H, algorithm="jacobi")
+    rec = MemoryRecorder()
+    probe = Probe("fcs", probe_names)
+    ex.add_observer(rec)
+    ex.add_observer(probe)
+    ex.run(n_steps * H)
+    return rec.result(), probe
+
+
+# -- tests ----------------------------------------------------------------------------------------------
+def test_model_description_units_and_every_gain(fmus: Path) -> None:
+    """build-fmus built and validated it (fmpy validate); every variable has a unit in brackets;
+    Integer/Boolean variables are discrete; every FCS parameter is a tunable parameter with its default."""
+    md = read_model_description(str(fmus / "Fcs.fmu"))
+    v = {x.name: x for x in md.modelVariables}
+    for x in md.modelVariables:
+        assert x.description and x.description.rstrip().endswith("]"), x.name
+        assert x.description.rstrip()[x.description.rstrip().rfind("[") + 1:-1].strip(), x.name  # non-empty unit
+        if x.type in ("Integer", "Boolean", "String") and x.causality in ("input", "output"):
+            assert x.variability == "discrete", x.name
+    ref = FlightControlSystem(load_mission(MUNICH))
+    names = ref.parameter_names()
+    assert len(names) >= 70
+    for name in names:
+        assert v[name].causality == "parameter" and v[name].variability == "tunable", name
+        default = ref.get_parameter(name)
+        if isinstance(default, bool):
+            assert v[name].type == "Boolean" and (v[name].start in ("true", True)) == default, name
+        else:
+            assert v[name].type == "Real" and float(v[name].start) == pytest.approx(default, rel=1e-15), name
+    assert v["mission_file"].type == "String" and v["mission_file"].causality == "parameter"
+    assert v["mission_file"].start == "missions/munich.yaml"
+    for name in (*REAL_IN, "on_ground"):
+        assert v[name].causality == "input", name
+    for name in (*REAL_OUT, "gear_down", "section_index", "section_name", "mission_completed"):
+        assert v[name].causality == "output", name
+    assert v["section_index"].type == "Integer" and v["section_name"].type == "String"
+    assert v["mission_completed"].type == "Boolean" and v["gear_down"].type == "Boolean"
+    # the FCS's airframe-facing outputs and inputs carry the airframe FMU's names
+    af = (ROOT / "fmus" / "airframe.py").read_text()
+    for name in ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "brakes_norm", "steering_norm",
+                 "gear_down", *REAL_IN[:15]):
+        if name not in ("N1_pct", "N1c_pct", "Tt41_K"):
+            assert f'"{name}"' in af, name
+
+
+N_STEPS = 1600  # 80 s: roll, rotation, lift-off, climb to 300 m AGL, the first waypoint leg under TECS
+
+
+def test_same_outputs_as_the_python_fcs(fmus: Path, tmp_path: Path) -> None:
+    rows = synthetic_takeoff(N_STEPS)
+    played_system(tmp_path / "sys", fmus, rows)
+    got, probe = run_played(tmp_path / "sys", N_STEPS)
+    ref = python_reference(rows, N_STEPS)
+    # the sequence exercised the mission: rolling, take-off, then the first waypoint leg (TECS engaged)
+    assert ref["section_index"][0] == 0 and ref["section_index"][-1] == 2
+    assert np.isfinite(ref["alt_cmd_m"][-1]) and np.isfinite(ref["tas_cmd_m_s"][-1])
+    assert np.ptp(ref["Wf_cmd_kg_s"]) > 0.05 and np.ptp(ref["elevator"]) > 0.05 and np.ptp(ref["aileron"]) > 0.01
+    # sample k+1 holds the outputs of step k (sample 0: the outputs after initialization)
+    for name in REAL_OUT:
+        py = "tas_cmd_m_s" if name == "mach_cmd" else PY_NAME.get(name, name)
+        if name == "flaps_norm":
+            assert np.all(got[f"fcs.{name}"] == 0.0)
+            continue
+        if name == "mach_cmd":
+            continue
+        np.testing.assert_allclose(got[f"fcs.{name}"][1:], np.array(ref[py], dtype=float), rtol=1e-12, atol=1e-12,
+                                   err_msg=name)
+    np.testing.assert_array_equal(got["fcs.section_index"][1:], ref["section_index"])
+    np.testing.assert_array_equal(got["fcs.gear_down"][1:], np.array(ref["gear_down"], dtype=float))
+    assert probe.values["section_name"][1:] == ref["section_name"]
+    assert probe.values["section_phase"][1:] == ref["section_phase"]
+    assert not got["fcs.mission_completed"].any()
+    # Mach command: the TAS command over the ISA speed of sound at the flown altitude (independent formula)
+    T = 288.15 - 0.0065 * np.array([r["alt_msl_m"] for r in rows[:N_STEPS]])
+    mach = np.array(ref["tas_cmd_m_s"]) / np.sqrt(1.4 * 287.05287 * T)
+    np.testing.assert_allclose(got["fcs.mach_cmd"][1:], mach, rtol=1e-9, equal_nan=True)
+
+
+def test_gain_from_an_ssv_reaches_the_controller(fmus: Path, tmp_path: Path) -> None:
+    """A component .ssv sets stp_max (dotted FMI name) and a system .ssv sets tecs.k_TP: the FMU reports the
+    controller's values, its fuel-flow steps respect the new stp_max, and it matches the Python FCS with
+    the same gains set by script."""
+    n = 400
+    rows = synthetic_takeoff(n)
+    folder = tmp_path / "sys"
+    ssd = played_system(folder, fmus, rows)
+    gains = {"fuel_control.stp_max_kg_s": 2.0e-4, "tecs.k_TP": 3.0, "guidance.wp_fly_by": True}
+    write_ssv(folder / "fcs_gains.ssv", {"fuel_control.stp_max_kg_s": gains["fuel_control.stp_max_kg_s"],
+                                         "guidance.wp_fly_by": True})
+    write_ssv(folder / "system.ssv", {"fcs.tecs.k_TP": gains["tecs.k_TP"]})
+    text = ssd.read_text()
+    i = text.index('<ssd:Component name="fcs"')
+    j = text.index("        </ssd:Connectors>\n", i) + len("        </ssd:Connectors>\n")
+    text = (text[:j] + '        <ssd:ParameterBindings><ssd:ParameterBinding source="fcs_gains.ssv"/>'
+            "</ssd:ParameterBindings>\n" + text[j:])
+    text = text.replace("    <ssd:Elements>", '    <ssd:ParameterBindings><ssd:ParameterBinding source="system.ssv"/>'
+                                             "</ssd:ParameterBindings>\n    <ssd:Elements>", 1)
+    ssd.write_text(text)
+    got, probe = run_played(folder, n, tuple(gains))
+    for name, value in gains.items():  # read back from the controller at every step (the getter asks the FCS)
+        assert set(probe.values[name]) == {value}, name
+    wf = got["fcs.fuel_flow_cmd_kg_s"][1:]
+    assert np.max(np.abs(np.diff(wf))) <= 2.0e-4 * (1 + 1e-12)
+    default = python_reference(rows, n)
+    assert np.max(np.abs(np.diff(default["Wf_cmd_kg_s"]))) > 1.0e-3  # the default stp_max (1.5e-3) was used
+    ref = python_reference(rows, n, gains)
+    np.testing.assert_allclose(wf, ref["Wf_cmd_kg_s"], rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(got["fcs.elevator_norm"][1:], ref["elevator"], rtol=1e-12, atol=1e-12)
+
+
+def test_gain_outside_its_range_is_refused(fmus: Path, tmp_path: Path) -> None:
+    """tecs.k_TP = 50 (allowed 0 to 10): the run stops at initialization naming the parameter and the range."""
+    from openemss.orchestrator.errors import EmssError
+
+    rows = synthetic_takeoff(10)
+    played_system(tmp_path / "sys", fmus, rows, {"tecs.k_TP": 50.0})
+    with pytest.raises(EmssError) as info:
+        run_played(tmp_path / "sys", 10)
+    msg = str(info.value)
+    assert "fcs" in msg and "k_TP" in msg and "10" in msg, msg
+
+
+def _cli_error(folder: Path, capsys: pytest.CaptureFixture[str]) -> str:
+    from openemss.orchestrator.cli import main
+
+    rc = main(["run", str(folder), "--out", str(folder / "out"), "--stop-time", "1"])
+    err = [ln for ln in capsys.readouterr().err.splitlines() if ln.strip()]
+    assert rc != 0 and len(err) == 1, err
+    return err[0]
+
+
+def test_missing_mission_file_fails_initialization_clearly(fmus: Path, tmp_path: Path,
+                                                           capsys: pytest.CaptureFixture[str]) -> None:
+    folder = tmp_path / "sys"
+    ssd = played_system(folder, fmus, synthetic_takeoff(10))
+    ssd.write_text(_bind_mission(ssd.read_text(), "missions/nowhere.yaml"))
+    line = _cli_error(folder, capsys)
+    assert "component 'fcs'" in line and "fmi2ExitInitializationMode" in line, line
+    assert "mission_file 'missions/nowhere.yaml' not found" in line and "resources" in line, line
+
+
+def test_invalid_mission_file_gives_the_mission_error(fmus: Path, tmp_path: Path,
+                                                      capsys: pytest.CaptureFixture[str]) -> None:
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(MUNICH.read_text().replace("waypoints: [WP1, WP2]", "waypoints: [WP1, WP99]"))
+    folder = tmp_path / "sys"
+    ssd = played_system(folder, fmus, synthetic_takeoff(10))
+    ssd.write_text(_bind_mission(ssd.read_text(), str(bad)))
+    line = _cli_error(folder, capsys)
+    assert "component 'fcs'" in line and "bad.yaml:" in line and "WP99" in line, line
+
+
+def _bind_mission(text: str, path: str) -> str:
+    i = text.index('<ssd:Component name="fcs"')
+    j = text.index("        </ssd:Connectors>\n", i) + len("        </ssd:Connectors>\n")
+    return (text[:j] + '        <ssd:ParameterBindings><ssd:ParameterBinding><ssd:ParameterValues>'
+            '<ssv:ParameterSet version="1.0" name="m"><ssv:Parameters><ssv:Parameter name="mission_file">'
+            f'<ssv:String value="{path}"/></ssv:Parameter></ssv:Parameters></ssv:ParameterSet>'
+            "</ssd:ParameterValues></ssd:ParameterBinding></ssd:ParameterBindings>\n" + text[j:])

@@ -122,6 +122,7 @@ class Coupling(Protocol):
     def set_inputs(self, i: int) -> None: ...
     def transfer_to(self, i: int) -> None: ...
     def transfer_all(self) -> None: ...
+    def advance(self, i: int, k: int) -> None: ...
     @property
     def observed(self) -> bool: ...
 
@@ -145,12 +146,16 @@ class Jacobi(Algorithm):
     name = "jacobi"
 
     def step(self, coupling: Coupling, k: int) -> None:
+        # Outputs are read only by the exchange at the end, so a component's outputs can be
+        # got right after its own step.
         m = self.multiples
         for i, n in enumerate(m):
+            if n == 1:
+                coupling.advance(i, k)
+                continue
             if k % n == 0:
                 coupling.set_inputs(i)
                 coupling.step_component(i, k)
-        for i, n in enumerate(m):
             if (k + 1) % n == 0:
                 coupling.get_outputs(i)
         coupling.transfer_all()
@@ -169,6 +174,10 @@ class GaussSeidel(Algorithm):
         m = self.multiples
         for i in self.order.order:
             n = m[i]
+            if n == 1:  # the usual case: take inputs, step, publish outputs in one go
+                coupling.transfer_to(i)
+                coupling.advance(i, k)
+                continue
             if k % n == 0:
                 coupling.transfer_to(i)
                 coupling.set_inputs(i)

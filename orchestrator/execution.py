@@ -340,6 +340,11 @@ class Execution:
     def get_outputs(self, i: int) -> None:
         self.slaves[i].get_outputs()
 
+    def advance(self, i: int, k: int) -> None:
+        """Set the inputs of component ``i``, step it over one macro step from ``k``, get its outputs."""
+        t = self.start_time_s + k * self.step_size_s
+        self.slaves[i].advance(t, self.start_time_s + (k + 1) * self.step_size_s - t)
+
     def set_inputs(self, i: int) -> None:
         self.slaves[i].set_inputs()
 

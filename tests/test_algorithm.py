@@ -60,11 +60,15 @@ class MockCoupling:
     def transfer_all(self) -> None:
         self.calls.append(("transfer_all", None))
 
+    def advance(self, i: int, k: int) -> None:
+        self.calls.extend([("set", i), ("step", i), ("get", i)])
+
 
 def test_jacobi_steps_all_then_exchanges() -> None:
     c = MockCoupling()
     Jacobi([1, 1]).step(c, 0)
-    assert c.calls == [("set", 0), ("step", 0), ("set", 1), ("step", 1), ("get", 0), ("get", 1),
+    # each component steps from the inputs of the last exchange; nothing is exchanged before all stepped
+    assert c.calls == [("set", 0), ("step", 0), ("get", 0), ("set", 1), ("step", 1), ("get", 1),
                        ("transfer_all", None)]
 
 

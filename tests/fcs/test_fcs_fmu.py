@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import json
 import math
-import shutil
 from pathlib import Path
 
 import numpy as np
@@ -90,7 +89,7 @@ class Player(Fmi2Slave):
 '''
 
 # A first-order engine stand-in (as tests/fcs/upera_loop.py): N1c follows 400 %/(kg/s) of corrected fuel flow
-# with a 1 s lag; thrust 13 kN (rho/rho0)^0.7 (N1c/100)^2; Tt41 = 700 K + 7 K/% N1c.
+# with a 1 s lag (explicit Euler); thrust 13 kN (rho/rho0)^0.7 (N1c/100)^2; Tt41 = 700 K + 7 K/% N1c.
 ENGINE = '''"""Test engine stand-in: first-order corrected fan speed, thrust from N1c and density."""
 import math
 
@@ -123,7 +122,8 @@ class EngineStandIn(Fmi2Slave):
             self.register_variable(Real(n, causality=Fmi2Causality.output, description=n + " [-]"))
 
     def _outputs(self):
-        th = self.T_amb_K / 288.15
+        # in initialization mode the airframe's outputs (our inputs) are still 0: ISA sea level until then
+        th = self.T_amb_K / 288.15 if self.T_amb_K > 0.0 else 1.0
         self.N1_pct = self.N1c_pct * math.sqrt(th)
         self.Tt41_K = 700.0 + 7.0 * self.N1c_pct
         self.thrust_N = 13000.0 * (self.rho_amb_kg_m3 / 1.225) ** 0.7 * (self.N1c_pct / 100.0) ** 2
@@ -137,7 +137,7 @@ class EngineStandIn(Fmi2Slave):
         th = self.T_amb_K / 288.15
         delta = self.p_amb_Pa / 101325.0
         target = min(400.0 * self.fuel_flow_cmd_kg_s / (delta * math.sqrt(th)), 115.0)
-        self.N1c_pct += (target - self.N1c_pct) * (1.0 - math.exp(-step_size))
+        self.N1c_pct += (target - self.N1c_pct) * step_size  # explicit Euler, as upera_loop.py
         self._outputs()
         return True
 '''
@@ -253,16 +253,7 @@ def played_system(folder: Path, fmus: Path, rows: list[dict[str, float | bool]],
                                                                                    fcs_params or {})],
                        [(f"player.{n}", f"fcs.{n}") for n in (*REAL_IN, "on_ground")])
     # the table path is a String parameter: bind it inline (tests/systems.py writes numbers only)
-    text = ssd.read_text().replace(
-        '      <ssd:Component name="fcs"',
-        '      <!-- player table -->\n      <ssd:Component name="fcs"', 1)
-    marker = '        </ssd:Connectors>\n      </ssd:Component>\n      <!-- player table -->'
-    assert marker in text
-    text = text.replace(marker, '        </ssd:Connectors>\n        <ssd:ParameterBindings><ssd:ParameterBinding>'
-                                '<ssd:ParameterValues><ssv:ParameterSet version="1.0" name="table"><ssv:Parameters>'
-                                f'<ssv:Parameter name="table_file"><ssv:String value="{table}"/></ssv:Parameter>'
-                                '</ssv:Parameters></ssv:ParameterSet></ssd:ParameterValues></ssd:ParameterBinding>'
-                                '</ssd:ParameterBindings>\n      </ssd:Component>\n')
+    text = add_binding(ssd.read_text(), "player", _string_values("table_file", str(table)))
     ssd.write_text(text)
     return ssd
 
@@ -360,11 +351,7 @@ def test_gain_from_an_ssv_reaches_the_controller(fmus: Path, tmp_path: Path) -> 
     write_ssv(folder / "fcs_gains.ssv", {"fuel_control.stp_max_kg_s": gains["fuel_control.stp_max_kg_s"],
                                          "guidance.wp_fly_by": True})
     write_ssv(folder / "system.ssv", {"fcs.tecs.k_TP": gains["tecs.k_TP"]})
-    text = ssd.read_text()
-    i = text.index('<ssd:Component name="fcs"')
-    j = text.index("        </ssd:Connectors>\n", i) + len("        </ssd:Connectors>\n")
-    text = (text[:j] + '        <ssd:ParameterBindings><ssd:ParameterBinding source="fcs_gains.ssv"/>'
-            "</ssd:ParameterBindings>\n" + text[j:])
+    text = add_binding(ssd.read_text(), "fcs", '<ssd:ParameterBinding source="fcs_gains.ssv"/>')
     text = text.replace("    <ssd:Elements>", '    <ssd:ParameterBindings><ssd:ParameterBinding source="system.ssv"/>'
                                              "</ssd:ParameterBindings>\n    <ssd:Elements>", 1)
     ssd.write_text(text)
@@ -422,10 +409,104 @@ def test_invalid_mission_file_gives_the_mission_error(fmus: Path, tmp_path: Path
     assert "component 'fcs'" in line and "bad.yaml:" in line and "WP99" in line, line
 
 
-def _bind_mission(text: str, path: str) -> str:
-    i = text.index('<ssd:Component name="fcs"')
+def _string_values(name: str, value: str) -> str:
+    return ('<ssd:ParameterBinding><ssd:ParameterValues><ssv:ParameterSet version="1.0" name="strings">'
+            f'<ssv:Parameters><ssv:Parameter name="{name}"><ssv:String value="{value}"/></ssv:Parameter>'
+            "</ssv:Parameters></ssv:ParameterSet></ssd:ParameterValues></ssd:ParameterBinding>")
+
+
+def add_binding(text: str, component: str, binding: str) -> str:
+    """Add a ParameterBinding element to ``component`` of an SSD text (into its ParameterBindings)."""
+    i = text.index(f'<ssd:Component name="{component}"')
+    end = text.index("</ssd:Component>", i)
+    j = text.find("<ssd:ParameterBindings>", i, end)
+    if j >= 0:
+        j += len("<ssd:ParameterBindings>")
+        return text[:j] + binding + text[j:]
     j = text.index("        </ssd:Connectors>\n", i) + len("        </ssd:Connectors>\n")
-    return (text[:j] + '        <ssd:ParameterBindings><ssd:ParameterBinding><ssd:ParameterValues>'
-            '<ssv:ParameterSet version="1.0" name="m"><ssv:Parameters><ssv:Parameter name="mission_file">'
-            f'<ssv:String value="{path}"/></ssv:Parameter></ssv:Parameters></ssv:ParameterSet>'
-            "</ssd:ParameterValues></ssd:ParameterBinding></ssd:ParameterBindings>\n" + text[j:])
+    return text[:j] + f"        <ssd:ParameterBindings>{binding}</ssd:ParameterBindings>\n" + text[j:]
+
+
+def _bind_mission(text: str, path: str) -> str:
+    return add_binding(text, "fcs", _string_values("mission_file", path))
+
+
+# -- coupled: airframe FMU + FCS FMU + engine stand-in FMU --------------------------------------------------
+AF_TO_FCS = ("lat_deg", "lon_deg", "alt_msl_m", "tas_m_s", "gs_m_s", "vs_m_s", "phi_rad", "theta_rad", "psi_rad",
+             "p_rad_s", "q_rad_s", "r_rad_s", "beta_rad", "rho_amb_kg_m3", "mass_kg")
+FCS_TO_AF = ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "brakes_norm", "steering_norm")
+AMBIENT = ("p_amb_Pa", "T_amb_K", "rho_amb_kg_m3")
+
+
+def test_coupled_airframe_fcs_engine_take_off_and_climb(fmus: Path, tmp_path: Path) -> None:
+    """Airframe FMU (JSBSim UPERA), FCS FMU and the first-order engine stand-in FMU in our Gauss-Seidel master
+    (order FCS, engine, airframe: the FCS samples the state at t, the engine and the airframe fly its commands
+    over [t, t + h]) take off from EDDM 26R and climb to 1000 m on a shortened Munich mission (roll, take-off,
+    climb to WP 1). It is the closed loop of tests/fcs/upera_loop.py, computed there in plain Python on the
+    same models: the trajectories agree to 1e-9 (the same arithmetic; the one difference is the N1 the fuel
+    controller sees, whose temperature correction uses the previous step's ambient temperature)."""
+    from upera_loop import fly_upera
+
+    from openemss.models.airframe import adapter
+
+    ensure_built(ROOT / "fmus", fmus, names=["airframe"])
+    text = MUNICH.read_text()
+    short = tmp_path / "short.yaml"
+    short.write_text(text[:text.index("  - {type: WaypointFollowing, name: Munich circuit")]
+                     .replace("waypoints: [WP1, WP2]", "waypoints: [WP1]"))
+    mission = load_mission(short)
+    assert [s.type for s in mission.sections] == ["Rolling", "TakeOff", "WaypointFollowing"]
+    rwy = mission.sections[0]["runway"]
+    p0 = rwy.point(50.0)  # 50 m beyond the threshold, on the centre line
+    af_conn = ([(n, "output", "Real") for n in (*AF_TO_FCS, "p_amb_Pa", "T_amb_K", "alt_agl_m")]
+               + [("on_ground", "output", "Boolean")]
+               + [(n, "input", "Real") for n in (*FCS_TO_AF, "thrust_N", "fuel_flow_kg_s")]
+               + [("gear_down", "input", "Boolean")])
+    eng_conn = ([(n, "input", "Real") for n in ("fuel_flow_cmd_kg_s", *AMBIENT)]
+                + [(n, "output", "Real") for n in ("N1c_pct", "N1_pct", "Tt41_K", "thrust_N", "fuel_flow_kg_s")])
+    conns = ([(f"airframe.{n}", f"fcs.{n}") for n in (*AF_TO_FCS, "on_ground")]
+             + [(f"engine.{n}", f"fcs.{n}") for n in ("N1_pct", "N1c_pct", "Tt41_K")]
+             + [(f"fcs.{n}", f"airframe.{n}") for n in (*FCS_TO_AF, "gear_down")]
+             + [("fcs.fuel_flow_cmd_kg_s", "engine.fuel_flow_cmd_kg_s")]
+             + [(f"airframe.{n}", f"engine.{n}") for n in AMBIENT]
+             + [(f"engine.{n}", f"airframe.{n}") for n in ("thrust_N", "fuel_flow_kg_s")])
+    folder = tmp_path / "sys"
+    ssd = write_system(folder, fmus, [
+        Comp("fcs", "Fcs.fmu", fcs_connectors(), {"Wf0_kg_s": 0.012}),
+        Comp("engine", "EngineStandIn.fmu", eng_conn, {"N1c0_pct": 25.0}),
+        Comp("airframe", "Airframe.fmu", af_conn, {"lat0_deg": p0.lat_deg, "lon0_deg": p0.lon_deg,
+                                                    "heading0_deg": math.degrees(rwy.heading_rad),
+                                                    "alt0_m": rwy.elevation_m})], conns)
+    ssd.write_text(_bind_mission(ssd.read_text(), str(short)))
+    t_end = 140.0
+    ex = Execution(bind_system(load_system(folder)), rate_hz=1.0 / H, algorithm="gauss-seidel")
+    assert ex.order.order == (0, 1, 2)  # fcs, engine, airframe
+    rec = MemoryRecorder()
+    ex.add_observer(rec)
+    ex.run(t_end)
+    r = {k: v[1:] for k, v in rec.result().items()}  # sample k+1: after step k
+    # it took off and climbed
+    t = r["time_s"]
+    lift = int(np.argmax(r["airframe.on_ground"] < 0.5))
+    assert 15.0 < t[lift] < 30.0 and not r["airframe.on_ground"][lift:].any()
+    alt = r["airframe.alt_msl_m"]
+    at_100s = int(round(100.0 / H)) - 1
+    assert alt[at_100s] == pytest.approx(1000.0, abs=5.0)  # WP 1 leg at 1000 m: captured
+    assert np.all(np.diff(alt[lift:at_100s]) > -0.05)  # climbed without sinking back
+    assert np.max(np.abs(r["airframe.phi_rad"][:at_100s])) < math.radians(5.0)  # straight out on 26R
+    sec = r["fcs.section_index"]
+    assert list(np.unique(sec)) == [0, 1, 2, 3] and np.all(np.diff(sec) >= 0)
+    done = int(np.argmax(r["fcs.mission_completed"] > 0.5))
+    assert r["fcs.mission_completed"][-1] and sec[done] == 3
+    # the same closed loop in Python (tests/fcs/upera_loop.py)
+    af = adapter.Airframe()
+    s = af.start_runway(p0.lat_deg, p0.lon_deg, math.degrees(rwy.heading_rad), rwy.elevation_m)
+    fcs = FlightControlSystem(mission, Wf0_kg_s=0.012)
+    run = fly_upera(af, s, fcs, t_end, N1c0=25.0)
+    assert fcs.finished and len(run.t) == done + 1  # both finish the mission in the same step
+    n = len(run.t)
+    np.testing.assert_array_equal(sec[:n], run.sec)
+    np.testing.assert_allclose(alt[:n], run.alt, rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(r["fcs.fuel_flow_cmd_kg_s"][:n], run.wf, rtol=1e-9, atol=1e-12)
+    lat = np.array([p.lat_deg for p in run.pos])
+    np.testing.assert_allclose(r["airframe.lat_deg"][:n], lat, rtol=0, atol=1e-11)  # 1e-11 deg ~ 1 um

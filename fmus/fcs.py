@@ -41,7 +41,7 @@ from openemss.models.fcs.geo import LatLon, local_ne_m
 from openemss.models.fcs.mission import Mission, load_mission
 from openemss.models.fcs.state import AircraftState, EngineState
 
-REQUIREMENTS = ["numpy>=1.24", "pyyaml>=6.0"]
+REQUIREMENTS = ["pyyaml>=6.0"]
 DATA_FILES = ["missions/munich.yaml", "missions/README.md"]
 
 DEFAULT_MISSION = "missions/munich.yaml"

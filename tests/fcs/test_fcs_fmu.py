@@ -30,6 +30,7 @@ from openemss.models.fcs.mission import load_mission
 from openemss.models.fcs.state import AircraftState, EngineState
 from openemss.orchestrator.build import build_fmu, ensure_built
 from openemss.orchestrator.execution import Execution
+from openemss.orchestrator.manipulators import ScenarioManipulator, load_scenario
 from openemss.orchestrator.observers import MemoryRecorder
 from openemss.orchestrator.ssp import load_system
 from openemss.orchestrator.system import bind_system
@@ -186,15 +187,18 @@ def synthetic_takeoff(n_steps: int) -> list[dict[str, float | bool]]:
     return rows
 
 
-def python_reference(rows: list[dict[str, float | bool]], n_steps: int,
-                     gains: dict[str, float] | None = None) -> dict[str, list]:
-    """The Python FlightControlSystem fed with the rows, the measured state built as upera_loop.py does."""
+def python_reference(rows: list[dict[str, float | bool]], n_steps: int, gains: dict[str, float] | None = None,
+                     changes: dict[int, dict[str, float]] | None = None) -> dict[str, list]:
+    """The Python FlightControlSystem fed with the rows, the measured state built as upera_loop.py does;
+    ``gains`` set before the start, ``changes[k]`` before step ``k``."""
     fcs = FlightControlSystem(load_mission(MUNICH))
     for name, value in (gains or {}).items():
         fcs.set_parameter(name, value)
     out: dict[str, list] = {}
     prev = None
     for k in range(n_steps):
+        for name, value in (changes or {}).get(k, {}).items():
+            fcs.set_parameter(name, value)
         r = rows[k]
         pos = LatLon.from_deg(r["lat_deg"], r["lon_deg"])
         if prev is None:
@@ -258,11 +262,13 @@ def played_system(folder: Path, fmus: Path, rows: list[dict[str, float | bool]],
     return ssd
 
 
-def run_played(folder: Path, n_steps: int, probe_names: tuple[str, ...] = ("section_name", "section_phase")) \
-        -> tuple[dict, Probe]:
+def run_played(folder: Path, n_steps: int, probe_names: tuple[str, ...] = ("section_name", "section_phase"),
+               scenario: Path | None = None) -> tuple[dict, Probe]:
     ex = Execution(bind_system(load_system(folder)), rate_hz=1.0 / H, algorithm="jacobi")
     rec = MemoryRecorder()
     probe = Probe("fcs", probe_names)
+    if scenario is not None:
+        ex.add_manipulator(ScenarioManipulator(load_scenario(scenario)))
     ex.add_observer(rec)
     ex.add_observer(probe)
     ex.run(n_steps * H)
@@ -365,6 +371,50 @@ def test_gain_from_an_ssv_reaches_the_controller(fmus: Path, tmp_path: Path) -> 
     ref = python_reference(rows, n, gains)
     np.testing.assert_allclose(wf, ref["Wf_cmd_kg_s"], rtol=1e-12, atol=1e-12)
     np.testing.assert_allclose(got["fcs.elevator_norm"][1:], ref["elevator"], rtol=1e-12, atol=1e-12)
+
+
+def test_gain_changed_during_the_run_by_a_scenario(fmus: Path, tmp_path: Path) -> None:
+    """The gains are tunable: a scenario sets stp_max and the TECS thrust gain at 12 s (in the take-off
+    roll, the fuel still rising) and the FMU follows the Python FCS with the same change before that step."""
+    n = 400
+    rows = synthetic_takeoff(n)
+    played_system(tmp_path / "sys", fmus, rows)
+    scenario = tmp_path / "scenario.yaml"
+    scenario.write_text("events:\n  - at: 12.0\n    set: {fcs.fuel_control.stp_max_kg_s: 3.0e-4, "
+                        "fcs.tecs.k_TP: 2.5}\n")
+    got, probe = run_played(tmp_path / "sys", n, ("fuel_control.stp_max_kg_s",), scenario)
+    k = int(round(12.0 / H))
+    assert probe.values["fuel_control.stp_max_kg_s"][k - 1] == 0.0015
+    assert probe.values["fuel_control.stp_max_kg_s"][k] == 3.0e-4  # the controller's value after the event
+    ref = python_reference(rows, n, changes={k: {"fuel_control.stp_max_kg_s": 3.0e-4, "tecs.k_TP": 2.5}})
+    wf = got["fcs.fuel_flow_cmd_kg_s"][1:]
+    np.testing.assert_allclose(wf, ref["Wf_cmd_kg_s"], rtol=1e-12, atol=1e-12)
+    steps = np.abs(np.diff(wf))
+    assert steps[: k - 1].max() == pytest.approx(0.0015) and steps[k:].max() <= 3.0e-4 * (1 + 1e-12)
+
+
+def test_fmu_is_self_contained(fmus: Path, tmp_path: Path) -> None:
+    """fmpy's own simulate_fmu runs the FCS FMU where openemss cannot be imported (the FCS code and the
+    Munich mission travel in the FMU); unconnected inputs keep their start values (at rest on 26R)."""
+    import subprocess
+    import sys
+    import zipfile
+
+    z = zipfile.ZipFile(fmus / "Fcs.fmu")
+    assert z.read("resources/requirements.txt").decode().split() == ["pyyaml>=6.0"]
+    assert "resources/missions/munich.yaml" in z.namelist()
+    code = ("import os, sys\n"
+            "sys.modules['openemss'] = None\n"
+            "from fmpy import simulate_fmu\n"
+            f"r = simulate_fmu({str(fmus / 'Fcs.fmu')!r}, stop_time=1.0, output_interval=0.05, "
+            "output=['lever_norm', 'section_index', 'gear_down', 'fuel_flow_cmd_kg_s'])\n"
+            "print(r['lever_norm'][-1], r['section_index'][-1], r['gear_down'][-1], r['fuel_flow_cmd_kg_s'][-1])\n"
+            "sys.stdout.flush(); os._exit(0)  # see tests/thirdparty.py: no finalization after the unload\n")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    lever, section, gear, wf = proc.stdout.split()[-4:]
+    assert float(lever) == 1.0 and int(section) == 0 and gear == "True"  # take-off roll, full lever
+    assert float(wf) == pytest.approx(0.012 + 20 * 0.0015)  # fuel rising at stp_max from Wf_min
 
 
 def test_gain_outside_its_range_is_refused(fmus: Path, tmp_path: Path) -> None:

@@ -75,12 +75,16 @@ OUTPUTS: tuple[tuple[str, str], ...] = (
 )
 #: Boolean outputs of :attr:`EngineModel.flags`, in order: (name, description).
 FLAGS: tuple[tuple[str, str], ...] = (
-    ("surge", "A compressor sector is beyond its surge line (margin < 0) [-]"),
+    ("surge", "A compressor sector is beyond its surge line (margin < 0) or the fuel is limited there [-]"),
     ("flameout", "Burner fuel-air ratio below the lean limit, or fuel flow below the minimum [-]"),
     ("overspeed", "N1 or N2 above its limit [-]"),
     ("solver_failed", "The last step could not be matched; the last good state is held [-]"),
     ("fuel_limited", "Fuel flow limited to the largest the gas path can match (surge side of the HPC map) [-]"),
 )
+#: Lowest map beta accepted in a transient: the maps' last beta line, next to the surge line. Beyond it the
+#: extrapolated speed lines turn, the match can jump to a non-physical branch on which less fuel moves the
+#: compressor further toward surge; a fuel flow that needs more is limited (``fuel_limited``, ``surge``).
+_BETA_FLOOR = 0.1
 _IDX = {name: i for i, (name, _) in enumerate(OUTPUTS)}
 
 
@@ -326,8 +330,13 @@ class EngineModel:
                   kw: dict[str, object]) -> TransientState | None:
         """The matched state at speeds N1, N2 [rpm]; None (and the failure logged) if it cannot be matched."""
         try:
-            return self.tr.state(t_s, N1, N2, Wf, guess=self.state,
-                                 handling_bleed_frac=self.valve_pos * self.valve.open_frac, **kw)  # type: ignore[arg-type]
+            s = self.tr.state(t_s, N1, N2, Wf, guess=self.state,
+                              handling_bleed_frac=self.valve_pos * self.valve.open_frac, **kw)  # type: ignore[arg-type]
+            pt = s.point
+            if pt.beta_hpc < _BETA_FLOOR or pt.beta_fan < _BETA_FLOOR:
+                raise ModelError(f"beyond the surge side of a compressor map (beta fan {pt.beta_fan:.4f}, "
+                                 f"HPC {pt.beta_hpc:.4f} < {_BETA_FLOOR})")
+            return s
         except (ModelError, FloatingPointError, ZeroDivisionError, OverflowError, ValueError) as exc:
             self.failures += 1
             self.tr._cache = None
@@ -346,11 +355,10 @@ class EngineModel:
         if s is not None or self.state is None:
             return None if s is None else (s, Wf)
         lo, hi = self.state.point.Wf_kg_s, Wf
-        if abs(hi - lo) <= 1e-9 * abs(hi):
-            return None
+        same = abs(hi - lo) <= 1e-9 * abs(hi)                  # the held fuel flow itself no longer matches
         Wf_min = self.limits.Wf_min_frac * self.dp.Wf_kg_s
         good: tuple[TransientState, float] | None = None
-        for f in (1.0, 0.8, 0.6, 0.4, 0.2):                   # a fuel flow the new speeds can match
+        for f in ((0.95, 0.9, 0.8, 0.6, 0.4) if same else (1.0, 0.8, 0.6, 0.4, 0.2)):  # one the speeds match
             s = self._evaluate(t_s, N1, N2, max(Wf_min, f * lo), u, kw)
             if s is not None:
                 good = (s, max(Wf_min, f * lo))
@@ -452,7 +460,7 @@ class EngineModel:
                                s.dN1_dt_rpm_s, s.dN2_dt_rpm_s, pt.handling_bleed_frac, FAR4,
                                pt.stations["2"].W_kg_s)):
             v[i] = float(x)
-        new = [bool(pt.SM_fan < 0.0 or pt.SM_hpc < 0.0),
+        new = [bool(pt.SM_fan < 0.0 or pt.SM_hpc < 0.0 or self.fuel_limited),
                bool(FAR4 < lim.FAR_lean or Wf_in < lim.Wf_min_frac * self.dp.Wf_kg_s),
                bool(pt.N1_pct > lim.N1_max_pct or pt.N2_pct > lim.N2_max_pct), failed, self.fuel_limited]
         for i, (name, _) in enumerate(FLAGS[:3] + FLAGS[4:]):

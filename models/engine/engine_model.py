@@ -392,6 +392,9 @@ class EngineModel:
         """Advance by `dt_s` [s] with the inputs `u` held; returns :attr:`values` (flags in :attr:`flags`)."""
         if self.state is None:
             raise ModelError("EngineModel.step before start()")
+        # to 1 ps: masters that form the same step differently (t = k h differences, integer ns ticks) then
+        # give identical results, not results that differ by the matching tolerance
+        dt_s = round(dt_s, 12)
         n = max(1, math.ceil(dt_s / self.dt_internal_s - 1e-9))
         h = dt_s / n
         Wf, kw = self._kwargs(u)

@@ -1,0 +1,203 @@
+"""The engine FMU (built by build-fmus, validated by fmpy there) against the Python model.
+
+The FMU and :class:`~openemss.models.engine.engine_model.EngineModel` run the same
+computation, so with the same inputs they agree to round-off (1e-9), not to a
+modelling tolerance. Also: every variable's description ends with a unit in brackets,
+Integer/Boolean inputs and outputs are discrete, and the FMU runs in fmpy's
+``simulate_fmu``, in our orchestrator and in libcosim (those two third-party runners in
+a child process, :mod:`thirdparty`).
+"""
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+from fmpy import read_model_description
+from fmpy.fmi2 import FMU2Slave
+
+from openemss.models.engine.engine_model import FLAGS, OUTPUTS, EngineInputs, EngineModel
+from openemss.orchestrator.build import ensure_built
+
+ROOT = Path(__file__).resolve().parents[2]
+H = 0.05
+OUT = [n for n, _ in OUTPUTS]
+
+
+@pytest.fixture(scope="module")
+def fmu(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("engine_fmu")
+    (path,) = ensure_built(ROOT / "fmus", out, names=["engine"], force=True)
+    return path
+
+
+def test_model_description(fmu: Path) -> None:
+    md = read_model_description(str(fmu))
+    names = {v.name: v for v in md.modelVariables}
+    for v in md.modelVariables:
+        assert v.description and v.description.rstrip().endswith("]"), v.name
+        if v.type in ("Integer", "Boolean") and v.causality in ("input", "output"):
+            assert v.variability == "discrete", v.name
+    for name in ("fuel_flow_cmd_kg_s", "alt_m", "mach", "isa_dev_K", "offtake_hp_W", "offtake_lp_W",
+                 "customer_bleed_frac", "distortion_on", "distortion_sector_deg", "distortion_dPt_frac",
+                 "distortion_dTt_K"):
+        assert names[name].causality == "input", name
+    for name in (*OUT, *(n for n, _ in FLAGS), "events"):
+        assert names[name].causality == "output", name
+    for name in ("preset", "design_override", "design_BPR", "design_PR_hpc", "design_Tt4_K", "I_lp_kg_m2",
+                 "I_hp_kg_m2", "dt_internal_s", "start_N1_pct", "start_fuel_flow_kg_s", "integrator"):
+        assert names[name].causality == "parameter", name
+
+
+def _inputs(k: int) -> EngineInputs:
+    """A fuel ramp and a chop, an altitude/Mach drift, offtake, bleed and a distortion pulse."""
+    t = k * H
+    wf = 0.12 + 0.05 * min(t, 2.0) if t < 3.0 else 0.10
+    return EngineInputs(wf, 3000.0 + 10.0 * t, 0.5 + 0.005 * t, 0.0, 20e3 if t > 1.0 else 0.0, 0.0,
+                        0.02 if t > 1.5 else 0.0, 1.0 <= t < 2.5, 120.0, 0.08, 0.0)
+
+
+_FMU_IN = ("fuel_flow_cmd_kg_s", "alt_m", "mach", "isa_dev_K", "offtake_hp_W", "offtake_lp_W", "customer_bleed_frac")
+
+
+def _reals(u: EngineInputs) -> list[float]:
+    return [u.Wf_kg_s, u.alt_m, u.Mach, u.dT_isa_K, u.offtake_hp_W, u.offtake_lp_W, u.customer_bleed_frac,
+            u.sector_deg, u.dPt_frac, u.dTt_K]
+
+
+def test_fmu_and_model_identical(fmu: Path, tmp_path: Path) -> None:
+    n_steps = 80
+    m = EngineModel("larzac04_sls")
+    m.start(_inputs(0), N1_pct=75.0)
+    ref, ref_flags = [], []
+    for k in range(n_steps):
+        m.step(H, _inputs(k))
+        ref.append(list(m.values))
+        ref_flags.append(list(m.flags))
+    md = read_model_description(str(fmu))
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    unzip = tmp_path / "unzipped"
+    shutil.unpack_archive(str(fmu), str(unzip), "zip")
+    slave = FMU2Slave(guid=md.guid, unzipDirectory=str(unzip), modelIdentifier=md.coSimulation.modelIdentifier,
+                      instanceName="engine")
+    slave.instantiate()
+    slave.setupExperiment(startTime=0.0)
+    in_vr = [vr[n] for n in (*_FMU_IN, "distortion_sector_deg", "distortion_dPt_frac", "distortion_dTt_K")]
+    slave.setReal([vr["start_N1_pct"]], [75.0])
+    slave.setReal(in_vr, _reals(_inputs(0)))
+    slave.setBoolean([vr["distortion_on"]], [_inputs(0).distortion_on])
+    slave.enterInitializationMode()
+    slave.exitInitializationMode()
+    out_vr = [vr[n] for n in OUT]
+    flag_vr = [vr[n] for n, _ in FLAGS]
+    got, got_flags = [], []
+    for k in range(n_steps):
+        u = _inputs(k)
+        slave.setReal(in_vr, _reals(u))
+        slave.setBoolean([vr["distortion_on"]], [u.distortion_on])
+        slave.doStep(currentCommunicationPoint=k * H, communicationStepSize=H)
+        got.append(slave.getReal(out_vr))
+        got_flags.append(list(slave.getBoolean(flag_vr)))
+    slave.terminate()
+    slave.fmi2FreeInstance(slave.component)  # keep the library loaded (thirdparty.py)
+    ref_a, got_a = np.array(ref), np.array(got)
+    assert np.ptp(ref_a[:, OUT.index("SM_fan")]) > 0.05          # the distortion pulse was felt
+    np.testing.assert_allclose(got_a, ref_a, rtol=1e-9, atol=1e-9)
+    assert got_flags == ref_flags
+    # burned fuel is the integral of the fuel flow burnt (rectangle rule over the held inputs)
+    assert ref_a[-1, OUT.index("fuel_burned_kg")] == pytest.approx(
+        sum(r[OUT.index("fuel_flow_kg_s")] for r in ref) * H, rel=1e-12)
+
+
+def test_runs_in_our_orchestrator_and_libcosim(fmu: Path, tmp_path: Path) -> None:
+    """A one-component SSP system: start at N1 70 % at 3000 m, Mach 0.5, fuel flow input bound to a
+    higher value: the spools accelerate. Ours and libcosim against the Python model, 1e-9."""
+    from openemss.orchestrator.execution import Execution
+    from openemss.orchestrator.observers import MemoryRecorder
+    from openemss.orchestrator.ssp import load_system
+    from openemss.orchestrator.system import bind_system
+    from systems import Comp, write_system
+    from thirdparty import require_libcosim, run_isolated
+
+    outs = ["thrust_N", "N1_rpm", "N2_rpm", "Tt4_K", "SM_hpc", "fuel_burned_kg"]
+    params: dict[str, float | int | bool] = {"start_N1_pct": 70.0, "alt_m": 3000.0, "mach": 0.5,
+                                             "fuel_flow_cmd_kg_s": 0.15, "integrator": 1}
+    comp = Comp("engine", fmu.name, [(n, "output", "Real") for n in outs], params)
+    folder = tmp_path / "system"
+    (folder / "resources").mkdir(parents=True)
+    shutil.copy2(fmu, folder / "resources" / fmu.name)
+    write_system(folder, fmu.parent, [comp], [], copy_fmus=False)
+    steps = 40
+    ex = Execution(bind_system(load_system(folder)), rate_hz=1 / H, algorithm="jacobi")
+    rec = MemoryRecorder()
+    ex.add_observer(rec)
+    ex.run(steps * H)
+    ours = rec.result()
+
+    def reference(step_sizes: list[float]) -> dict[str, list[float]]:
+        m = EngineModel("larzac04_sls", method="heun")
+        u = EngineInputs(0.15, 3000.0, 0.5)
+        m.start(u, N1_pct=70.0)
+        ref: dict[str, list[float]] = {n: [] for n in outs}
+        for h in step_sizes:
+            m.step(h, u)
+            for n in outs:
+                ref[n].append(m.value(n))
+        return ref
+
+    # ours forms steps as t = (k+1) h - k h (sizes vary by an ulp), libcosim from integer ns ticks; the
+    # model rounds them to 1 ps, so both equal the reference with h
+    ref = reference([H] * steps)
+    assert ref["N1_rpm"][-1] > ref["N1_rpm"][0] + 500.0           # it accelerated
+    for n in outs:
+        np.testing.assert_allclose(ours[f"engine.{n}"][1:], ref[n], rtol=1e-9, atol=1e-9, err_msg=n)
+    require_libcosim()
+    got = run_isolated("libcosim_run", system=str(folder), variables=[f"engine.{n}" for n in outs], steps=steps,
+                       step_ns=int(round(H * 1e9)))["values"]
+    theirs = np.array([got[f"engine.{n}"] for n in outs]).T
+    np.testing.assert_allclose(theirs, np.array([ref[n] for n in outs]).T, rtol=1e-9, atol=1e-9)
+
+
+def test_fmpy_simulate_fmu(fmu: Path) -> None:
+    """fmpy's own runner (child process): steady start at a given fuel flow stays there."""
+    from thirdparty import run_isolated
+
+    m = EngineModel("larzac04_sls")
+    pt = m.od.solve(5000.0, 0.6, N1_pct=90.0)
+    res = run_isolated("fmpy_simulate_fmu", fmu=str(fmu), outputs=["N1_pct", "thrust_N", "fuel_burned_kg"],
+                       start_time=0.0, stop_time=1.0, output_interval=H,
+                       start_values={"alt_m": 5000.0, "mach": 0.6, "start_fuel_flow_kg_s": pt.Wf_kg_s})
+    assert res["N1_pct"][-1] == pytest.approx(90.0, rel=1e-6)
+    assert res["thrust_N"][-1] == pytest.approx(pt.Fn_N, rel=1e-6)
+    assert res["fuel_burned_kg"][-1] == pytest.approx(pt.Wf_kg_s * 1.0, rel=1e-6)
+
+
+def test_design_override_selects_the_engine(fmu: Path, tmp_path: Path) -> None:
+    """design_override with the reference study's BPR and HPC PR gives that engine's start point."""
+    from openemss.models.engine.design_params import load_params, preset_path, replace
+
+    md = read_model_description(str(fmu))
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    unzip = tmp_path / "unzipped2"
+    shutil.unpack_archive(str(fmu), str(unzip), "zip")
+    slave = FMU2Slave(guid=md.guid, unzipDirectory=str(unzip), modelIdentifier=md.coSimulation.modelIdentifier,
+                      instanceName="engine2")
+    slave.instantiate()
+    slave.setupExperiment(startTime=0.0)
+    slave.setBoolean([vr["design_override"]], [True])
+    slave.setReal([vr["design_BPR"], vr["design_PR_hpc"], vr["start_N1_pct"]], [1.16, 5.528455284552847, 90.0])
+    slave.enterInitializationMode()
+    slave.exitInitializationMode()
+    slave.doStep(currentCommunicationPoint=0.0, communicationStepSize=H)
+    fn = slave.getReal([vr["thrust_N"]])[0]
+    slave.terminate()
+    slave.fmi2FreeInstance(slave.component)
+    p = replace(load_params(preset_path("larzac04_sls")), BPR=1.16, PR_hpc=5.528455284552847)
+    m = EngineModel(p)
+    m.start(EngineInputs(0.1), N1_pct=90.0)
+    m.step(H, EngineInputs(m.state.point.Wf_kg_s))               # type: ignore[union-attr]
+    assert fn == pytest.approx(m.value("thrust_N"), rel=1e-9)
+    base = EngineModel("larzac04_sls")
+    base.start(EngineInputs(0.1), N1_pct=90.0)
+    assert abs(fn / base.value("thrust_N") - 1.0) > 1e-3          # a different engine

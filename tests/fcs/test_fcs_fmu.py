@@ -488,17 +488,9 @@ FCS_TO_AF = ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "brak
 AMBIENT = ("p_amb_Pa", "T_amb_K", "rho_amb_kg_m3")
 
 
-def test_coupled_airframe_fcs_engine_take_off_and_climb(fmus: Path, tmp_path: Path) -> None:
-    """Airframe FMU (JSBSim UPERA), FCS FMU and the first-order engine stand-in FMU in our Gauss-Seidel master
-    (order FCS, engine, airframe: the FCS samples the state at t, the engine and the airframe fly its commands
-    over [t, t + h]) take off from EDDM 26R and climb to 1000 m on a shortened Munich mission (roll, take-off,
-    climb to WP 1). It is the closed loop of tests/fcs/upera_loop.py, computed there in plain Python on the
-    same models: the trajectories agree to 1e-9 (the same arithmetic; the one difference is the N1 the fuel
-    controller sees, whose temperature correction uses the previous step's ambient temperature)."""
-    from upera_loop import fly_upera
-
-    from openemss.models.airframe import adapter
-
+def coupled_system(fmus: Path, tmp_path: Path):  # type: ignore[no-untyped-def]
+    """Airframe + FCS + engine stand-in system on a shortened Munich mission (roll, take-off, climb to WP 1),
+    the airframe at rest 50 m beyond the 26R threshold; returns (folder, mission, start point, runway)."""
     ensure_built(ROOT / "fmus", fmus, names=["airframe"])
     text = MUNICH.read_text()
     short = tmp_path / "short.yaml"
@@ -528,6 +520,21 @@ def test_coupled_airframe_fcs_engine_take_off_and_climb(fmus: Path, tmp_path: Pa
                                                     "heading0_deg": math.degrees(rwy.heading_rad),
                                                     "alt0_m": rwy.elevation_m})], conns)
     ssd.write_text(_bind_mission(ssd.read_text(), str(short)))
+    return folder, mission, p0, rwy
+
+
+def test_coupled_airframe_fcs_engine_take_off_and_climb(fmus: Path, tmp_path: Path) -> None:
+    """Airframe FMU (JSBSim UPERA), FCS FMU and the first-order engine stand-in FMU in our Gauss-Seidel master
+    (order FCS, engine, airframe: the FCS samples the state at t, the engine and the airframe fly its commands
+    over [t, t + h]) take off from EDDM 26R and climb to 1000 m on a shortened Munich mission (roll, take-off,
+    climb to WP 1). It is the closed loop of tests/fcs/upera_loop.py, computed there in plain Python on the
+    same models: the trajectories agree to 1e-9 (the same arithmetic; the one difference is the N1 the fuel
+    controller sees, whose temperature correction uses the previous step's ambient temperature)."""
+    from upera_loop import fly_upera
+
+    from openemss.models.airframe import adapter
+
+    folder, mission, p0, rwy = coupled_system(fmus, tmp_path)
     t_end = 140.0
     ex = Execution(bind_system(load_system(folder)), rate_hz=1.0 / H, algorithm="gauss-seidel")
     assert ex.order.order == (0, 1, 2)  # fcs, engine, airframe
@@ -560,3 +567,31 @@ def test_coupled_airframe_fcs_engine_take_off_and_climb(fmus: Path, tmp_path: Pa
     np.testing.assert_allclose(r["fcs.fuel_flow_cmd_kg_s"][:n], run.wf, rtol=1e-9, atol=1e-12)
     lat = np.array([p.lat_deg for p in run.pos])
     np.testing.assert_allclose(r["airframe.lat_deg"][:n], lat, rtol=0, atol=1e-11)  # 1e-11 deg ~ 1 um
+
+
+def test_coupled_system_in_libcosim(fmus: Path, tmp_path: Path) -> None:
+    """libcosim (the reference third-party importer) runs the same three-FMU system, with the mission file
+    bound as a String parameter, and gives our Jacobi master's trajectory for the first 30 s (roll, lift-off,
+    climb). The same computation up to round-off: libcosim's times are integer nanoseconds, so the step size
+    and time it passes differ from ours by an ulp in some steps (seen from step 5 on in the elevator and
+    the engine's N1c, 1e-15 relative); the closed loop carries these along, to at most 5e-9 of the range each
+    signal sweeps in 30 s (the elevator; 6e-11 the altitude). Tolerance: 1e-7 of the range (a difference
+    of modelling would show at 1e-3 or more)."""
+    pytest.importorskip("libcosimpy.CosimExecution", reason="libcosimpy is a test dependency")
+    from thirdparty import run_isolated
+
+    folder, *_ = coupled_system(fmus, tmp_path)
+    steps = 600
+    names = ["airframe.alt_msl_m", "airframe.tas_m_s", "airframe.lat_deg", "fcs.fuel_flow_cmd_kg_s",
+             "fcs.elevator_norm", "engine.N1c_pct"]
+    ex = Execution(bind_system(load_system(folder)), rate_hz=1.0 / H, algorithm="jacobi")
+    rec = MemoryRecorder()
+    ex.add_observer(rec)
+    ex.run(steps * H)
+    ours = rec.result()
+    assert ours["airframe.alt_msl_m"][-1] > 600.0  # airborne and climbing under Jacobi too
+    got = run_isolated("libcosim_run", system=str(folder), variables=names, steps=steps,
+                       step_ns=int(round(H * 1e9)))["values"]
+    for n in names:
+        scale = float(np.ptp(ours[n]))  # the range the signal swept
+        np.testing.assert_allclose(got[n], ours[n][1:], rtol=0, atol=1e-7 * scale, err_msg=n)

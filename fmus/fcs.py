@@ -85,11 +85,6 @@ _N_REAL = len(OUTPUTS)
 _IDX = {name: i for i, (name, _) in enumerate(OUTPUTS)}
 
 
-def _fmi_name(name: str) -> str:
-    """FMI name of an FCS parameter: the dotted name itself (a structured FMI name)."""
-    return name
-
-
 def _parameter_docs(package: str) -> dict[str, str]:
     """Description with unit of every ``<section>.<name>`` entry of the package's parameter files."""
     docs: dict[str, str] = {}
@@ -143,7 +138,8 @@ class Fcs(Fmi2Slave):
                 ("flaps_cmd_norm", "Flap setting commanded throughout (the laws do not schedule flaps), "
                                    "0 to 1 [-]", tunable)):
             self.register_variable(Real(name, causality=par, variability=var, description=desc))
-        # -- gains: every tunable parameter of the FCS, dotted names as in the Python API
+        # -- gains: every tunable parameter of the FCS under its dotted name of the Python API (valid FMI
+        #    names in pythonfmu's structured naming convention; nested=False: no attribute lookup by parts)
         ref = _defaults()
         docs = _parameter_docs(FlightControlSystem.__module__.rpartition(".")[0])
         self._pending: dict[str, float | bool] = {}
@@ -153,7 +149,7 @@ class Fcs(Fmi2Slave):
             value = ref.get_parameter(pname)
             desc = docs.get(pname, f"FCS parameter {pname} [-]")
             kind = Boolean if isinstance(value, bool) else Real
-            self.register_variable(kind(_fmi_name(pname), causality=par, variability=tunable, description=desc,
+            self.register_variable(kind(pname, causality=par, variability=tunable, description=desc,
                                         getter=lambda p=pname, v=value: self._get_gain(p, v),
                                         setter=lambda x, p=pname: self._set_gain(p, x)), nested=False)
         # -- inputs

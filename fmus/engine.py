@@ -85,6 +85,7 @@ class Engine(Fmi2Slave):
         self.bleed_threshold_N2_pct, self.bleed_band_pct = valve.threshold_N2_pct, valve.band_pct
         self.bleed_stroke_s, self.bleed_open_frac = valve.stroke_s, valve.open_frac
         self.critical_angle_deg = 60.0
+        self.linear_input_frac = 0.05
         for name, desc in (("I_lp_kg_m2", "LP spool polar inertia, 0 = the preset's [kg m2]"),
                            ("I_hp_kg_m2", "HP spool polar inertia, 0 = the preset's [kg m2]"),
                            ("dt_internal_s", "Largest internal integration step [s]"),
@@ -97,7 +98,9 @@ class Engine(Fmi2Slave):
                            ("bleed_band_pct", "Handling bleed hysteresis band width in N2 [%]"),
                            ("bleed_stroke_s", "Handling bleed valve full-stroke time [s]"),
                            ("bleed_open_frac", "Handling bleed flow over HPC inlet flow when open [-]"),
-                           ("critical_angle_deg", "Critical sector angle of the distortion model [deg]")):
+                           ("critical_angle_deg", "Critical sector angle of the distortion model [deg]"),
+                           ("linear_input_frac", "Largest relative fuel change taken linearly at a step start, "
+                                                 "0 = always matched [-]")):
             self.register_variable(Real(name, causality=par, variability=fixed, description=desc))
         self.integrator = 0
         self.distortion_target = 1
@@ -155,6 +158,7 @@ class Engine(Fmi2Slave):
                         valve=BleedValve(self.bleed_threshold_N2_pct, self.bleed_band_pct, self.bleed_stroke_s,
                                          self.bleed_open_frac),
                         distortion_target=self.distortion_target, critical_angle_deg=self.critical_angle_deg,
+                        linear_input_frac=self.linear_input_frac,
                         logger=lambda msg: self.log(msg, Fmi2Status.warning, "logStatusWarning"))
         u = self._inputs()
         if self.start_fuel_flow_kg_s > 0.0:

@@ -225,6 +225,10 @@ class EngineModel:
         Where the inlet distortion acts: 1 fan face, 2 HPC face, 3 both.
     critical_angle_deg : float
         Critical sector angle of the distortion model [deg].
+    linear_input_frac : float
+        With Euler steps: when only the fuel flow changed since the last match, by at most this
+        fraction [-], the spool accelerations at the step start are corrected linearly (the cached
+        Jacobian's fuel sensitivity) instead of matching the gas path there again; 0 disables it.
     logger : callable, optional
         Receives one line per event or failure.
     """
@@ -232,7 +236,7 @@ class EngineModel:
     def __init__(self, params: str | TurbofanParams = "larzac04_sls", *, I_lp_kg_m2: float | None = None,
                  I_hp_kg_m2: float | None = None, dt_internal_s: float = 0.05, method: str = "euler",
                  tol: float = 1e-8, limits: EngineLimits = EngineLimits(), valve: BleedValve = BleedValve(),
-                 distortion_target: int = 1, critical_angle_deg: float = 60.0,
+                 distortion_target: int = 1, critical_angle_deg: float = 60.0, linear_input_frac: float = 0.05,
                  logger: Callable[[str], None] | None = None) -> None:
         if method not in ("euler", "heun"):
             raise ModelError(f"EngineModel: method={method!r} must be 'euler' or 'heun'")
@@ -251,6 +255,7 @@ class EngineModel:
         self.tr = TurbofanTransient(self.od, I_lp_kg_m2, I_hp_kg_m2)
         self.p, self.dt_internal_s, self.method, self.tol = p, dt_internal_s, method, tol
         self.limits, self.valve, self.target, self.crit = limits, valve, distortion_target, critical_angle_deg
+        self.linear_input_frac = linear_input_frac
         self.log: Callable[[str], None] = logger if logger is not None else (lambda msg: None)
         self.t_s = 0.0
         self.N1_rpm = self.N2_rpm = 0.0
@@ -376,6 +381,22 @@ class EngineModel:
         self.fuel_limited = True
         return good
 
+    def _small_change(self, key: tuple[float, ...], Wf: float) -> tuple[float, float] | None:
+        """Fuel sensitivities of the spool accelerations [rpm/s per kg/s] if, since the last match, only the
+        fuel flow changed by at most ``linear_input_frac`` (and the flight condition by a little: 10 m,
+        Mach 0.002, 0.1 K); None otherwise (then the start of the step is matched again)."""
+        old = self._key
+        if not self.linear_input_frac or old is None or self.state is None or self.method != "euler":
+            return None
+        if key[:3] != old[:3] or key[7:] != old[7:]:            # speeds, valve, offtakes, bleed, distortion
+            return None
+        if abs(key[4] - old[4]) > 10.0 or abs(key[5] - old[5]) > 0.002 or abs(key[6] - old[6]) > 0.1:
+            return None
+        Wf0 = self.state.point.Wf_kg_s
+        if abs(Wf - Wf0) > self.linear_input_frac * Wf0:
+            return None
+        return self.tr.fuel_sensitivity(self.state)
+
     def _valve(self, h: float) -> None:
         v = self.valve
         N2_pct = 100.0 * self.N2_rpm / self.p.N2_rpm
@@ -403,26 +424,32 @@ class EngineModel:
         s = self.state
         key = self._make_key(Wf, u)
         Wf_used = self.state.point.Wf_kg_s
+        a1, a2 = s.dN1_dt_rpm_s, s.dN2_dt_rpm_s
         if key != self._key:                                   # inputs changed: derivative at the step start
-            res = self._evaluate_limited(t0, self.N1_rpm, self.N2_rpm, Wf, u, kw)
-            if res is None:
-                failed = True
+            sens = self._small_change(key, Wf)
+            if sens is not None:                               # linearised: no extra match
+                a1, a2 = a1 + sens[0] * (Wf - Wf_used), a2 + sens[1] * (Wf - Wf_used)
             else:
-                (self.state, Wf_used), s = res, res[0]
+                res = self._evaluate_limited(t0, self.N1_rpm, self.N2_rpm, Wf, u, kw)
+                if res is None:
+                    failed = True
+                else:
+                    (self.state, Wf_used), s = res, res[0]
+                    a1, a2 = s.dN1_dt_rpm_s, s.dN2_dt_rpm_s
         t, t_end = t0, t0 + dt_s
         while not failed and t < t_end - 1e-9 * dt_s:
             hh = min(h, t_end - t)
             for _ in range(4):                                  # halve the step where the match fails
                 t1 = t + hh
-                N1, N2 = self.N1_rpm + hh * s.dN1_dt_rpm_s, self.N2_rpm + hh * s.dN2_dt_rpm_s
+                N1, N2 = self.N1_rpm + hh * a1, self.N2_rpm + hh * a2
                 pred_ok = True
                 if self.method == "heun":
                     pred = self._evaluate(t1, N1, N2, s.point.Wf_kg_s, u, kw)
                     if pred is None:
                         pred_ok = False
                     else:
-                        N1 = self.N1_rpm + 0.5 * hh * (s.dN1_dt_rpm_s + pred.dN1_dt_rpm_s)
-                        N2 = self.N2_rpm + 0.5 * hh * (s.dN2_dt_rpm_s + pred.dN2_dt_rpm_s)
+                        N1 = self.N1_rpm + 0.5 * hh * (a1 + pred.dN1_dt_rpm_s)
+                        N2 = self.N2_rpm + 0.5 * hh * (a2 + pred.dN2_dt_rpm_s)
                 res = None
                 if pred_ok and N1 > 0.0 and N2 > 0.0:
                     pos, N1_old, N2_old, cmd_old = self.valve_pos, self.N1_rpm, self.N2_rpm, self.valve_open_cmd
@@ -438,6 +465,7 @@ class EngineModel:
                 failed = True
                 break
             (self.state, Wf_used), s = res, res[0]
+            a1, a2 = s.dN1_dt_rpm_s, s.dN2_dt_rpm_s
             t = t1
         self.t_s = t0 + dt_s
         Wf_used = self.state.point.Wf_kg_s

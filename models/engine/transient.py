@@ -166,16 +166,36 @@ class TurbofanTransient:
                      demand: tuple[str, float], extras: tuple[float, float, float],
                      distortion: tuple[Distortion | None, Distortion | None], rows: list[int], free: list[int],
                      hb: float | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """Inverse of d r/d x_free and the matrix d r/d inputs (N1, N2, Wf), by forward differences."""
-        r0 = od._cycle(x, cond, demand, extras, distortion, hb)[0][rows]
+        """Inverse of d r/d x_free and the matrix d r/d inputs (N1, N2, Wf), by forward differences;
+        also the rows of the two shaft residuals (HP, LP): d r_shaft/d x_free and d r_shaft/d inputs."""
+        rows_all = rows + [6, 7]
+        r0 = od._cycle(x, cond, demand, extras, distortion, hb)[0][rows_all]
         cols = free + _INPUTS
-        J = np.empty((len(rows), len(cols)))
+        J = np.empty((len(rows_all), len(cols)))
         for j, c in enumerate(cols):
             xp = x.copy()
             h = 1e-6 * max(1.0, abs(x[c]))
             xp[c] += h
-            J[:, j] = (od._cycle(xp, cond, demand, extras, distortion, hb)[0][rows] - r0) / h
-        return np.linalg.inv(J[:, :len(free)]), J[:, len(free):]
+            J[:, j] = (od._cycle(xp, cond, demand, extras, distortion, hb)[0][rows_all] - r0) / h
+        m, nf = len(rows), len(free)
+        return np.linalg.inv(J[:m, :nf]), J[:m, nf:], J[m:, :nf], J[m:, nf:]
+
+    def fuel_sensitivity(self, state: TransientState) -> tuple[float, float] | None:
+        """d(dN1/dt)/dWf and d(dN2/dt)/dWf [rpm/s per kg/s] at fixed speeds, the gas path re-matched
+        (linearised with the cached Jacobian); None if no Jacobian is cached.
+
+        A co-simulation step whose fuel flow changes a little uses it to correct the spool
+        accelerations at its start instead of matching the gas path there again.
+        """
+        if self._cache is None or len(self._cache) < 5:
+            return None
+        _, H, J_in, Js_free, Js_in = self._cache[:5]
+        dx = -H @ J_in[:, 2]                         # re-matched free unknowns per unit of x_Wf
+        dr = Js_free @ dx + Js_in[:, 2]              # shaft residuals (HP, LP) per unit of x_Wf
+        od, pt = self.od, state.point
+        per = 1.0 / od.ref["Wf"]
+        return (spool_acceleration(dr[1] * od.ref["P_lp"] * per, pt.N1_rpm, self.I_lp),
+                spool_acceleration(dr[0] * od.ref["P_hp"] * per, pt.N2_rpm, self.I_hp))
 
     def _chord(self, resid: Callable[[np.ndarray], np.ndarray], x: np.ndarray, d_in: np.ndarray,
                key: tuple[Any, ...], tol: float) -> NewtonResult | None:
@@ -184,7 +204,7 @@ class TurbofanTransient:
         cache for this condition or the iteration stalls (the caller then rebuilds it)."""
         if self._cache is None or self._cache[0] != key:
             return None
-        _, H, J_in = self._cache
+        _, H, J_in, *shaft = self._cache
         x = x - H @ (J_in @ d_in)
         try:
             r = resid(x)
@@ -193,7 +213,7 @@ class TurbofanTransient:
         for it in range(8):
             norm = float(np.max(np.abs(r)))
             if norm < tol:
-                self._cache = (key, H, J_in)
+                self._cache = (key, H, J_in, *shaft)
                 return NewtonResult(x, r, np.linalg.inv(H), it, it + 1)
             dx = -H @ r
             try:

@@ -1,0 +1,135 @@
+"""Engine FMU speed: cost of one 50 ms engine step, in the FMU as our orchestrator runs it and in Python.
+
+Target of issue 5: under 150 microseconds per 50 ms step (the engine alone at 300x real
+time). Prints a table (median and best of several repeats, microseconds per step) and a
+cProfile summary of where the time of a step goes; asserts nothing (DESIGN.md, rule 12).
+
+Cases (Larzac 04 preset, 5000 m, Mach 0.6, N1 90 %, explicit Euler, one internal step):
+
+* ``model, inputs held``: :class:`EngineModel` with constant inputs (steady cruise): one
+  gas-path match per step (at the new spool speeds);
+* ``model, inputs changing``: fuel flow and altitude change every step (a fuel controller,
+  a climb): two matches per step (the derivative at the step start with the new inputs, then
+  the end state);
+* ``FMU in our orchestrator``: the built ``Engine.fmu`` in a one-component SSP system, run by
+  :class:`openemss.orchestrator.execution.Execution` (Jacobi, 20 Hz), inputs held at their
+  start values; the difference to the first case is the FMI and master overhead.
+
+    python benchmarks/bench_engine_fmu.py [--repeat 5] [--steps 200]
+"""
+
+from __future__ import annotations
+
+import argparse
+import cProfile
+import io
+import math
+import pstats
+import shutil
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from openemss.models.engine.engine_model import EngineInputs, EngineModel
+
+ROOT = Path(__file__).resolve().parents[1]
+ALT_M, MACH, H = 5000.0, 0.6, 0.05
+
+
+def _model_runner(changing: bool, steps: int) -> tuple[EngineModel, object]:
+    m = EngineModel("larzac04_sls")
+    pt = m.od.solve(ALT_M, MACH, N1_pct=90.0)
+    m.start(EngineInputs(pt.Wf_kg_s, ALT_M, MACH))
+    k0 = [0]
+
+    def run() -> None:
+        for k in range(k0[0], k0[0] + steps):
+            t = H * k
+            if changing:
+                m.step(H, EngineInputs(pt.Wf_kg_s * (1.0 + 0.02 * math.sin(0.5 * t)), ALT_M + 2.0 * t, MACH))
+            else:
+                m.step(H, EngineInputs(pt.Wf_kg_s, ALT_M, MACH))
+        k0[0] += steps
+
+    run()                                                       # warm: Jacobian cached
+    return m, run
+
+
+def _time(run: object, steps: int, repeat: int) -> tuple[float, float]:
+    out = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        run()                                                   # type: ignore[operator]
+        out.append((time.perf_counter() - t0) / steps)
+    return statistics.median(out), min(out)
+
+
+def _fmu_case(steps: int, repeat: int) -> tuple[float, float] | str:
+    try:
+        sys.path.insert(0, str(ROOT / "tests"))
+        from systems import Comp, write_system
+
+        from openemss.orchestrator.build import ensure_built
+        from openemss.orchestrator.execution import Execution
+        from openemss.orchestrator.ssp import load_system
+        from openemss.orchestrator.system import bind_system
+    except ImportError as exc:                                  # pragma: no cover
+        return f"not run: {exc}"
+    tmp = Path(tempfile.mkdtemp(prefix="bench_engine_fmu_"))
+    try:
+        (fmu,) = ensure_built(ROOT / "fmus", tmp / "fmus", names=["engine"])
+        m = EngineModel("larzac04_sls")
+        pt = m.od.solve(ALT_M, MACH, N1_pct=90.0)
+        folder = tmp / "system"
+        (folder / "resources").mkdir(parents=True)
+        shutil.copy2(fmu, folder / "resources" / fmu.name)
+        comp = Comp("engine", fmu.name, [("thrust_N", "output", "Real"), ("N1_rpm", "output", "Real")],
+                    {"alt_m": ALT_M, "mach": MACH, "start_fuel_flow_kg_s": float(pt.Wf_kg_s)})
+        write_system(folder, fmu.parent, [comp], [], copy_fmus=False)
+        def run(n: int) -> float:
+            t0 = time.perf_counter()
+            Execution(bind_system(load_system(folder)), rate_hz=1.0 / H, algorithm="jacobi").run(n * H)
+            return time.perf_counter() - t0
+
+        out = []
+        for _ in range(repeat):                                 # set-up, initialisation: the difference
+            out.append((run(steps + 2) - run(2)) / steps)
+        return statistics.median(out), min(out)
+    finally:
+        pass                                                    # the library stays loaded: keep its files
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--steps", type=int, default=200)
+    a = ap.parse_args()
+    rows = []
+    for name, changing in (("model, inputs held", False), ("model, inputs changing", True)):
+        m, run = _model_runner(changing, a.steps)
+        med, best = _time(run, a.steps, a.repeat)
+        rows.append((name, med, best))
+    fmu = _fmu_case(a.steps, a.repeat)
+    print(f"one 50 ms engine step (target 150 us), {a.steps} steps x {a.repeat} repeats")
+    print(f"{'case':<28} {'median us':>10} {'best us':>10} {'x real time':>12}")
+    for name, med, best in rows:
+        print(f"{name:<28} {med * 1e6:10.0f} {best * 1e6:10.0f} {H / med:12.0f}")
+    if isinstance(fmu, tuple):
+        print(f"{'FMU in our orchestrator':<28} {fmu[0] * 1e6:10.0f} {fmu[1] * 1e6:10.0f} {H / fmu[0]:12.0f}")
+    else:
+        print(f"FMU in our orchestrator: {fmu}")
+    m, run = _model_runner(True, a.steps)
+    prof = cProfile.Profile()
+    prof.enable()
+    run()                                                       # type: ignore[operator]
+    prof.disable()
+    s = io.StringIO()
+    pstats.Stats(prof, stream=s).sort_stats("tottime").print_stats(12)
+    print("\ncProfile, model with inputs changing (tottime, top 12):")
+    print("\n".join(line for line in s.getvalue().splitlines() if line.strip())[:4000])
+
+
+if __name__ == "__main__":
+    main()

@@ -201,3 +201,27 @@ def test_design_override_selects_the_engine(fmu: Path, tmp_path: Path) -> None:
     base = EngineModel("larzac04_sls")
     base.start(EngineInputs(0.1), N1_pct=90.0)
     assert abs(fn / base.value("thrust_N") - 1.0) > 1e-3          # a different engine
+
+
+def test_fmu_is_self_contained(fmu: Path, tmp_path: Path) -> None:
+    """The FMU runs where neither openEMSS nor anything beyond its requirements (and the host's fmpy)
+    can be imported: the engine package, its maps and presets travel inside; requirements.txt says
+    what it needs."""
+    import subprocess
+    import sys
+    import zipfile
+
+    z = zipfile.ZipFile(fmu)
+    assert z.read("resources/requirements.txt").decode().split() == ["numpy>=1.24", "scipy>=1.10"]
+    names = z.namelist()
+    assert any(n.endswith("presets/larzac04_sls.json") for n in names)
+    assert any(n.endswith("maps/axi5.json") for n in names)
+    code = ("import sys\n"
+            "for m in ('openemss', 'matplotlib', 'yaml', 'jsbsim'): sys.modules[m] = None\n"
+            "from fmpy import simulate_fmu\n"
+            f"r = simulate_fmu({str(fmu)!r}, stop_time=0.5, output_interval=0.05, "
+            "start_values={'start_N1_pct': 85.0}, output=['N1_pct'])\n"
+            "print(r['N1_pct'][-1])")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    assert float(proc.stdout.split()[-1]) == pytest.approx(85.0, rel=1e-6)

@@ -10,9 +10,11 @@ side rebuilds the measured state from the same table as tests/fcs/upera_loop.py 
 (ground velocity from successive positions), written independently of the FMU.
 
 Also: every variable has a unit, every FCS gain is a tunable parameter that an .ssv
-reaches, a bad mission file fails the initialization with a clear one-line message,
-and a coupled run (airframe FMU + FCS FMU + first-order engine stand-in FMU) takes off
-from EDDM and climbs.
+(or a scenario, during the run) reaches, a bad mission file or gain fails the
+initialization with a clear one-line message, fmpy runs the FMU without openEMSS, and
+coupled runs take off from EDDM and climb: airframe FMU + FCS FMU + a first-order engine
+stand-in FMU (equal to the Python closed loop of upera_loop.py; also run in libcosim),
+and airframe + FCS + the engine model's FMU.
 """
 from __future__ import annotations
 
@@ -488,10 +490,12 @@ FCS_TO_AF = ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "brak
 AMBIENT = ("p_amb_Pa", "T_amb_K", "rho_amb_kg_m3")
 
 
-def coupled_system(fmus: Path, tmp_path: Path):  # type: ignore[no-untyped-def]
-    """Airframe + FCS + engine stand-in system on a shortened Munich mission (roll, take-off, climb to WP 1),
-    the airframe at rest 50 m beyond the 26R threshold; returns (folder, mission, start point, runway)."""
-    ensure_built(ROOT / "fmus", fmus, names=["airframe"])
+def coupled_system(fmus: Path, tmp_path: Path, engine_model: bool = False):  # type: ignore[no-untyped-def]
+    """Airframe + FCS + engine system on a shortened Munich mission (roll, take-off, climb to WP 1), the
+    airframe at rest 50 m beyond the 26R threshold; the engine is the first-order stand-in, or with
+    ``engine_model`` the engine FMU (fmus/engine.py, Larzac 04 preset) started steady at 60 % N1.
+    Returns (folder, mission, start point, runway)."""
+    ensure_built(ROOT / "fmus", fmus, names=["airframe", "engine"] if engine_model else ["airframe"])
     text = MUNICH.read_text()
     short = tmp_path / "short.yaml"
     short.write_text(text[:text.index("  - {type: WaypointFollowing, name: Munich circuit")]
@@ -500,22 +504,33 @@ def coupled_system(fmus: Path, tmp_path: Path):  # type: ignore[no-untyped-def]
     assert [s.type for s in mission.sections] == ["Rolling", "TakeOff", "WaypointFollowing"]
     rwy = mission.sections[0]["runway"]
     p0 = rwy.point(50.0)  # 50 m beyond the threshold, on the centre line
-    af_conn = ([(n, "output", "Real") for n in (*AF_TO_FCS, "p_amb_Pa", "T_amb_K", "alt_agl_m")]
+    af_conn = ([(n, "output", "Real") for n in (*AF_TO_FCS, "p_amb_Pa", "T_amb_K", "alt_agl_m", "mach")]
                + [("on_ground", "output", "Boolean")]
                + [(n, "input", "Real") for n in (*FCS_TO_AF, "thrust_N", "fuel_flow_kg_s")]
                + [("gear_down", "input", "Boolean")])
-    eng_conn = ([(n, "input", "Real") for n in ("fuel_flow_cmd_kg_s", *AMBIENT)]
-                + [(n, "output", "Real") for n in ("N1c_pct", "N1_pct", "Tt41_K", "thrust_N", "fuel_flow_kg_s")])
     conns = ([(f"airframe.{n}", f"fcs.{n}") for n in (*AF_TO_FCS, "on_ground")]
-             + [(f"engine.{n}", f"fcs.{n}") for n in ("N1_pct", "N1c_pct", "Tt41_K")]
              + [(f"fcs.{n}", f"airframe.{n}") for n in (*FCS_TO_AF, "gear_down")]
              + [("fcs.fuel_flow_cmd_kg_s", "engine.fuel_flow_cmd_kg_s")]
-             + [(f"airframe.{n}", f"engine.{n}") for n in AMBIENT]
-             + [(f"engine.{n}", f"airframe.{n}") for n in ("thrust_N", "fuel_flow_kg_s")])
+             + [(f"engine.{n}", f"airframe.{n}") for n in ("thrust_N", "fuel_flow_kg_s")]
+             + [("engine.N1_pct", "fcs.N1_pct"), ("engine.N1c_pct", "fcs.N1c_pct")])
+    if engine_model:  # the engine model's inputs: altitude and Mach; its rotor inlet temperature is T41_K
+        eng = Comp("engine", "Engine.fmu",
+                   [(n, "input", "Real") for n in ("fuel_flow_cmd_kg_s", "alt_m", "mach")]
+                   + [(n, "output", "Real") for n in ("N1c_pct", "N1_pct", "T41_K", "thrust_N", "fuel_flow_kg_s")],
+                   {"start_N1_pct": 60.0})
+        conns += [("airframe.alt_msl_m", "engine.alt_m"), ("airframe.mach", "engine.mach"),
+                  ("engine.T41_K", "fcs.Tt41_K")]
+        wf0 = 0.07  # about the engine's fuel flow at 60 % N1, sea level static
+    else:
+        eng = Comp("engine", "EngineStandIn.fmu",
+                   [(n, "input", "Real") for n in ("fuel_flow_cmd_kg_s", *AMBIENT)]
+                   + [(n, "output", "Real") for n in ("N1c_pct", "N1_pct", "Tt41_K", "thrust_N", "fuel_flow_kg_s")],
+                   {"N1c0_pct": 25.0})
+        conns += [(f"airframe.{n}", f"engine.{n}") for n in AMBIENT] + [("engine.Tt41_K", "fcs.Tt41_K")]
+        wf0 = 0.012
     folder = tmp_path / "sys"
     ssd = write_system(folder, fmus, [
-        Comp("fcs", "Fcs.fmu", fcs_connectors(), {"Wf0_kg_s": 0.012}),
-        Comp("engine", "EngineStandIn.fmu", eng_conn, {"N1c0_pct": 25.0}),
+        Comp("fcs", "Fcs.fmu", fcs_connectors(), {"Wf0_kg_s": wf0}), eng,
         Comp("airframe", "Airframe.fmu", af_conn, {"lat0_deg": p0.lat_deg, "lon0_deg": p0.lon_deg,
                                                     "heading0_deg": math.degrees(rwy.heading_rad),
                                                     "alt0_m": rwy.elevation_m})], conns)
@@ -595,3 +610,25 @@ def test_coupled_system_in_libcosim(fmus: Path, tmp_path: Path) -> None:
     for n in names:
         scale = float(np.ptp(ours[n]))  # the range the signal swept
         np.testing.assert_allclose(got[n], ours[n][1:], rtol=0, atol=1e-7 * scale, err_msg=n)
+
+
+def test_coupled_with_the_engine_fmu_takes_off_and_climbs(fmus: Path, tmp_path: Path) -> None:
+    """The three FMUs of the project, airframe, FCS and the engine model (Larzac 04, spool dynamics), in our
+    Gauss-Seidel master: the take-off roll at full lever, lift-off, climb-out to 300 m above the runway and
+    the capture of the 1000 m climb leg under TECS, with the fuel controller keeping N1 and T41 within
+    their limits (fuel_control.N1_max_pct 103 %, Tt41_max_K 1400 K) on the real engine."""
+    folder, *_ = coupled_system(fmus, tmp_path, engine_model=True)
+    ex = Execution(bind_system(load_system(folder)), rate_hz=1.0 / H, algorithm="gauss-seidel")
+    assert ex.order.order == (0, 1, 2)
+    rec = MemoryRecorder()
+    ex.add_observer(rec)
+    ex.run(45.0)
+    r = {k: v[1:] for k, v in rec.result().items()}
+    lift = int(np.argmax(r["airframe.on_ground"] < 0.5))
+    assert 15.0 < r["time_s"][lift] < 30.0 and not r["airframe.on_ground"][lift:].any()
+    assert r["fcs.section_index"][-1] == 2  # climbing on the first waypoint leg, TECS engaged
+    alt = r["airframe.alt_msl_m"]
+    assert alt[-1] > 850.0 and np.all(np.diff(alt[lift:]) > -0.05)
+    assert np.max(np.abs(r["airframe.phi_rad"])) < math.radians(5.0)
+    assert r["engine.N1_pct"].max() <= 103.0 + 0.5 and r["engine.T41_K"].max() <= 1400.0 + 10.0
+    assert r["engine.N1_pct"].max() > 95.0  # the take-off was flown at high power

@@ -2,7 +2,8 @@
 
 A thin pythonfmu slave over :class:`openemss.models.engine.engine_model.EngineModel`.
 At the end of initialisation the engine is put in a steady state at the initial
-flight condition (inputs ``alt_m``, ``mach``, ``isa_dev_K``): at the fuel flow
+flight condition (inputs ``alt_m``, ``mach``, ``isa_dev_K``, or with
+``use_ambient`` the ambient static ``p_amb_Pa`` and ``T_amb_K``, e.g. from the airframe): at the fuel flow
 ``start_fuel_flow_kg_s`` if it is > 0, else at ``start_N1_pct``. If the fuel flow
 input is not set (<= 0) at that moment it takes the start point's fuel flow.
 
@@ -22,7 +23,15 @@ from pythonfmu import Boolean, Fmi2Causality, Fmi2Slave, Fmi2Variability, Intege
 from pythonfmu.enums import Fmi2Status
 
 from openemss.models.engine.design_params import TurbofanParams, load_params, preset_path, replace
-from openemss.models.engine.engine_model import FLAGS, OUTPUTS, BleedValve, EngineInputs, EngineLimits, EngineModel
+from openemss.models.engine.engine_model import (
+    FLAGS,
+    OUTPUTS,
+    BleedValve,
+    EngineInputs,
+    EngineLimits,
+    EngineModel,
+    condition_from_ambient,
+)
 
 REQUIREMENTS = ["numpy>=1.24", "scipy>=1.10"]
 
@@ -51,6 +60,8 @@ _INPUTS = (
     ("distortion_sector_deg", "Spoiled inlet sector angle [deg]"),
     ("distortion_dPt_frac", "Total-pressure deficit of the spoiled sector over the clean value [-]"),
     ("distortion_dTt_K", "Total-temperature excess of the spoiled sector [K]"),
+    ("p_amb_Pa", "Ambient static pressure, used with use_ambient [Pa]"),
+    ("T_amb_K", "Ambient static temperature, used with use_ambient [K]"),
 )
 
 
@@ -120,6 +131,12 @@ class Engine(Fmi2Slave):
         self.distortion_dPt_frac = 0.0
         self.distortion_dTt_K = 0.0
         self.distortion_on = False
+        self.p_amb_Pa = 101325.0
+        self.T_amb_K = 288.15
+        self.use_ambient = False
+        self.register_variable(Boolean("use_ambient", causality=par, variability=fixed,
+                                       description="Flight condition from p_amb_Pa and T_amb_K instead of alt_m "
+                                                   "and isa_dev_K [-]"))
         for name, desc in _INPUTS:
             self.register_variable(Real(name, causality=inp, description=desc))
         self.register_variable(Boolean("distortion_on", causality=inp, variability=discrete,
@@ -138,7 +155,9 @@ class Engine(Fmi2Slave):
                                        getter=lambda: 0 if self._model is None else self._model.events))
 
     def _inputs(self) -> EngineInputs:
-        return EngineInputs(self.fuel_flow_cmd_kg_s, self.alt_m, self.mach, self.isa_dev_K, self.offtake_hp_W,
+        alt, dT = condition_from_ambient(self.p_amb_Pa, self.T_amb_K) if self.use_ambient else \
+            (self.alt_m, self.isa_dev_K)
+        return EngineInputs(self.fuel_flow_cmd_kg_s, alt, self.mach, dT, self.offtake_hp_W,
                             self.offtake_lp_W, self.customer_bleed_frac, bool(self.distortion_on),
                             self.distortion_sector_deg, self.distortion_dPt_frac, self.distortion_dTt_K)
 

@@ -49,7 +49,7 @@ from .errors import ModelError, OutOfRangeError
 from .offdesign import OffDesignPoint, TurbofanMaps, TurbofanOffDesign, scaled_maps
 from .transient import TransientState, TurbofanTransient
 
-__all__ = ["EngineInputs", "EngineLimits", "BleedValve", "EngineModel", "OUTPUTS", "FLAGS"]
+__all__ = ["EngineInputs", "EngineLimits", "BleedValve", "EngineModel", "OUTPUTS", "FLAGS", "condition_from_ambient"]
 
 #: Real outputs of :attr:`EngineModel.values`, in order: (name, description with unit).
 OUTPUTS: tuple[tuple[str, str], ...] = (
@@ -193,6 +193,24 @@ def _robust_maps(maps: TurbofanMaps) -> TurbofanMaps:
              if hasattr(t, "map") else t
              for t in (maps.hpt, maps.lpt)]
     return dataclasses.replace(maps, hpt=clamp[0], lpt=clamp[1])
+
+
+def condition_from_ambient(p_Pa: float, T_K: float) -> tuple[float, float]:
+    """Flight condition (pressure altitude [m], ISA deviation [K]) of an ambient static state.
+
+    The atmosphere model (:func:`.atmosphere.isa`) keeps the ISA pressure at an altitude and adds the
+    deviation to the temperature, so (p, T) maps exactly to the altitude whose ISA pressure is p and
+    to T minus that altitude's ISA temperature. p is clipped to the model's altitude range
+    (-1000 m to 32000 m).
+    """
+    from scipy.optimize import brentq
+
+    from .atmosphere import ALT_MAX_M, ALT_MIN_M, isa
+    p_lo, p_hi = isa(ALT_MAX_M).P_Pa, isa(ALT_MIN_M).P_Pa
+    p = min(p_hi, max(p_lo, p_Pa)) if p_Pa == p_Pa else p_hi
+    alt = ALT_MIN_M if p >= p_hi else ALT_MAX_M if p <= p_lo else \
+        float(brentq(lambda h: isa(h).P_Pa - p, ALT_MIN_M, ALT_MAX_M, xtol=1e-9, rtol=1e-15))
+    return alt, T_K - isa(alt).T_K
 
 
 def _params(preset: str | TurbofanParams) -> TurbofanParams:

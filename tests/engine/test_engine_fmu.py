@@ -225,3 +225,36 @@ def test_fmu_is_self_contained(fmu: Path, tmp_path: Path) -> None:
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr
     assert float(proc.stdout.split()[-1]) == pytest.approx(85.0, rel=1e-6)
+
+
+def test_flight_condition_from_ambient_pressure_and_temperature(fmu: Path, tmp_path: Path) -> None:
+    """use_ambient: (p, T) of ISA 4000 m + 10 K gives the engine of alt 4000 m, ISA + 10 K; the
+    conversion inverts the atmosphere model (round trip to 1e-6 m and 1e-9 K)."""
+    from openemss.models.engine.atmosphere import isa
+    from openemss.models.engine.engine_model import condition_from_ambient
+
+    for alt, dT in ((0.0, 0.0), (4000.0, 10.0), (11500.0, -5.0)):
+        a = isa(alt, dT)
+        got = condition_from_ambient(a.P_Pa, a.T_K)
+        assert got[0] == pytest.approx(alt, abs=1e-6) and got[1] == pytest.approx(dT, abs=1e-9)
+    a = isa(4000.0, 10.0)
+    md = read_model_description(str(fmu))
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    unzip = tmp_path / "unzipped3"
+    shutil.unpack_archive(str(fmu), str(unzip), "zip")
+    slave = FMU2Slave(guid=md.guid, unzipDirectory=str(unzip), modelIdentifier=md.coSimulation.modelIdentifier,
+                      instanceName="engine3")
+    slave.instantiate()
+    slave.setupExperiment(startTime=0.0)
+    slave.setBoolean([vr["use_ambient"]], [True])
+    slave.setReal([vr["p_amb_Pa"], vr["T_amb_K"], vr["mach"], vr["start_N1_pct"]], [a.P_Pa, a.T_K, 0.5, 88.0])
+    slave.enterInitializationMode()
+    slave.exitInitializationMode()
+    slave.doStep(currentCommunicationPoint=0.0, communicationStepSize=H)
+    fn = slave.getReal([vr["thrust_N"]])[0]
+    slave.terminate()
+    slave.fmi2FreeInstance(slave.component)
+    m = EngineModel("larzac04_sls")
+    m.start(EngineInputs(0.1, 4000.0, 0.5, 10.0), N1_pct=88.0)
+    m.step(H, EngineInputs(m.state.point.Wf_kg_s, 4000.0, 0.5, 10.0))          # type: ignore[union-attr]
+    assert fn == pytest.approx(m.value("thrust_N"), rel=1e-7)

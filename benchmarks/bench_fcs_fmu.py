@@ -4,9 +4,10 @@ Rows, all in this one process, the aircraft level at 1000 m, 130 m/s, on a waypo
 (TECS, L1 guidance, pitch, lateral and fuel control all running):
 
 * ``FlightControlSystem.step``: the model alone, given a prebuilt ``AircraftState``.
-* ``Fcs.do_step (no FMI)``: the slave class of ``fmus/fcs.py`` called directly in Python:
-  what the FMU does per step beyond the model (measured state from the inputs, ground
-  track from successive positions, outputs cached).
+* ``Fcs slave, no FMI``: the slave class of ``fmus/fcs.py`` called directly in Python
+  (``set_real`` of the 18 inputs, ``do_step``, ``get_real`` of the 15 Real outputs): what
+  the FMU does per step beyond the model (measured state from the inputs, ground track
+  from successive positions, outputs cached), without pythonfmu's C layer.
 * ``FMU via fmpy``: the built ``Fcs.fmu`` through fmpy's raw ctypes functions with prebuilt
   arrays: one fmi2SetReal (18 inputs), one fmi2SetBoolean, fmi2DoStep, one fmi2GetReal
   (15 outputs), one fmi2GetBoolean (2), one fmi2GetInteger. The floor of a master calling
@@ -58,7 +59,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--no-fmu", action="store_true", help="skip building and timing the FMU")
     args = p.parse_args(argv)
 
-    from openemss.fmus.fcs import INPUTS, Fcs
+    from openemss.fmus.fcs import INPUTS, OUTPUTS, Fcs
     from openemss.models.fcs.fcs import FlightControlSystem
     from openemss.models.fcs.geo import destination
     from openemss.models.fcs.mission import load_mission
@@ -99,21 +100,28 @@ def main(argv: list[str] | None = None) -> int:
             s = Fcs(instance_name="bench", resources=str(ROOT))
             s.mission_file = str(mission_file)
             s.Wf0_kg_s = 0.2
-            u = s._u
-            u.update(alt_msl_m=1000.0, tas_m_s=V, gs_m_s=V, psi_rad=hdg, theta_rad=0.03, rho_amb_kg_m3=rho,
-                     mass_kg=2000.0, N1_pct=80.0, N1c_pct=82.0, Tt41_K=1200.0)
+            vr = {v.name: k for k, v in s.vars.items()}
+            names = [n for n, _ in INPUTS]
+            base = {n: 0.0 for n in names} | {"alt_msl_m": 1000.0, "tas_m_s": V, "gs_m_s": V, "psi_rad": hdg,
+                                              "theta_rad": 0.03, "rho_amb_kg_m3": rho, "mass_kg": 2000.0,
+                                              "N1_pct": 80.0, "N1c_pct": 82.0, "Tt41_K": 1200.0}
+            in_vr, values = [vr[n] for n in names], [base[n] for n in names]
+            i_lat, i_lon = names.index("lat_deg"), names.index("lon_deg")
+            out_vr = [vr[n] for n, _ in OUTPUTS]
             s.on_ground = False
             s.exit_initialization_mode()
-            do_step = s.do_step
+            set_real, do_step, get_real = s.set_real, s.do_step, s.get_real
 
             def run(n: int) -> None:
                 for k in range(n):
-                    u["lat_deg"], u["lon_deg"] = path[k].lat_deg, path[k].lon_deg
+                    values[i_lat], values[i_lon] = path[k].lat_deg, path[k].lon_deg
+                    set_real(in_vr, values)
                     do_step(k * H, H)
+                    get_real(out_vr)
             return run
 
-        rows.append(("Fcs.do_step (no FMI)", _best(adapter, args.steps, args.repeat),
-                     "slave class called in Python"))
+        rows.append(("Fcs slave, no FMI", _best(adapter, args.steps, args.repeat),
+                     "slave class in Python: set_real, do_step, get_real"))
 
         fmu_note = ""
         if not args.no_fmu:

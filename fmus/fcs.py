@@ -82,6 +82,7 @@ OUTPUTS: tuple[tuple[str, str], ...] = (
     ("xtk_m", "Cross-track error of the active path, right positive (NaN when none, 0 before the first step) [m]"),
 )
 _N_REAL = len(OUTPUTS)
+_N_IN = len(INPUTS)
 _IDX = {name: i for i, (name, _) in enumerate(OUTPUTS)}
 
 
@@ -152,12 +153,12 @@ class Fcs(Fmi2Slave):
             self.register_variable(kind(pname, causality=par, variability=tunable, description=desc,
                                         getter=lambda p=pname, v=value: self._get_gain(p, v),
                                         setter=lambda x, p=pname: self._set_gain(p, x)), nested=False)
-        # -- inputs
-        self._u = {name: INPUT_START.get(name, 0.0) for name, _ in INPUTS}
-        for name, desc in INPUTS:
-            self.register_variable(Real(name, causality=inp, description=desc,
-                                        getter=lambda n=name: self._u[n],
-                                        setter=lambda x, n=name: self._u.__setitem__(n, float(x))))
+        # -- inputs, kept in one list in the order of INPUTS (consecutive value references from _in0)
+        self._u = [float(INPUT_START.get(name, 0.0)) for name, _ in INPUTS]
+        self._in0 = len(self.vars)
+        for j, (name, desc) in enumerate(INPUTS):
+            self.register_variable(Real(name, causality=inp, description=desc, getter=lambda j=j: self._u[j],
+                                        setter=lambda x, j=j: self._u.__setitem__(j, float(x))))
         self.on_ground = True
         self.register_variable(Boolean("on_ground", causality=inp, variability=discrete,
                                        description="A wheel carries weight [-]"))
@@ -165,6 +166,7 @@ class Fcs(Fmi2Slave):
         # Before the first step the targets are 0, not NaN: a NaN output never settles in a master's
         # initial fixed-point exchange that compares with numpy.isclose (NaN != NaN), ours included.
         self._y = [0.0] * _N_REAL
+        self._out0 = len(self.vars)
         for i, (name, desc) in enumerate(OUTPUTS):
             self.register_variable(Real(name, causality=out, description=desc, getter=lambda i=i: self._y[i]))
         self._gear_down = True
@@ -190,6 +192,24 @@ class Fcs(Fmi2Slave):
                                        getter=lambda: self._completed))
         self._prev_pos: LatLon | None = None
         self._prev_h = 0.0
+
+    # -- batched Real access: inputs and outputs by index, the rest through pythonfmu's variables --
+    def set_real(self, vrs: list[int], values: list[float]) -> None:
+        u, base, n = self._u, self._in0, _N_IN
+        for vr, x in zip(vrs, values, strict=True):
+            j = vr - base
+            if 0 <= j < n:
+                u[j] = x
+            else:
+                super().set_real([vr], [x])
+
+    def get_real(self, vrs: list[int]) -> list[float]:
+        y, base, n = self._y, self._out0, _N_REAL
+        out = []
+        for vr in vrs:
+            j = vr - base
+            out.append(y[j] if 0 <= j < n else super().get_real([vr])[0])
+        return out
 
     # -- gains ------------------------------------------------------------------------------
     def _get_gain(self, name: str, default: float | bool) -> float | bool:
@@ -230,24 +250,21 @@ class Fcs(Fmi2Slave):
         self._completed = fcs.finished
 
     def do_step(self, current_time: float, step_size: float) -> bool:
-        u = self._u
-        pos = LatLon.from_deg(u["lat_deg"], u["lon_deg"])
+        (lat, lon, alt, tas, gs, vs, phi, theta, psi, p, q, r, beta, rho, mass, N1, N1c, Tt41) = self._u  # INPUTS
+        pos = LatLon.from_deg(lat, lon)
         if self._prev_pos is None or self._prev_h <= 0.0:
-            gs, psi = u["gs_m_s"], u["psi_rad"]
             vn, ve = gs * math.cos(psi), gs * math.sin(psi)
         else:  # the previous step's length separates the previous position from this one
             n, e = local_ne_m(self._prev_pos, pos)
             vn, ve = n / self._prev_h, e / self._prev_h
         self._prev_pos, self._prev_h = pos, step_size
-        tas = u["tas_m_s"]
-        gamma = math.asin(max(-1.0, min(1.0, u["vs_m_s"] / max(tas, 1.0))))
-        x = AircraftState(pos, u["alt_msl_m"], tas, math.nan, gamma, vn, ve, u["psi_rad"], u["phi_rad"],
-                          u["theta_rad"], u["p_rad_s"], u["q_rad_s"], u["r_rad_s"], u["beta_rad"],
-                          0.5 * u["rho_amb_kg_m3"] * tas * tas, u["mass_kg"], bool(self.on_ground), self.isa_dev_K)
-        o = self._fcs.step(current_time, step_size, x, EngineState(u["N1_pct"], u["N1c_pct"], u["Tt41_K"]))
+        gamma = math.asin(max(-1.0, min(1.0, vs / max(tas, 1.0))))
+        x = AircraftState(pos, alt, tas, math.nan, gamma, vn, ve, psi, phi, theta, p, q, r, beta, 0.5 * rho * tas * tas,
+                          mass, bool(self.on_ground), self.isa_dev_K)
+        o = self._fcs.step(current_time, step_size, x, EngineState(N1, N1c, Tt41))
         tg = o.targets
         tas_cmd = o.tas_cmd_m_s
-        mach_cmd = math.nan if math.isnan(tas_cmd) else mach_from_tas(tas_cmd, isa(x.alt_m, self.isa_dev_K))
+        mach_cmd = math.nan if math.isnan(tas_cmd) else mach_from_tas(tas_cmd, isa(alt, self.isa_dev_K))
         self._y[:] = (o.aileron, o.elevator, o.rudder, self.flaps_cmd_norm, o.brake, o.steer, o.lever,
                       o.Wf_cmd_kg_s, o.theta_cmd_rad, o.phi_cmd_rad,
                       math.nan if tg.alt_cmd_m is None else tg.alt_cmd_m, tas_cmd, mach_cmd, tg.track_cmd_rad,

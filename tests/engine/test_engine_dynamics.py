@@ -23,7 +23,6 @@ import pytest
 
 from openemss.models.engine.distortion import Distortion, map_sectors
 from openemss.models.engine.engine_model import BleedValve, EngineInputs, EngineModel
-from openemss.models.engine.flow import FlowStation
 from openemss.models.engine.transient import TurbofanTransient
 
 
@@ -254,3 +253,22 @@ def test_linearised_step_start_agrees_with_the_matched_one() -> None:
         exact.step(0.05, u)
         for name in ("N1_rpm", "N2_rpm", "thrust_N"):
             assert fast.value(name) == pytest.approx(exact.value(name), rel=1e-5), (k, name)
+
+
+def test_limits_are_flags_and_events() -> None:
+    """Overspeed (N1 above a lowered limit) and flameout (FAR below a raised lean limit) in a slam and
+    a chop: flags and counted events with a log line each, no exception."""
+    from openemss.models.engine.engine_model import EngineLimits
+
+    logs: list[str] = []
+    m = EngineModel("larzac04_sls", limits=EngineLimits(N1_max_pct=95.0, FAR_lean=0.012), logger=logs.append)
+    idle = m.od.solve(4000.0, 0.6, N1_pct=65.0)
+    top = m.od.solve(4000.0, 0.6, N1_pct=100.0, guess=idle)
+    m.start(EngineInputs(top.Wf_kg_s, 4000.0, 0.6))
+    assert m.flags[2] and not m.flags[1]                         # 100 % > 95 %: overspeed at the start
+    m.step(0.05, EngineInputs(idle.Wf_kg_s, 4000.0, 0.6))        # chop: FAR falls below 0.012
+    assert m.flags[1]
+    for _ in range(100):
+        m.step(0.05, EngineInputs(idle.Wf_kg_s, 4000.0, 0.6))
+    assert not m.flags[2]                                        # back under the limit
+    assert m.events >= 2 and any("flameout" in s for s in logs) and any("overspeed" in s for s in logs)

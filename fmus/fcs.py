@@ -2,8 +2,9 @@
 
 A thin pythonfmu slave over :class:`openemss.models.fcs.fcs.FlightControlSystem`. Its
 inputs carry the airframe FMU's output names (``fmus/airframe.py``) and the engine's
-``N1_pct``, ``N1c_pct``, ``Tt41_K``; its surface, gear, brake, steering and flap outputs
-carry the airframe FMU's input names, so the two connect name to name.
+``N1_pct``, ``N1c_pct`` and ``Tt41_K`` (the engine FMU, ``fmus/engine.py``, calls the
+latter ``T41_K``); its surface, gear, brake, steering and flap outputs carry the airframe
+FMU's input names and ``fuel_flow_cmd_kg_s`` the engine FMU's, so they connect name to name.
 
 Measured state. The FCS needs what the airframe does not output directly:
 
@@ -23,7 +24,9 @@ values, ranges and units come from the parameter files of ``openemss.models.fcs`
 Each ``doStep(t, h)`` samples the inputs at ``t``, runs one FCS step of length ``h`` and
 holds the commands as outputs over the next step (a sampled-data controller: under
 Gauss-Seidel with the FCS before the airframe the airframe flies them at once, under
-Jacobi one step later).
+Jacobi one step later). Before the first step the outputs are the start's: elevator
+``elevator0_norm``, lever 0, fuel flow ``Wf0_kg_s``, gear down, the targets 0 (not NaN,
+which a master's initial fixed-point iteration could not see settle).
 """
 from __future__ import annotations
 

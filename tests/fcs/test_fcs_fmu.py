@@ -490,11 +490,12 @@ FCS_TO_AF = ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "brak
 AMBIENT = ("p_amb_Pa", "T_amb_K", "rho_amb_kg_m3")
 
 
-def coupled_system(fmus: Path, tmp_path: Path, engine_model: bool = False):  # type: ignore[no-untyped-def]
-    """Airframe + FCS + engine system on a shortened Munich mission (roll, take-off, climb to WP 1), the
-    airframe at rest 50 m beyond the 26R threshold; the engine is the first-order stand-in, or with
-    ``engine_model`` the engine FMU (fmus/engine.py, Larzac 04 preset) started steady at 60 % N1.
-    Returns (folder, mission, start point, runway)."""
+def coupled_system(fmus: Path, tmp_path: Path, engine_model: bool = False,  # type: ignore[no-untyped-def]
+                   whole_mission: bool = False):
+    """Airframe + FCS + engine system on a shortened Munich mission (roll, take-off, climb to WP 1; with
+    ``whole_mission`` the shipped Munich mission, the FCS FMU's default), the airframe at rest 50 m beyond
+    the 26R threshold; the engine is the first-order stand-in, or with ``engine_model`` the engine FMU
+    (fmus/engine.py, Larzac 04 preset) started steady at 60 % N1. Returns (folder, mission, start, runway)."""
     ensure_built(ROOT / "fmus", fmus, names=["airframe", "engine"] if engine_model else ["airframe"])
     text = MUNICH.read_text()
     short = tmp_path / "short.yaml"
@@ -534,6 +535,8 @@ def coupled_system(fmus: Path, tmp_path: Path, engine_model: bool = False):  # t
         Comp("airframe", "Airframe.fmu", af_conn, {"lat0_deg": p0.lat_deg, "lon0_deg": p0.lon_deg,
                                                     "heading0_deg": math.degrees(rwy.heading_rad),
                                                     "alt0_m": rwy.elevation_m})], conns)
+    if whole_mission:
+        return folder, load_mission(MUNICH), p0, rwy
     ssd.write_text(_bind_mission(ssd.read_text(), str(short)))
     return folder, mission, p0, rwy
 
@@ -632,3 +635,25 @@ def test_coupled_with_the_engine_fmu_takes_off_and_climbs(fmus: Path, tmp_path: 
     assert np.max(np.abs(r["airframe.phi_rad"])) < math.radians(5.0)
     assert r["engine.N1_pct"].max() <= 103.0 + 0.5 and r["engine.T41_K"].max() <= 1400.0 + 10.0
     assert r["engine.N1_pct"].max() > 95.0  # the take-off was flown at high power
+
+
+def test_munich_mission_through_the_fmus(fmus: Path, tmp_path: Path) -> None:
+    """The whole demonstration mission, from the FCS FMU's shipped mission file, flown by the airframe, FCS
+    and engine stand-in FMUs in our Gauss-Seidel master: every section in order, up to 7500 m, the ILS
+    approach and a full stop on runway 26R near its centre line. (The Python closed loop of the same
+    models, tests/fcs/test_upera_closed_loop.py, states the bounds of the flown profile.)"""
+    folder, mission, _, rwy = coupled_system(fmus, tmp_path, whole_mission=True)
+    ex = Execution(bind_system(load_system(folder)), rate_hz=1.0 / H, algorithm="gauss-seidel")
+    rec = MemoryRecorder(every=20)  # 1 s
+    ex.add_observer(rec)
+    ex.run(4500.0)  # the mission takes about 3900 s
+    r = rec.result()
+    n = len(mission.sections)
+    done = r["fcs.mission_completed"] > 0.5
+    assert done[-1] and r["fcs.section_index"][-1] == n
+    sec = r["fcs.section_index"]
+    assert np.all(np.diff(sec) >= 0) and set(sec.astype(int)) == set(range(n + 1))  # each section, in order
+    assert r["airframe.alt_msl_m"].max() == pytest.approx(7500.0, abs=25.0)
+    assert r["airframe.on_ground"][-1] and r["airframe.tas_m_s"][-1] < 1.0
+    along, cross = rwy.local(LatLon.from_deg(r["airframe.lat_deg"][-1], r["airframe.lon_deg"][-1]))
+    assert 0.0 < along < rwy.length_m and abs(cross) < rwy.width_m / 4

@@ -272,3 +272,23 @@ def test_limits_are_flags_and_events() -> None:
         m.step(0.05, EngineInputs(idle.Wf_kg_s, 4000.0, 0.6))
     assert not m.flags[2]                                        # back under the limit
     assert m.events >= 2 and any("flameout" in s for s in logs) and any("overspeed" in s for s in logs)
+
+
+@pytest.mark.parametrize(("alt_m", "mach"), [(8000.0, 0.0), (0.0, 0.8)])
+def test_fuel_ramps_idle_to_max_and_back(alt_m: float, mach: float) -> None:
+    """5 s ramps from idle (N1 60 %) to maximum (corrected N1 100 % or N1 100 %, whichever needs less fuel:
+    N1 90.5 % at 8000 m, Mach 0; N1 100 % at sea level, Mach 0.8) and back: matched at every step, at the top within 1.5 % of the steady N1 (the spools lag a ramp by
+    about one time constant, 0.4 s, i.e. 8 % of its span), no limit reached."""
+    m = EngineModel("larzac04_sls")
+    idle = m.od.solve(alt_m, mach, N1_pct=60.0)
+    top = m.od.solve(alt_m, mach, N1c_pct=100.0)
+    if top.N1_pct > 100.0:                      # the physical speed limits first (high ram temperature)
+        top = m.od.solve(alt_m, mach, N1_pct=100.0)
+    m.start(EngineInputs(idle.Wf_kg_s, alt_m, mach))
+    for k in range(240):
+        f = min(1.0, k / 100.0) if k < 120 else max(0.0, 1.0 - (k - 120) / 100.0)
+        m.step(0.05, EngineInputs(idle.Wf_kg_s + f * (top.Wf_kg_s - idle.Wf_kg_s), alt_m, mach))
+        assert not any(m.flags), (k, m.flags)
+        if k == 119:
+            assert m.value("N1_rpm") == pytest.approx(top.N1_rpm, rel=0.015)
+    assert m.value("N1_rpm") < 1.15 * idle.N1_rpm

@@ -257,3 +257,17 @@ def test_string_parameters_inputs_and_outputs_pass_through(tmp_path: Path) -> No
     proc = subprocess.run([sys.executable, "-c", STRING_CHILD, str(fmu)], capture_output=True, text=True)
     assert proc.returncode == 0 and "@@" in proc.stdout, proc.stderr[-2000:]
     assert json.loads(proc.stdout.split("@@")[-1]) == ["bound/in", "bound/set", 1.0]
+
+
+def test_expose_adds_variables_and_refuses_driven_inputs(oscillator: Path, tmp_path: Path) -> None:
+    """``expose`` shows an unbound parameter with the FMU's start (v1_start_m_s = 0 in ForceDrivenMass);
+    an input a connection drives cannot be a container input; an unknown path is named."""
+    system = bind_system(load_system(oscillator))
+    fmu = export_container(system, tmp_path / "x.fmu", step_size_s=H, expose=["mass1.v1_start_m_s"])
+    assert validate_fmu(str(fmu)) == []
+    v = {v.name: v for v in read_model_description(str(fmu)).modelVariables}["mass1.v1_start_m_s"]
+    assert (v.causality, float(v.start)) == ("parameter", 0.0)
+    with pytest.raises(ConfigurationError, match="'mass2.x1_m' as an input: a connection drives it"):
+        export_container(system, tmp_path / "y.fmu", step_size_s=H, expose=["mass2.x1_m"])
+    with pytest.raises(ConfigurationError, match="cannot expose 'mass3.x'"):
+        export_container(system, tmp_path / "z.fmu", step_size_s=H, expose=["mass3.x"])

@@ -78,6 +78,17 @@ def build_parser() -> argparse.ArgumentParser:
     _add_system_args(info)
     info.add_argument("--json", action="store_true", help="print as JSON")
 
+    exp = sub.add_parser("export", help="export a system as one FMU (fmpy's container FMU)",
+                         description="Write the whole system as one FMI 2.0 co-simulation FMU that other tools "
+                                     "run (fmpy's container runtime: no transformations, unit conversions, "
+                                     "mappings or step multiples; initialization in one pass).")
+    _add_system_args(exp)
+    exp.add_argument("--container", type=Path, required=True, metavar="FILE.fmu", help="the FMU to write")
+    exp.add_argument("--rate", type=float, metavar="HZ",
+                     help="the container's fixed step as a rate [Hz] (default: the SSD's, else 20)")
+    exp.add_argument("--expose", nargs="+", action="extend", default=[], metavar="VARS",
+                     help="further component.variable paths to expose (comma-separated allowed)")
+
     _register_model_commands(sub)
 
     val = sub.add_parser("validate", help="check a system and its FMUs; exit code = number of problems",
@@ -236,6 +247,22 @@ def _describe(bound: BoundSystem) -> dict[str, Any]:
     }
 
 
+def cmd_export(args: argparse.Namespace) -> int:
+    from .execution import check_rate
+    from .export import export_container
+
+    bound = _load(args.system, args.params)
+    sysdef = bound.definition
+    rate = args.rate if args.rate is not None else (1.0 / sysdef.step_size_s if sysdef.step_size_s
+                                                   else DEFAULT_RATE_HZ)
+    step = check_rate(rate)
+    expose = [p.strip() for item in args.expose for p in item.split(",") if p.strip()]
+    path = export_container(bound, args.container, step, expose=expose)
+    print(f"{sysdef.name}: {len(bound.components)} FMUs and {len(bound.links)} connections written as "
+          f"{path} (fixed step {step:g} s)")
+    return 0
+
+
 def cmd_info(args: argparse.Namespace) -> int:
     d = _describe(_load(args.system, args.params))
     if args.json:
@@ -287,7 +314,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``emss`` command."""
     args = build_parser().parse_args(argv)
     builtin: dict[str, Callable[[argparse.Namespace], int]] = {"run": cmd_run, "info": cmd_info,
-                                                               "validate": cmd_validate}
+                                                               "validate": cmd_validate, "export": cmd_export}
     handler = builtin.get(args.command) or args.handler
     try:
         return handler(args)

@@ -117,3 +117,25 @@ def test_model_packages_contribute_commands_and_their_errors_are_one_line(
     assert main(["fake", "--x", "-1"]) == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert err == ["emss fake: error: x = -1.0 must be >= 0"]
+
+
+def test_export_writes_one_fmu_and_refuses_what_the_container_cannot_do(
+        oscillator: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    import zipfile
+
+    from fmpy.validation import validate_fmu
+
+    out = tmp_path / "Oscillator.fmu"
+    assert main(["export", str(oscillator), "--container", str(out)]) == 0
+    assert "written as" in capsys.readouterr().out
+    names = zipfile.ZipFile(out).namelist()
+    assert "modelDescription.xml" in names and "resources/container.json" in names
+    assert validate_fmu(str(out)) == []
+    ssd = oscillator / "SystemStructure.ssd"
+    ssd.write_text(ssd.read_text().replace(
+        '<ssd:Connection startElement="mass1" startConnector="x1_m" endElement="mass2" endConnector="x1_m"/>',
+        '<ssd:Connection startElement="mass1" startConnector="x1_m" endElement="mass2" endConnector="x1_m">'
+        '<ssc:LinearTransformation factor="2.0"/></ssd:Connection>'))
+    assert main(["export", str(oscillator), "--container", str(tmp_path / "bad.fmu")]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "mass1.x1_m -> mass2.x1_m" in err[0] and not (tmp_path / "bad.fmu").exists()

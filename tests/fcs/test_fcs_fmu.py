@@ -225,7 +225,7 @@ class Probe:
 
     def __init__(self, component: str, names: tuple[str, ...]) -> None:
         self.component, self.names = component, names
-        self.values: dict[str, list[str]] = {n: [] for n in names}
+        self.values: dict[str, list[object]] = {n: [] for n in names}
 
     def start(self, execution: Execution) -> None:
         i = [c.name for c in execution.system.components].index(self.component)

@@ -21,6 +21,26 @@ def fmu_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return out
 
 
+@pytest.fixture(scope="session")
+def project_fmus(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
+    """The project's own FMUs (every slave in fmus/), built once per session: slave name -> FMU path."""
+    from openemss.orchestrator.build import discover
+
+    out = tmp_path_factory.mktemp("project_fmus")
+    names = sorted(discover(ROOT / "fmus"))
+    paths = ensure_built(ROOT / "fmus", out, names=names, force=True)
+    return dict(zip(names, paths, strict=True))
+
+
+def assert_house_style(model_description: object) -> None:
+    """Every variable describes itself with its unit in brackets; Integer and Boolean inputs and
+    outputs are discrete (fmpy validate requires it)."""
+    for v in model_description.modelVariables:  # type: ignore[attr-defined]
+        assert v.description and v.description.rstrip().endswith("]"), v.name
+        if v.type in ("Integer", "Boolean") and v.causality in ("input", "output"):
+            assert v.variability == "discrete", v.name
+
+
 @pytest.fixture()
 def oscillator(tmp_path: Path, fmu_dir: Path) -> Path:
     """A private copy of the oscillator example system with freshly built FMUs."""

@@ -16,9 +16,9 @@ import pytest
 from fmpy import read_model_description
 from fmpy.fmi2 import FMU2Slave
 
+from conftest import assert_house_style
 from openemss.models.airframe.adapter import Airframe
 from openemss.models.airframe.trim import trim_level
-from openemss.orchestrator.build import ensure_built
 
 ROOT = Path(__file__).resolve().parents[2]
 H = 0.05  # communication step [s]: six JSBSim steps at 120 Hz
@@ -29,19 +29,14 @@ ADAPTER = {"p_amb_Pa": "p_Pa", "T_amb_K": "T_K", "rho_amb_kg_m3": "rho_kg_m3"}
 
 
 @pytest.fixture(scope="module")
-def fmu(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    out = tmp_path_factory.mktemp("af_fmu")
-    (path,) = ensure_built(ROOT / "fmus", out, names=["airframe"], force=True)
-    return path
+def fmu(project_fmus: dict[str, Path]) -> Path:
+    return project_fmus["airframe"]
 
 
 def test_model_description(fmu: Path) -> None:
     md = read_model_description(str(fmu))
     names = {v.name: v for v in md.modelVariables}
-    for v in md.modelVariables:
-        assert v.description and v.description.rstrip().endswith("]"), v.name
-        if v.type in ("Integer", "Boolean") and v.causality in ("input", "output"):
-            assert v.variability == "discrete", v.name
+    assert_house_style(md)
     for name in ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "gear_down", "brakes_norm",
                  "steering_norm", "thrust_N", "fuel_flow_kg_s"):
         assert names[name].causality == "input"

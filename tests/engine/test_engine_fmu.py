@@ -17,8 +17,8 @@ import pytest
 from fmpy import read_model_description
 from fmpy.fmi2 import FMU2Slave
 
+from conftest import assert_house_style
 from openemss.models.engine.engine_model import FLAGS, OUTPUTS, EngineInputs, EngineModel
-from openemss.orchestrator.build import ensure_built
 
 ROOT = Path(__file__).resolve().parents[2]
 H = 0.05
@@ -26,19 +26,14 @@ OUT = [n for n, _ in OUTPUTS]
 
 
 @pytest.fixture(scope="module")
-def fmu(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    out = tmp_path_factory.mktemp("engine_fmu")
-    (path,) = ensure_built(ROOT / "fmus", out, names=["engine"], force=True)
-    return path
+def fmu(project_fmus: dict[str, Path]) -> Path:
+    return project_fmus["engine"]
 
 
 def test_model_description(fmu: Path) -> None:
     md = read_model_description(str(fmu))
     names = {v.name: v for v in md.modelVariables}
-    for v in md.modelVariables:
-        assert v.description and v.description.rstrip().endswith("]"), v.name
-        if v.type in ("Integer", "Boolean") and v.causality in ("input", "output"):
-            assert v.variability == "discrete", v.name
+    assert_house_style(md)
     for name in ("fuel_flow_cmd_kg_s", "alt_m", "mach", "isa_dev_K", "offtake_hp_W", "offtake_lp_W",
                  "customer_bleed_frac", "distortion_on", "distortion_sector_deg", "distortion_dPt_frac",
                  "distortion_dTt_K"):

@@ -418,7 +418,8 @@ class Execution:
                 s.get_outputs()
             current = {t: v.outputs.copy() for t, v in self.vectors.items()}
             if previous is not None:
-                changed = {t: ~np.isclose(current[t], previous[t], rtol=rtol, atol=atol) for t in current}
+                changed = {t: ~np.isclose(current[t], previous[t], rtol=rtol, atol=atol, equal_nan=True)
+                           for t in current}
                 if not any(c.any() for c in changed.values()):
                     return
             previous = current

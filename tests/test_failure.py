@@ -5,6 +5,7 @@ import csv
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from openemss.orchestrator.cli import main
@@ -60,3 +61,18 @@ def test_algebraic_loop_that_settles(tmp_path: Path, fmu_dir: Path) -> None:
     ex = Execution(bind_system(load_system(tmp_path)), rate_hz=10.0, max_init_iterations=100)
     ex.run(0.1)
     assert abs(ex.vectors["Real"].outputs).max() < 1e-10
+
+
+def test_nan_outputs_settle_in_initialization(tmp_path: Path, fmu_dir: Path) -> None:
+    """An output that is NaN until the first step (no target yet) is a fixed point too."""
+    nan = [("u", "input", "Real"), ("target", "output", "Real"), ("echo", "output", "Real")]
+    write_system(tmp_path, fmu_dir, [Comp("a", "NanSource.fmu", nan), Comp("b", "NanSource.fmu", nan)],
+                 [("a.target", "b.u"), ("b.echo", "a.u")])
+    ex = Execution(bind_system(load_system(tmp_path)), rate_hz=10.0, record=["b.u"])
+    from openemss.orchestrator.observers import MemoryRecorder
+
+    rec = MemoryRecorder()
+    ex.add_observer(rec)
+    ex.run(0.3)
+    u = rec.result()["b.u"]
+    assert np.isnan(u[0]) and np.all(u[1:] == 1.0)

@@ -51,3 +51,24 @@ def test_every_connector_matches_its_fmu(system: Path, tmp_path: Path) -> None:
             checked += 1
     assert checked > 0
     bind_system(sysdef)  # and the whole system binds (connections, parameters)
+
+
+def test_the_shipped_coupled_system_takes_off(tmp_path: Path) -> None:
+    """ssp/: engine, airframe and flight control FMUs wired by the generated SSD take off from
+    EDDM 26R under the Munich mission (the mission's first seconds: roll and lift-off)."""
+    from openemss.orchestrator.execution import Execution
+    from openemss.orchestrator.observers import MemoryRecorder
+
+    copy = tmp_path / "ssp"
+    shutil.copytree(ROOT / "ssp", copy, ignore=shutil.ignore_patterns("resources", "__pycache__"))
+    ensure_built(ROOT / "fmus", copy / "resources")
+    ex = Execution(bind_system(load_system(copy)), record=["airframe.on_ground", "airframe.alt_agl_m",
+                                                          "airframe.tas_m_s", "engine.thrust_N"])
+    assert ex.rate_hz == 20.0  # from the SSD
+    rec = MemoryRecorder()
+    ex.add_observer(rec)
+    ex.run(30.0)
+    r = rec.result()
+    assert r["airframe.on_ground"][0] == 1 and r["airframe.on_ground"][-1] == 0  # it left the runway
+    assert r["airframe.alt_agl_m"][-1] > 20.0 and r["airframe.tas_m_s"][-1] > 60.0
+    assert r["engine.thrust_N"].max() > 10_000.0  # take-off thrust of a 13 kN engine

@@ -1,0 +1,136 @@
+"""Generate the openEMSS system files in this folder from the FMUs themselves.
+
+    build-fmus --out ssp/resources && python ssp/generate.py
+
+writes ``SystemStructure.ssd`` (engine, airframe and flight control wired
+together, every connector taken from its FMU's modelDescription.xml with the unit
+its description states) and the parameter sets ``engine_larzac04.ssv`` and
+``engine_reference_study.ssv`` (``emss run ssp --params ssp/engine_reference_study.ssv``
+flies the other engine). ``tests/test_system_files.py`` checks every connector of
+the result against the FMUs, so the files cannot drift from them.
+"""
+from __future__ import annotations
+
+import re
+import sys
+from pathlib import Path
+
+from openemss.orchestrator.ssp_write import ParameterSet, SystemBuilder, connectors_from_fmu
+
+HERE = Path(__file__).resolve().parent
+RESOURCES = HERE / "resources"
+STEP_S = 0.05  # 20 Hz, the reference system's rate
+
+# airframe outputs the flight control reads, under the same names on both sides
+AIRFRAME_TO_FCS = ("lat_deg", "lon_deg", "alt_msl_m", "tas_m_s", "gs_m_s", "vs_m_s", "phi_rad", "theta_rad",
+                   "psi_rad", "p_rad_s", "q_rad_s", "r_rad_s", "beta_rad", "rho_amb_kg_m3", "mass_kg", "on_ground")
+FCS_TO_AIRFRAME = ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "brakes_norm", "steering_norm",
+                   "gear_down")
+ENGINE_TO_AIRFRAME = ("thrust_N", "fuel_flow_kg_s")
+# (start, end): names that differ between the two sides
+RENAMED = (("airframe.alt_msl_m", "engine.alt_m"), ("airframe.mach", "engine.mach"),
+           ("engine.N1_pct", "fcs.N1_pct"), ("engine.N1c_pct", "fcs.N1c_pct"),
+           ("engine.T41_K", "fcs.Tt41_K"),  # the engine's rotor inlet temperature is the limit the FCS watches
+           ("fcs.fuel_flow_cmd_kg_s", "engine.fuel_flow_cmd_kg_s"))
+ENGINE_OUT = ("thrust_N", "gross_thrust_N", "fuel_flow_kg_s", "N1_rpm", "N2_rpm", "N1_pct", "N2_pct", "N1c_pct",
+              "Tt4_K", "T41_K", "Tt21_K", "Tt17_K", "Tt7_K", "Pt3_Pa", "OPR", "BPR", "SM_fan", "SM_hpc",
+              "SFC_kg_N_s", "fuel_burned_kg", "surge", "flameout", "overspeed")
+AIRFRAME_OUT = ("lat_deg", "lon_deg", "alt_msl_m", "alt_agl_m", "tas_m_s", "cas_m_s", "gs_m_s", "mach",
+                "alpha_rad", "beta_rad", "phi_rad", "theta_rad", "psi_rad", "p_rad_s", "q_rad_s", "r_rad_s",
+                "load_factor", "vs_m_s", "p_amb_Pa", "T_amb_K", "rho_amb_kg_m3", "on_ground", "mass_kg", "fuel_kg")
+FCS_OUT = ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "brakes_norm", "steering_norm", "gear_down",
+           "lever_norm", "fuel_flow_cmd_kg_s", "alt_cmd_m", "tas_cmd_m_s", "mach_cmd", "track_cmd_rad",
+           "section_index", "mission_completed")
+# the flight control's first fuel-flow command and the engine's start: steady at 60 % N1, sea level static
+START = {"engine": {"start_N1_pct": 60.0, "preset": "larzac04_sls"}, "fcs": {"Wf0_kg_s": 0.07}}
+
+
+def _unit(fmu: Path, name: str, unit: str | None) -> str | None:
+    """The unit of a variable: its unit attribute, else the one its description ends with ("[N]")."""
+    if unit is not None:
+        return unit
+    from fmpy import read_model_description
+
+    md = read_model_description(str(fmu), validate=False)
+    v = next(v for v in md.modelVariables if v.name == name)
+    m = re.search(r"\[([^\]]+)\]\s*$", v.description or "")
+    return None if m is None or m.group(1) == "-" else m.group(1)
+
+
+def _add(sys_: SystemBuilder, name: str, fmu_file: str, names: list[str]) -> None:
+    fmu = RESOURCES / fmu_file
+    comp = sys_.component(name, f"resources/{fmu_file}")
+    for n, kind, type_name, unit in connectors_from_fmu(fmu, names):
+        comp.connector(n, kind, type_name, _unit(fmu, n, unit) if type_name == "Real" else None)
+    if name in START:
+        comp.parameters(dict(START[name]))
+
+
+def build_system() -> SystemBuilder:
+    """The engine + airframe + flight-control system of the Munich mission."""
+    sys_ = SystemBuilder("openEMSS").experiment(0.0, 4000.0, STEP_S)
+    engine_in = ["fuel_flow_cmd_kg_s", "alt_m", "mach"]
+    fcs_in = [*AIRFRAME_TO_FCS, "N1_pct", "N1c_pct", "Tt41_K"]
+    airframe_in = [*FCS_TO_AIRFRAME, *ENGINE_TO_AIRFRAME]
+    _add(sys_, "fcs", "Fcs.fmu", fcs_in + list(FCS_OUT))
+    _add(sys_, "engine", "Engine.fmu", engine_in + list(ENGINE_OUT))
+    _add(sys_, "airframe", "Airframe.fmu", airframe_in + list(AIRFRAME_OUT))
+    for n in AIRFRAME_TO_FCS:
+        sys_.connect(f"airframe.{n}", f"fcs.{n}")
+    for n in FCS_TO_AIRFRAME:
+        sys_.connect(f"fcs.{n}", f"airframe.{n}")
+    for n in ENGINE_TO_AIRFRAME:
+        sys_.connect(f"engine.{n}", f"airframe.{n}")
+    for start, end in RENAMED:
+        sys_.connect(start, end)
+    for name in ("fcs", "engine", "airframe"):
+        for unit in sorted({k[3] for c in sys_.components if c.name == name for k in c.connectors if k[3]}):
+            if unit not in sys_.units:
+                sys_.units[unit] = _SI.get(unit, {"factor": 1.0, "offset": 0.0})
+    return sys_
+
+
+# The units the connectors use, as SSP unit definitions (SI base exponents).
+_SI: dict[str, dict[str, float]] = {
+    "N": {"kg": 1, "m": 1, "s": -2, "factor": 1.0, "offset": 0.0},
+    "kg/s": {"kg": 1, "s": -1, "factor": 1.0, "offset": 0.0},
+    "kg": {"kg": 1, "factor": 1.0, "offset": 0.0},
+    "m": {"m": 1, "factor": 1.0, "offset": 0.0},
+    "m/s": {"m": 1, "s": -1, "factor": 1.0, "offset": 0.0},
+    "rad": {"rad": 1, "factor": 1.0, "offset": 0.0},
+    "rad/s": {"rad": 1, "s": -1, "factor": 1.0, "offset": 0.0},
+    "deg": {"rad": 1, "factor": 0.017453292519943295, "offset": 0.0},
+    "K": {"K": 1, "factor": 1.0, "offset": 0.0},
+    "Pa": {"kg": 1, "m": -1, "s": -2, "factor": 1.0, "offset": 0.0},
+    "kg/m3": {"kg": 1, "m": -3, "factor": 1.0, "offset": 0.0},
+    "rpm": {"rad": 1, "s": -1, "factor": 0.10471975511965977, "offset": 0.0},
+    "%": {"factor": 0.01, "offset": 0.0},
+    "kg/(N s)": {"m": -1, "s": 1, "factor": 1.0, "offset": 0.0},
+}
+
+
+def parameter_sets() -> dict[str, ParameterSet]:
+    """System-level parameter sets that select the engine."""
+    return {"engine_larzac04.ssv": ParameterSet("engine_larzac04", {"engine.preset": "larzac04_sls"}),
+            "engine_reference_study.ssv": ParameterSet("engine_reference_study",
+                                                       {"engine.preset": "reference_study"})}
+
+
+def main() -> int:
+    missing = [f for f in ("Fcs.fmu", "Engine.fmu", "Airframe.fmu") if not (RESOURCES / f).is_file()]
+    if missing:
+        print(f"generate: build the FMUs first: build-fmus --out {RESOURCES} (missing {', '.join(missing)})",
+              file=sys.stderr)
+        return 1
+    build_system().write(HERE)
+    from lxml import etree
+
+    for name, pset in parameter_sets().items():
+        (HERE / name).write_bytes(etree.tostring(pset.element(), xml_declaration=True, encoding="UTF-8",
+                                                 pretty_print=True))
+    print(f"wrote {HERE / 'SystemStructure.ssd'} and {', '.join(parameter_sets())}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -163,8 +163,16 @@ def _default_system() -> Path:
     return DEFAULT_EXAMPLE
 
 
+def _ensure_project_fmus(system: Path) -> None:
+    """The project's own system (ssp/) gets its FMUs built from fmus/ when they are missing or stale."""
+    project = PACKAGE_ROOT / "ssp"
+    if system.is_dir() and project.is_dir() and system.resolve() == project.resolve():
+        ensure_built(PACKAGE_ROOT / "fmus", project / "resources", report=lambda m: print(m, file=sys.stderr))
+
+
 def cmd_run(args: argparse.Namespace) -> int:
     system = args.system if args.system is not None else _default_system()
+    _ensure_project_fmus(system)
     bound = _load(system, args.params)
     sysdef = bound.definition
     stop = args.stop_time if args.stop_time is not None else sysdef.stop_time_s

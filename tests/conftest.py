@@ -41,6 +41,26 @@ def assert_house_style(model_description: object) -> None:
             assert v.variability == "discrete", v.name
 
 
+def open_slave(fmu: Path, instance_name: str) -> tuple[object, dict[str, int]]:
+    """An instantiated FMU2Slave (experiment set up at t = 0) and its value references by name.
+
+    The FMU is extracted once per process, as the orchestrator does (one library per FMU file);
+    free it with ``slave.fmi2FreeInstance(slave.component)``, never ``freeInstance()``, which
+    unloads the library (see thirdparty.py).
+    """
+    from fmpy import read_model_description
+    from fmpy.fmi2 import FMU2Slave
+
+    from openemss.orchestrator.slave import extracted
+
+    md = read_model_description(str(fmu))
+    slave = FMU2Slave(guid=md.guid, unzipDirectory=extracted(fmu), modelIdentifier=md.coSimulation.modelIdentifier,
+                      instanceName=instance_name)
+    slave.instantiate()
+    slave.setupExperiment(startTime=0.0)
+    return slave, {v.name: v.valueReference for v in md.modelVariables}
+
+
 @pytest.fixture()
 def oscillator(tmp_path: Path, fmu_dir: Path) -> Path:
     """A private copy of the oscillator example system with freshly built FMUs."""

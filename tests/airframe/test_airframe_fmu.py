@@ -14,9 +14,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 from fmpy import read_model_description
-from fmpy.fmi2 import FMU2Slave
 
-from conftest import assert_house_style
+from conftest import assert_house_style, open_slave
 from openemss.models.airframe.adapter import Airframe
 from openemss.models.airframe.trim import trim_level
 
@@ -75,14 +74,7 @@ def test_fmu_and_adapter_identical(fmu: Path, tmp_path: Path) -> None:
         ref.append([getattr(s, ADAPTER.get(n, n)) for n in OUT])
     ref = np.array(ref)
     # --- the FMU, driven by fmpy's FMU2Slave
-    md = read_model_description(str(fmu))
-    vr = {v.name: v.valueReference for v in md.modelVariables}
-    unzip = tmp_path / "unzipped"
-    shutil.unpack_archive(str(fmu), str(unzip), "zip")
-    slave = FMU2Slave(guid=md.guid, unzipDirectory=str(unzip), modelIdentifier=md.coSimulation.modelIdentifier,
-                      instanceName="airframe")
-    slave.instantiate()
-    slave.setupExperiment(startTime=0.0)
+    slave, vr = open_slave(fmu, "airframe")
     slave.setBoolean([vr["start_on_runway"], vr["trim_at_start"], vr["gear_down"]], [False, False, False])
     params = {"alt0_m": 3000.0, "tas0_m_s": 160.0, "heading0_deg": 90.0, "lat0_deg": 48.3, "lon0_deg": 11.8,
               "alpha0_rad": 0.03, "fuel0_kg": 500.0, "ground_elevation_m": 453.0, **_inputs(0)}

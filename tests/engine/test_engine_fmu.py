@@ -15,9 +15,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 from fmpy import read_model_description
-from fmpy.fmi2 import FMU2Slave
 
-from conftest import assert_house_style
+from conftest import assert_house_style, open_slave
 from openemss.models.engine.engine_model import FLAGS, OUTPUTS, EngineInputs, EngineModel
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -70,14 +69,7 @@ def test_fmu_and_model_identical(fmu: Path, tmp_path: Path) -> None:
         m.step(H, _inputs(k))
         ref.append(list(m.values))
         ref_flags.append(list(m.flags))
-    md = read_model_description(str(fmu))
-    vr = {v.name: v.valueReference for v in md.modelVariables}
-    unzip = tmp_path / "unzipped"
-    shutil.unpack_archive(str(fmu), str(unzip), "zip")
-    slave = FMU2Slave(guid=md.guid, unzipDirectory=str(unzip), modelIdentifier=md.coSimulation.modelIdentifier,
-                      instanceName="engine")
-    slave.instantiate()
-    slave.setupExperiment(startTime=0.0)
+    slave, vr = open_slave(fmu, "engine")
     in_vr = [vr[n] for n in (*_FMU_IN, "distortion_sector_deg", "distortion_dPt_frac", "distortion_dTt_K")]
     slave.setReal([vr["start_N1_pct"]], [75.0])
     slave.setReal(in_vr, _reals(_inputs(0)))
@@ -172,14 +164,7 @@ def test_design_override_selects_the_engine(fmu: Path, tmp_path: Path) -> None:
     """design_override with the reference study's BPR and HPC PR gives that engine's start point."""
     from openemss.models.engine.design_params import load_params, preset_path, replace
 
-    md = read_model_description(str(fmu))
-    vr = {v.name: v.valueReference for v in md.modelVariables}
-    unzip = tmp_path / "unzipped2"
-    shutil.unpack_archive(str(fmu), str(unzip), "zip")
-    slave = FMU2Slave(guid=md.guid, unzipDirectory=str(unzip), modelIdentifier=md.coSimulation.modelIdentifier,
-                      instanceName="engine2")
-    slave.instantiate()
-    slave.setupExperiment(startTime=0.0)
+    slave, vr = open_slave(fmu, "engine2")
     slave.setBoolean([vr["design_override"]], [True])
     slave.setReal([vr["design_BPR"], vr["design_PR_hpc"], vr["start_N1_pct"]], [1.16, 5.528455284552847, 90.0])
     slave.enterInitializationMode()
@@ -233,14 +218,7 @@ def test_flight_condition_from_ambient_pressure_and_temperature(fmu: Path, tmp_p
         got = condition_from_ambient(a.P_Pa, a.T_K)
         assert got[0] == pytest.approx(alt, abs=1e-6) and got[1] == pytest.approx(dT, abs=1e-9)
     a = isa(4000.0, 10.0)
-    md = read_model_description(str(fmu))
-    vr = {v.name: v.valueReference for v in md.modelVariables}
-    unzip = tmp_path / "unzipped3"
-    shutil.unpack_archive(str(fmu), str(unzip), "zip")
-    slave = FMU2Slave(guid=md.guid, unzipDirectory=str(unzip), modelIdentifier=md.coSimulation.modelIdentifier,
-                      instanceName="engine3")
-    slave.instantiate()
-    slave.setupExperiment(startTime=0.0)
+    slave, vr = open_slave(fmu, "engine3")
     slave.setBoolean([vr["use_ambient"]], [True])
     slave.setReal([vr["p_amb_Pa"], vr["T_amb_K"], vr["mach"], vr["start_N1_pct"]], [a.P_Pa, a.T_K, 0.5, 88.0])
     slave.enterInitializationMode()

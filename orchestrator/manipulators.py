@@ -12,6 +12,14 @@ A scenario file (YAML) is a list of events::
         hold: [airframe.elevator]
       - at: 9.0                       # give the variable back to its connection
         release: [engine.distortion_on, airframe.elevator]
+      - when: fcs.section_index == 6  # at the first step where an output meets the condition
+        after: 30.0                   # [s] later (optional; 'from'/'to' of a ramp count from it too)
+        set: {engine.distortion_on: true}
+
+A condition compares one variable (an output or input of any component) with a
+number, using one of ``== != < <= > >=``; it is checked at every macro step from
+the start and fires once. Times of the events it triggers count from the step
+where it held.
 
 While a variable is overridden, the value the master would set (from a
 connection, or the one it holds) is replaced, in every algorithm, right before
@@ -21,18 +29,39 @@ its last value. Bad files are refused with one message naming the file and line.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+import operator
+import re
+from collections.abc import Callable
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import yaml
 
-from .errors import ConfigurationError
+from .errors import ConfigurationError, EmssError
 
 if TYPE_CHECKING:
     from .execution import Execution
 
 KINDS = ("set", "ramp", "hold", "release")
+OPERATORS: dict[str, Callable[[float, float], bool]] = {
+    "==": operator.eq, "!=": operator.ne, "<=": operator.le, ">=": operator.ge, "<": operator.lt, ">": operator.gt}
+_CONDITION = re.compile(r"^\s*([A-Za-z_][\w.\[\]]*)\s*(==|!=|<=|>=|<|>)\s*(\S+)\s*$")
+
+
+@dataclass(frozen=True)
+class Condition:
+    """``path op value``: fires the events of its scenario entry at the first step it holds."""
+
+    path: str
+    op: str
+    value: float
+
+    def holds(self, x: float) -> bool:
+        return OPERATORS[self.op](x, self.value)
+
+    def __str__(self) -> str:
+        return f"{self.path} {self.op} {self.value:g}"
 
 
 @dataclass(frozen=True)
@@ -46,6 +75,7 @@ class Event:
     value0: float | int | bool | None
     value1: float | int | bool | None
     where: str
+    when: Condition | None = None
 
 
 class ScenarioError(ConfigurationError):
@@ -78,10 +108,10 @@ def _event(node: yaml.Node, file: str, index: int) -> list[Event]:
                             f"{', '.join(KINDS)}")
     fields = {_scalar(k, where, "a key"): v for k, v in node.value}
     actions = [k for k in fields if k in KINDS]
-    unknown = [k for k in fields if k not in KINDS + ("at", "from", "to")]
+    unknown = [k for k in fields if k not in KINDS + ("at", "from", "to", "when", "after")]
     if unknown:
-        raise ScenarioError(f"{where}: event {index}: unknown key '{unknown[0]}' (allowed: at, from, to, "
-                            f"{', '.join(KINDS)})")
+        raise ScenarioError(f"{where}: event {index}: unknown key '{unknown[0]}' (allowed: at, from, to, when, "
+                            f"after, {', '.join(KINDS)})")
     if len(actions) != 1:
         raise ScenarioError(f"{where}: event {index} needs exactly one of {', '.join(KINDS)}")
     kind = actions[0]
@@ -93,12 +123,20 @@ def _event(node: yaml.Node, file: str, index: int) -> list[Event]:
         t1 = _number(fields["to"], where, "'to'")
         if not t1 > t0:
             raise ScenarioError(f"{where}: event {index}: a ramp needs 'to' > 'from' (got {t0} to {t1})")
+    elif "when" in fields:
+        if "at" in fields:
+            raise ScenarioError(f"{where}: event {index}: give 'at' or 'when', not both")
+        t0 = t1 = _number(fields["after"], where, "'after'") if "after" in fields else 0.0
     else:
         if "at" not in fields:
-            raise ScenarioError(f"{where}: event {index}: '{kind}' needs 'at' [s]")
+            raise ScenarioError(f"{where}: event {index}: '{kind}' needs 'at' [s] or 'when' (a condition)")
         t0 = t1 = _number(fields["at"], where, "'at'")
+    if "after" in fields and ("when" not in fields or kind == "ramp"):
+        raise ScenarioError(f"{where}: event {index}: 'after' needs 'when' (a ramp counts 'from'/'to' from "
+                            "the condition instead)")
     if t0 < 0:
         raise ScenarioError(f"{where}: event {index}: times must be >= 0 s")
+    when = _condition(fields["when"], where, index) if "when" in fields else None
     events = []
     if kind in ("set", "ramp"):
         if not isinstance(body, yaml.MappingNode):
@@ -109,19 +147,33 @@ def _event(node: yaml.Node, file: str, index: int) -> list[Event]:
             vwhere = f"{file}:{v.start_mark.line + 1}"
             if kind == "set":
                 value = _value(_scalar(v, vwhere, f"the value of '{path}'"), vwhere, path)
-                events.append(Event(kind, str(path), t0, t1, value, value, vwhere))
+                events.append(Event(kind, str(path), t0, t1, value, value, vwhere, when))
             else:
                 pair = yaml.safe_load(yaml.serialize(v))
                 if not (isinstance(pair, list) and len(pair) == 2):
                     raise ScenarioError(f"{vwhere}: ramp of '{path}' takes [start value, end value]")
                 events.append(Event(kind, str(path), t0, t1, float(_value(pair[0], vwhere, path)),
-                                    float(_value(pair[1], vwhere, path)), vwhere))
+                                    float(_value(pair[1], vwhere, path)), vwhere, when))
     else:
         paths = yaml.safe_load(yaml.serialize(body))
         if not (isinstance(paths, list) and all(isinstance(p, str) for p in paths)):
             raise ScenarioError(f"{where}: event {index}: '{kind}' takes a list of component.variable names")
-        events.extend(Event(kind, p, t0, t1, None, None, where) for p in paths)
+        events.extend(Event(kind, p, t0, t1, None, None, where, when) for p in paths)
     return events
+
+
+def _condition(node: yaml.Node, where: str, index: int) -> Condition:
+    text = _scalar(node, where, "'when'")
+    m = _CONDITION.match(str(text))
+    if m is None:
+        raise ScenarioError(f"{where}: event {index}: 'when' must read 'component.variable OP number' with OP one "
+                            f"of {' '.join(OPERATORS)}, got {text!r}")
+    try:
+        value = float({"true": 1.0, "false": 0.0}.get(m.group(3).lower(), m.group(3)))
+    except ValueError:
+        raise ScenarioError(f"{where}: event {index}: 'when' compares with a number or true/false, got "
+                            f"{m.group(3)!r}") from None
+    return Condition(m.group(1), m.group(2), value)
 
 
 def load_scenario(path: Path | str) -> list[Event]:
@@ -182,6 +234,30 @@ class _Track:
         return float(self.slave.get_value(self.variable))
 
 
+def _reader(execution: Execution, path: str, where: str) -> Callable[[], float]:
+    """A function returning the current value of ``component.variable`` (any causality)."""
+    try:
+        i, var = execution.system.variable(path)
+    except EmssError:
+        raise ConfigurationError(f"{where}: 'when' names no variable '{path}' (write component.variable)") from None
+    slot = execution.output_slot(path)
+    if slot is not None:
+        vec, j = slot
+        return lambda: float(vec[j])
+    if var.type_name not in ("Real", "Integer", "Boolean"):
+        raise ConfigurationError(f"{where}: 'when' needs a Real, Integer or Boolean variable; '{path}' is a "
+                                 f"{var.type_name}")
+    try:
+        kind, j = execution.input_slot(path, where)
+        if isinstance(kind, str):
+            vec = execution.vectors[kind].inputs
+            return lambda: float(vec[j])
+    except ConfigurationError:
+        pass  # an output that is not exchanged, or a parameter: ask the FMU
+    slave = execution.slaves[i]
+    return lambda: float(slave.get_value(var))
+
+
 class ScenarioManipulator:
     """Applies scenario events to an execution (see the module docstring).
 
@@ -194,6 +270,8 @@ class ScenarioManipulator:
     def __init__(self, events: list[Event]) -> None:
         self.events = sorted(events, key=lambda e: (e.start_s, e.end_s))
         self.tracks: list[_Track] = []
+        self._pending: list[tuple[Condition, Callable[[], float], list[tuple[_Track, Event]]]] = []
+        self.fired: list[tuple[float, str]] = []  # (time [s], condition) of every condition that held
 
     def variables(self) -> list[str]:
         """The ``component.variable`` paths the scenario touches."""
@@ -205,8 +283,10 @@ class ScenarioManipulator:
         for e in self.events:
             by_path.setdefault(e.path, []).append(e)
         self.tracks = []
-        for path, events in by_path.items():
-            slot = execution.input_slot(path, events[0].where)
+        conditions: dict[Condition, list[tuple[_Track, Event]]] = {}
+        for path, all_events in by_path.items():
+            events = [e for e in all_events if e.when is None]
+            slot = execution.input_slot(path, all_events[0].where)
             if isinstance(slot[0], str):
                 type_name, index = slot
                 tr = _Track(path, events, type_name != "Real", vector=execution.vectors[type_name].inputs,
@@ -216,6 +296,24 @@ class ScenarioManipulator:
                 tr = _Track(path, events, var.type_name != "Real", slave=slave, variable=var,
                             shown=execution.output_slot(path))
             self.tracks.append(tr)
+            for e in all_events:
+                if e.when is not None:
+                    conditions.setdefault(e.when, []).append((tr, e))
+        self._pending = [(c, _reader(execution, c.path, pairs[0][1].where), pairs) for c, pairs in conditions.items()]
+        self.fired = []
+
+    def _fire(self, time_s: float) -> None:
+        """Start the events of every condition that holds at ``time_s`` [s], once."""
+        still = []
+        for cond, read, pairs in self._pending:
+            if not cond.holds(read()):
+                still.append((cond, read, pairs))
+                continue
+            self.fired.append((time_s, str(cond)))
+            for tr, e in pairs:
+                tr.events.append(replace(e, start_s=time_s + e.start_s, end_s=time_s + e.end_s, when=None))
+                tr.events.sort(key=lambda ev: (ev.start_s, ev.end_s))
+        self._pending = still
 
     def _value_at(self, tr: _Track, time_s: float) -> float | None:
         eps = 1e-9 * max(1.0, abs(time_s))
@@ -241,6 +339,8 @@ class ScenarioManipulator:
     def apply(self, time_s: float) -> list[tuple[Any, int, float]]:
         """Bring every variable to its scenario value at ``time_s`` [s]; returns the overrides of
         connected inputs for the execution to re-apply after each transfer."""
+        if self._pending:
+            self._fire(time_s)
         active: list[tuple[Any, int, float]] = []
         for tr in self.tracks:
             value = self._value_at(tr, time_s)

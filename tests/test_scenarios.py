@@ -78,6 +78,10 @@ def test_overrides_and_ramps_appear_exactly_in_the_recorded_inputs(system: Path,
     ("events:\n  - at: 1\n    ramp: {b.u_real: [0, 1]}\n", "a ramp needs 'from' and 'to'", 2),
     ("events: [\n", "not valid YAML", 2),
     ("events:\n  - at: one\n    set: {b.u_real: 1}\n", "'at' must be a number", 2),
+    ("events:\n  - when: b.u_real ~ 3\n    set: {b.u_real: 1}\n", "'when' must read", 2),
+    ("events:\n  - when: b.u_real > fast\n    set: {b.u_real: 1}\n", "compares with a number", 2),
+    ("events:\n  - at: 1\n    when: b.u_real > 1\n    set: {b.u_real: 1}\n", "'at' or 'when'", 2),
+    ("events:\n  - at: 1\n    after: 2\n    set: {b.u_real: 1}\n", "'after' needs 'when'", 2),
 ])
 def test_bad_scenario_files_name_the_line(tmp_path: Path, text: str, fragment: str, line: int) -> None:
     f = tmp_path / "bad.yaml"
@@ -85,6 +89,58 @@ def test_bad_scenario_files_name_the_line(tmp_path: Path, text: str, fragment: s
     with pytest.raises(ScenarioError) as info:
         load_scenario(f)
     assert fragment in str(info.value) and f"bad.yaml:{line}:" in str(info.value), str(info.value)
+
+
+CONDITIONAL = """events:
+  - from: 0.0
+    to: 10.0
+    ramp: {a.u_real: [0.0, 10.0]}
+  - when: a.y_real >= 4
+    after: 1.0
+    set: {b.u_real: 100.0}
+  - when: a.y_real >= 4
+    from: 2.0
+    to: 3.0
+    ramp: {c.u_real: [0.0, 1.0]}
+  - when: b.y_real > 1000
+    set: {c.k: 7.0}
+"""
+
+
+@pytest.mark.parametrize("algorithm", ["jacobi", "gauss-seidel"])
+def test_conditions_fire_once_where_the_variable_first_meets_them(system: Path, tmp_path: Path,
+                                                                    algorithm: str) -> None:
+    f = tmp_path / "when.yaml"
+    f.write_text(CONDITIONAL)
+    ex = Execution(bind_system(load_system(system)), rate_hz=10.0, algorithm=algorithm,
+                   record=["a.y_real", "b.u_real", "c.u_real", "c.k"])
+    manip = ScenarioManipulator(load_scenario(f))
+    ex.add_manipulator(manip)
+    rec = MemoryRecorder()
+    ex.add_observer(rec)
+    ex.run(10.0)
+    r = rec.result()
+    t, h = r["time_s"], 0.1
+    # the condition is checked on the exchanged values at the start of each step: the first recorded
+    # sample of a.y_real (= a.u_real, ramped 1 per s) at or above 4
+    t_fire = t[np.argmax(r["a.y_real"] >= 4.0)]
+    assert 4.0 - 1e-9 <= t_fire <= 4.0 + h + 1e-9
+    assert manip.fired == [(pytest.approx(t_fire), "a.y_real >= 4")]
+    later = t >= t_fire + 1.0 - 1e-9
+    assert np.all(r["b.u_real"][later] == 100.0) and np.all(r["b.u_real"][~later] != 100.0)
+    # a ramp counts 'from'/'to' from the condition (c.u_real keeps its start value 1 until then)
+    expected_c = np.where(t < t_fire + 2.0 - 1e-9, 1.0, np.clip(t - (t_fire + 2.0), 0.0, 1.0))
+    assert np.max(np.abs(r["c.u_real"] - expected_c)) < 1e-12
+    assert np.all(r["c.k"] == 1.0)  # b.y_real never exceeds 1000 within 10 s: never fired
+
+
+def test_condition_on_an_unknown_variable_is_refused(system: Path, tmp_path: Path) -> None:
+    f = tmp_path / "s.yaml"
+    f.write_text("events:\n  - when: b.nope > 1\n    set: {b.u_real: 1}\n")
+    with pytest.raises(ConfigurationError, match="'when' names no variable 'b.nope'"):
+        ex = Execution(bind_system(load_system(system)), rate_hz=10.0)
+        ex.add_manipulator(ScenarioManipulator(load_scenario(f)))
+        ex.run(1.0)
 
 
 @pytest.mark.parametrize("variable, fragment", [("b.nope", "no variable 'b.nope'"),

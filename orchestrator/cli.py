@@ -22,6 +22,7 @@ from .errors import ConfigurationError, EmssError, Problem, SystemStructureError
 from .execution import DEFAULT_RATE_HZ, MAX_RATE_HZ, MIN_RATE_HZ, Execution
 from .manipulators import ScenarioManipulator, load_scenario
 from .observers import CsvRecorder, Progress, RealTimePacer, RunRecord
+from .plugins import load_problems, plugin_name, plugins
 from .ssp import load_system
 from .system import BoundSystem, bind_system
 
@@ -72,6 +73,11 @@ def build_parser() -> argparse.ArgumentParser:
                           "possible (default)")
     run.add_argument("--stats", action="store_true",
                      help="print the time each component spent in doStep, get and set")
+    run.add_argument("--status", metavar="VAR",
+                     help="component.variable shown in the progress bar, any type (default: what a plugin "
+                          "proposes, e.g. the active mission section)")
+    run.add_argument("--no-post-run", action="store_true",
+                     help="skip the plugins' post-run hooks (e.g. summary.json and plots of a mission run)")
     run.add_argument("--json", action="store_true", help="print the run summary as JSON")
 
     info = sub.add_parser("info", help="describe a system: components, connections, parameters, step order")
@@ -90,6 +96,7 @@ def build_parser() -> argparse.ArgumentParser:
                      help="further component.variable paths to expose (comma-separated allowed)")
 
     _register_model_commands(sub)
+    _register_plugin_commands(sub)
 
     val = sub.add_parser("validate", help="check a system and its FMUs; exit code = number of problems",
                          description="List every problem of a system: schema, FMUs, connectors, "
@@ -124,6 +131,55 @@ def _register_model_commands(sub: argparse._SubParsersAction) -> None:  # type: 
                 continue
             raise
         USER_ERRORS.extend(module.register(sub))
+    from openemss.study import cli as study_cli  # ``emss study ...``: studies on Dask, same mechanism
+
+    USER_ERRORS.extend(study_cli.register(sub))
+
+
+def _register_plugin_commands(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    """Add the sub-commands of the ``openemss.plugins`` entry points (see :mod:`.plugins`)."""
+    for module in plugins():
+        register = getattr(module, "register", None)
+        if register is not None:
+            USER_ERRORS.extend(register(sub))
+
+
+def _status_variable(bound: BoundSystem, requested: str | None) -> str | None:
+    """The progress bar's status variable: ``--status`` (checked), else the first a plugin proposes."""
+    if requested is not None:
+        try:
+            bound.variable(requested)
+        except EmssError:
+            raise ConfigurationError(f"--status '{requested}': no such variable (write component.variable "
+                                     "with a component of this system)") from None
+        return requested
+    every = [f"{c.name}.{v}" for c in bound.components for v in c.variables]
+    for module in plugins():
+        propose = getattr(module, "status_variable", None)
+        path = propose(every) if propose is not None else None
+        if path:
+            return str(path)
+    return None
+
+
+def _post_run(out: Path, error: BaseException | None) -> tuple[list[Path], list[str]]:
+    """Run every plugin's post-run hook on the results folder: (files written, one line per failure)."""
+    written: list[Path] = []
+    failures: list[str] = []
+    for module in plugins():
+        hook = getattr(module, "post_run", None)
+        if hook is None:
+            continue
+        try:
+            written.extend(Path(f) for f in hook(out, error))
+        except (EmssError, *USER_ERRORS) as exc:
+            failures.append(f"post-run hook '{plugin_name(module)}' failed: {exc}")
+        except Exception as exc:
+            if os.environ.get("EMSS_DEBUG"):
+                raise
+            failures.append(f"post-run hook '{plugin_name(module)}' failed: internal error: "
+                            f"{type(exc).__name__}: {exc} (set EMSS_DEBUG=1 for the traceback)")
+    return written, failures
 
 
 def _load(system: Path, params: Sequence[Path]) -> BoundSystem:
@@ -192,21 +248,31 @@ def cmd_run(args: argparse.Namespace) -> int:
     record = RunRecord(out / "run.json", str(system), [str(p) for p in args.params],
                        {"stop_time_s": stop, "scenario": str(args.scenario) if args.scenario else None},
                        reporters=[pacer] if pacer else [])
-    for o in (pacer, csv, record, Progress(stop)):
+    for o in (pacer, csv, record, Progress(stop, status=_status_variable(bound, args.status))):
         if o is not None:
             ex.add_observer(o)
+    for line in load_problems:
+        print(f"emss run: warning: {line}", file=sys.stderr)
     try:
         ex.run(stop)
-    except EmssError as exc:
+    except (EmssError, KeyboardInterrupt) as exc:
+        if not args.no_post_run:  # what was recorded is on disk: summarize it
+            for line in _post_run(out, exc)[1]:
+                print(f"emss run: {line}", file=sys.stderr)
+        if isinstance(exc, KeyboardInterrupt):
+            raise
         raise EmssError(f"{exc} (results so far in {out})") from None
+    written, failures = ([], []) if args.no_post_run else _post_run(out, None)
     summary = {k: record.info.get(k) for k in ("status", "algorithm", "rate_hz", "stop_time_s", "steps",
                                                 "wall_time_s", "realtime_factor", "realtime")}
-    summary.update(system=sysdef.name, out=str(out), rows=csv.rows_written)
+    summary.update(system=sysdef.name, out=str(out), rows=csv.rows_written, post_run=[str(f) for f in written])
     if args.stats:
         summary["step_statistics"] = ex.stats()
+    for line in failures:
+        print(f"emss run: error: {line}", file=sys.stderr)
     if args.json:
         print(json.dumps(summary, indent=2))
-        return 0
+        return 1 if failures else 0
     print(f"{sysdef.name}: {summary['steps']} steps of {ex.step_size_s:g} s ({args.algorithm}) to "
           f"t = {stop:g} s in {summary['wall_time_s']:.3f} s wall, {summary['realtime_factor']:.1f}x "
           f"real time; results in {out}")
@@ -214,9 +280,11 @@ def cmd_run(args: argparse.Namespace) -> int:
         rt = summary["realtime"]
         print(f"paced at {rt['target_factor']:g}x real time: achieved {rt['achieved_factor']:.3f}x, "
               f"{rt['overruns']} overrun(s), largest lag {rt['max_lag_s'] * 1e3:.1f} ms")
+    if written:
+        print(f"written after the run: {', '.join(f.name for f in written)}")
     if args.stats:
         print(_stats_table(ex.stats()))
-    return 0
+    return 1 if failures else 0
 
 
 def _stats_table(stats: dict[str, dict[str, float]]) -> str:

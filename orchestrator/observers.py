@@ -10,6 +10,7 @@ import json
 import platform
 import sys
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, TYPE_CHECKING, Any
@@ -287,18 +288,32 @@ class RealTimePacer:
 
 
 class Progress:
-    """A one-line progress bar on a terminal: simulated time, percent, real-time factor.
+    """A one-line progress bar on a terminal: simulated time, percent, real-time factor, and a status.
 
     Quiet when the stream is not a TTY, and for runs shorter than ``delay_s`` of wall time.
+
+    Parameters
+    ----------
+    stop_time_s : float
+        Stop time of the run [s] (100 %).
+    status : str | None
+        A ``component.variable`` whose current value is shown after the real-time factor
+        (any type, String included, e.g. a flight control system's active section name).
+        It is read only when the bar is drawn (at most every ``interval_s``), so it costs
+        nothing per step; a value that cannot be read shows as ``?``.
     """
 
+    STATUS_WIDTH = 40  # characters of the status shown
+
     def __init__(self, stop_time_s: float, stream: IO[str] | None = None, delay_s: float = 2.0,
-                 interval_s: float = 0.25) -> None:
+                 interval_s: float = 0.25, status: str | None = None) -> None:
         self.stream = stream if stream is not None else sys.stderr
         self.enabled = bool(getattr(self.stream, "isatty", lambda: False)())
         self.stop_time_s = stop_time_s
         self.delay_s = delay_s
         self.interval_s = interval_s
+        self.status = status
+        self._read_status: Callable[[], object] | None = None
         self._t0_wall = 0.0
         self._next = 0.0
         self._sim0 = 0.0
@@ -308,6 +323,7 @@ class Progress:
         self._t0_wall = time.perf_counter()
         self._next = self._t0_wall + self.delay_s
         self._sim0 = execution.start_time_s
+        self._read_status = _reader(execution, self.status) if self.status and self.enabled else None
 
     def sample(self, k: int, time_s: float) -> None:
         if not self.enabled or k & 15:
@@ -318,13 +334,27 @@ class Progress:
         self._next = now + self.interval_s
         self._draw(time_s, now)
 
+    def _status_text(self) -> str:
+        if self._read_status is None:
+            return ""
+        try:
+            value = self._read_status()
+        except Exception:  # a failed or freed FMU: the bar goes on without its status
+            value = "?"
+        if isinstance(value, bytes):
+            value = value.decode("utf-8", "replace")
+        text = f"{value:g}" if isinstance(value, float) else str(value)
+        w = self.STATUS_WIDTH
+        return "  " + (text if len(text) <= w else text[: w - 1] + "~").ljust(w)
+
     def _draw(self, time_s: float, now: float) -> None:
         span = max(self.stop_time_s - self._sim0, 1e-12)
         frac = min(max((time_s - self._sim0) / span, 0.0), 1.0)
         width = 30
         bar = "#" * int(frac * width) + "-" * (width - int(frac * width))
         rtf = (time_s - self._sim0) / max(now - self._t0_wall, 1e-9)
-        self.stream.write(f"\r[{bar}] {frac * 100:5.1f}%  t = {time_s:10.2f} s  {rtf:8.1f}x real time")
+        self.stream.write(f"\r[{bar}] {frac * 100:5.1f}%  t = {time_s:10.2f} s  {rtf:8.1f}x real time"
+                          f"{self._status_text()}")
         self.stream.flush()
         self._shown = True
 
@@ -333,3 +363,15 @@ class Progress:
             self._draw(execution.time_s, time.perf_counter())
             self.stream.write("\n")
             self.stream.flush()
+
+
+def _reader(execution: Execution, path: str) -> Callable[[], object]:
+    """A function giving the current value of ``component.variable``: from the exchange vectors
+    when the slaves get it anyway, else one FMI get call (any type, String included)."""
+    slot = execution.output_slot(path)
+    if slot is not None:
+        vector, index = slot
+        return lambda: vector[index].item()
+    i, var = execution.system.variable(path)
+    slave = execution.slaves[i]
+    return lambda: slave.get_value(var)

@@ -1,0 +1,165 @@
+"""The report as an ``emss`` plugin (entry point ``openemss.plugins``: see :mod:`openemss.orchestrator.plugins`).
+
+* ``post_run``: after every ``emss run`` of a system with a flight control system's
+  ``section_index`` and an engine's ``fuel_flow_kg_s`` and ``fuel_burned_kg``, writes
+  ``summary.json``, the mission as flown (``mission.yaml``) and the plots into the
+  results folder (also after a failed run, from what was recorded); nothing otherwise.
+* ``status_variable``: the progress bar shows the FCS's ``section_name``.
+* ``emss plot RUN_DIR [RUN_DIR_B ...]`` and ``emss summary RUN_DIR``.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+from collections.abc import Sequence
+from pathlib import Path, PurePosixPath
+
+from .errors import ReportError
+from .plots import PlotRun, plot_runs
+from .rundata import MISSION_COPY, find_roles, load_mission, load_run, read_header
+from .summary import summarize
+
+SUMMARY = "summary.json"
+MAX_RUNS = len(("-", "--", ":", "-."))
+
+
+def status_variable(variables: Sequence[str]) -> str | None:
+    """The active mission section's name (``<fcs>.section_name``) when a component has one."""
+    names = set(variables)
+    for path in variables:
+        comp, _, var = path.partition(".")
+        if var == "section_name" and f"{comp}.section_index" in names:
+            return path
+    return None
+
+
+def _has_mission_signals(run_dir: Path) -> bool:
+    roles = find_roles(read_header(run_dir))
+    return roles.fcs is not None and roles.engine is not None
+
+
+def write_report(run_dir: Path, plots: bool = True) -> list[Path]:
+    """Write ``summary.json``, the mission copy and (with ``plots``) the figures of a mission run.
+
+    Returns
+    -------
+    list of Path
+        The files written; empty when the folder holds no mission run or no recorded row.
+    """
+    run_dir = Path(run_dir)
+    if not _has_mission_signals(run_dir):
+        return []
+    try:
+        run = load_run(run_dir)
+    except ReportError:
+        if read_header(run_dir) and len((run_dir / "timeseries.csv").read_text(encoding="utf-8").splitlines()) < 2:
+            return []  # failed before the first sample: nothing to summarize
+        raise
+    mission, text = load_mission(run)
+    written: list[Path] = []
+    if mission is not None and text is not None and not list(run_dir.glob(MISSION_COPY + ".*")):
+        source = mission.source.removesuffix(" (converted)")
+        suffix = PurePosixPath(source.rpartition("!")[2]).suffix or ".yaml"
+        copy = run_dir / f"{MISSION_COPY}{suffix}"
+        copy.write_text(text, encoding="utf-8")
+        written.append(copy)
+    summary = summarize(run, mission)
+    path = run_dir / SUMMARY
+    path.write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
+    written.insert(0, path)
+    if plots:
+        written.extend(plot_runs([PlotRun(run, mission, run.name)], run_dir))
+    return written
+
+
+def post_run(run_dir: Path, error: BaseException | None) -> list[Path]:
+    """Post-run hook: the report of a mission run (see :func:`write_report`); nothing for other systems."""
+    return write_report(run_dir)
+
+
+# -- commands ----------------------------------------------------------------------------------
+def _labels(folders: Sequence[Path]) -> list[str]:
+    names = [f.resolve().name for f in folders]
+    if len(set(names)) == len(names):
+        return names
+    return [f"{f.resolve().parent.name}/{f.resolve().name}" for f in folders]
+
+
+def cmd_plot(args: argparse.Namespace) -> int:
+    folders: list[Path] = args.run_dirs
+    if len(folders) > MAX_RUNS:
+        raise ReportError(f"{len(folders)} runs given; at most {MAX_RUNS} share a figure")
+    runs = []
+    for folder, label in zip(folders, _labels(folders), strict=True):
+        data = load_run(folder)
+        runs.append(PlotRun(data, load_mission(data)[0], label))
+    out = args.out if args.out is not None else (
+        folders[0] if len(folders) == 1 else folders[0] / ("compare_" + "_".join(r.label.replace("/", "-")
+                                                                                for r in runs[1:])))
+    window = tuple(args.window) if args.window is not None else None
+    files = plot_runs(runs, Path(out), window)  # type: ignore[arg-type]
+    if not files:
+        raise ReportError(f"nothing to plot in {', '.join(map(str, folders))}: no mission signals recorded "
+                          "(position, altitude, engine)")
+    if args.json:
+        print(json.dumps([str(f) for f in files], indent=2))
+    else:
+        print(f"{len(files)} plot(s) of {', '.join(r.label for r in runs)} in {out}: "
+              f"{', '.join(f.name for f in files)}")
+    return 0
+
+
+def cmd_summary(args: argparse.Namespace) -> int:
+    run = load_run(args.run_dir)  # a clear line for a missing or unreadable folder
+    if run.roles.fcs is None or run.roles.engine is None:
+        raise ReportError(f"{args.run_dir}: no mission run (needs an FCS section_index and an engine's "
+                          "fuel_flow_kg_s and fuel_burned_kg)")
+    write_report(args.run_dir, plots=False)
+    summary = json.loads((args.run_dir / SUMMARY).read_text(encoding="utf-8"))
+    if args.json:
+        print(json.dumps(summary, indent=2))
+        return 0
+    rtf = summary["realtime_factor"]
+    print(f"{summary['run']}: {summary['status']}, t = {summary['sim_time_s']:.1f} s"
+          + (f" ({rtf:.0f}x real time)" if rtf else "")
+          + f"; mission completed: {summary['mission_completed']}, landed: {summary['landed']}; "
+          f"fuel {summary['fuel_burned_kg']:.2f} kg; max Tt4 {summary['max_Tt4_K'] or float('nan'):.0f} K")
+    for s in summary["sections"]:
+        span = "" if s["start_time_s"] is None else f"{s['start_time_s']:8.1f} to {s['end_time_s']:8.1f} s"
+        print(f"  {s['index']:>2} {str(s['name']):<36} {str(s['type']):<18} {s['status']:<11} {span:<24} "
+              f"{s['fuel_burned_kg']:7.2f} kg")
+    hit = [f"{k} x{v['count']} (first at {v['first_time_s']:g} s)" for k, v in summary["limits_hit"].items()
+           if v["count"]]
+    print(f"  limits hit: {', '.join(hit) or 'none'}")
+    return 0
+
+
+def _window(text: str) -> float:
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a time [s]") from None
+
+
+def register(sub: argparse._SubParsersAction) -> tuple[type[Exception], ...]:  # type: ignore[type-arg]
+    """Add ``emss plot`` and ``emss summary``."""
+    p = sub.add_parser("plot", help="plot a mission run, or compare runs on the same figures",
+                       description="Draw the PNG plots of finished runs (folders written by emss run): ground "
+                                   "track with waypoints and runways, altitude and Mach against the commands with "
+                                   "the sections shaded, burned fuel, fuel flow and Tt4 over a window, spool "
+                                   "speeds, attitude. Two runs (up to four) share each figure, told apart by line "
+                                   "style.")
+    p.add_argument("run_dirs", nargs="+", type=Path, metavar="RUN_DIR", help="results folder(s) of emss run")
+    p.add_argument("--out", type=Path, metavar="DIR",
+                   help="folder for the PNGs (default: RUN_DIR; for several runs RUN_DIR/compare_<others>)")
+    p.add_argument("--window", nargs=2, type=_window, metavar=("T0", "T1"),
+                   help="time window [s] of the fuel flow and Tt4 plot (default: the whole run)")
+    p.add_argument("--json", action="store_true", help="print the files written as JSON")
+    p.set_defaults(handler=cmd_plot)
+    s = sub.add_parser("summary", help="(re)write and print summary.json of a mission run",
+                       description="Summarize a finished or failed mission run from its results folder: time, "
+                                   "fuel, limits hit, landing, and every mission section.")
+    s.add_argument("run_dir", type=Path, metavar="RUN_DIR", help="results folder of emss run")
+    s.add_argument("--json", action="store_true", help="print summary.json")
+    s.set_defaults(handler=cmd_summary)
+    return (ReportError,)

@@ -1,0 +1,220 @@
+"""A finished (or failed) run's results folder: its time histories, run.json and mission.
+
+Columns are found by role, never by component name: the flight control system is the
+component with a ``section_index`` column, the engine the one with ``fuel_flow_kg_s``
+and ``fuel_burned_kg``, the airframe the one with ``lat_deg``, ``lon_deg``,
+``alt_msl_m`` and ``mach`` (other than the FCS, whose inputs carry some of those names).
+"""
+from __future__ import annotations
+
+import json
+import math
+import zipfile
+from collections.abc import Iterable
+from dataclasses import dataclass
+from pathlib import Path, PurePosixPath
+from typing import Any
+from xml.etree import ElementTree
+
+import numpy as np
+
+from openemss.models.fcs.errors import FcsError
+from openemss.models.fcs.mission import Mission, parse_mission
+
+from .errors import ReportError
+
+TIMESERIES = "timeseries.csv"
+RUN_RECORD = "run.json"
+MISSION_COPY = "mission"  # + the source's suffix: the mission as flown, kept with the results
+
+
+@dataclass(frozen=True)
+class Roles:
+    """Component names by role (None where the run has no such component)."""
+
+    fcs: str | None
+    engine: str | None
+    airframe: str | None
+
+
+def find_roles(columns: Iterable[str]) -> Roles:
+    """Assign components to roles from the recorded ``component.variable`` names."""
+    by_comp: dict[str, set[str]] = {}
+    for name in columns:
+        comp, sep, var = name.partition(".")
+        if sep:
+            by_comp.setdefault(comp, set()).add(var)
+    fcs = next((c for c, v in by_comp.items() if "section_index" in v), None)
+    engine = next((c for c, v in by_comp.items() if {"fuel_flow_kg_s", "fuel_burned_kg"} <= v), None)
+    nav = {"lat_deg", "lon_deg", "alt_msl_m"}
+    airframe = next((c for c, v in by_comp.items() if c != fcs and nav | {"mach"} <= v), None)
+    if airframe is None and fcs is not None and nav <= by_comp[fcs]:
+        airframe = fcs
+    return Roles(fcs, engine, airframe)
+
+
+def read_header(folder: Path) -> list[str]:
+    """Column names of a results folder's ``timeseries.csv`` ([] when there is none)."""
+    try:
+        with open(Path(folder) / TIMESERIES, encoding="utf-8") as f:
+            return f.readline().strip().split(",")
+    except OSError:
+        return []
+
+
+def _read_table(path: Path) -> tuple[list[str], np.ndarray]:
+    try:
+        lines = path.read_text(encoding="utf-8").splitlines()
+    except OSError as exc:
+        raise ReportError(f"{path}: cannot read: {exc.strerror}") from None
+    if not lines or not lines[0].startswith("time_s"):
+        raise ReportError(f"{path}: not a timeseries of emss run (the first column must be time_s)")
+    names = lines[0].split(",")
+    body = lines[1:]
+    if body and body[-1].count(",") != len(names) - 1:
+        body = body[:-1]  # a run killed while writing leaves a partial last line
+    try:
+        data = np.loadtxt(body, delimiter=",", ndmin=2) if body else np.empty((0, len(names)))
+    except ValueError as exc:
+        raise ReportError(f"{path}: unreadable row ({exc})") from None
+    if data.shape[1] != len(names):
+        raise ReportError(f"{path}: {data.shape[1]} values per row for {len(names)} columns")
+    return names, data
+
+
+@dataclass(frozen=True)
+class RunData:
+    """One results folder.
+
+    Attributes
+    ----------
+    folder : Path
+        The results folder.
+    columns : dict[str, numpy.ndarray]
+        ``time_s`` [s] and every recorded ``component.variable`` (values in the FMUs' units).
+    info : dict
+        ``run.json`` (empty when the folder has none).
+    roles : Roles
+        Which component is the FCS, the engine, the airframe.
+    """
+
+    folder: Path
+    columns: dict[str, np.ndarray]
+    info: dict[str, Any]
+    roles: Roles
+
+    @property
+    def name(self) -> str:
+        return self.folder.resolve().name
+
+    @property
+    def time_s(self) -> np.ndarray:
+        return self.columns["time_s"]
+
+    def get(self, role: str, variable: str) -> np.ndarray | None:
+        """The column ``<component of role>.variable``, or None."""
+        comp = getattr(self.roles, role)
+        return None if comp is None else self.columns.get(f"{comp}.{variable}")
+
+
+def load_run(folder: Path) -> RunData:
+    """Read a results folder of ``emss run``.
+
+    Raises
+    ------
+    ReportError
+        When the folder or its ``timeseries.csv`` is missing or unreadable, or holds no row.
+    """
+    folder = Path(folder)
+    if not folder.is_dir():
+        raise ReportError(f"{folder}: no such results folder (give a folder written by emss run)")
+    if not (folder / TIMESERIES).is_file():
+        raise ReportError(f"{folder}: no {TIMESERIES} (give a folder written by emss run)")
+    names, data = _read_table(folder / TIMESERIES)
+    if len(data) == 0:
+        raise ReportError(f"{folder / TIMESERIES}: no rows recorded")
+    info: dict[str, Any] = {}
+    if (folder / RUN_RECORD).is_file():
+        try:
+            info = json.loads((folder / RUN_RECORD).read_text(encoding="utf-8"))
+        except (OSError, ValueError) as exc:
+            raise ReportError(f"{folder / RUN_RECORD}: unreadable ({exc})") from None
+    columns = {n: data[:, j] for j, n in enumerate(names)}
+    return RunData(folder, columns, info, find_roles(names))
+
+
+# -- the FCS's parameters and mission ---------------------------------------------------------
+def fmu_start_values(fmu: Path) -> dict[str, str]:
+    """Start values (as written) of an FMU's variables, from its modelDescription.xml ({} if unreadable)."""
+    try:
+        with zipfile.ZipFile(fmu) as z:
+            root = ElementTree.fromstring(z.read("modelDescription.xml"))
+    except (OSError, KeyError, zipfile.BadZipFile, ElementTree.ParseError):
+        return {}
+    out: dict[str, str] = {}
+    for sv in root.iter("ScalarVariable"):
+        for child in sv:
+            if "start" in child.attrib:
+                out[sv.attrib["name"]] = child.attrib["start"]
+    return out
+
+
+def parameter(run: RunData, component: str, name: str) -> str | None:
+    """A parameter's value in the run: bound (run.json) or else the FMU's start value, as text."""
+    bound = run.info.get("parameters", {}).get(f"{component}.{name}")
+    if bound is not None:
+        return str(bound)
+    fmu = run.info.get("components", {}).get(component)
+    return fmu_start_values(Path(fmu)).get(name) if fmu else None
+
+
+def parameter_float(run: RunData, component: str, name: str) -> float | None:
+    """A numeric parameter (see :func:`parameter`), or None."""
+    text = parameter(run, component, name)
+    try:
+        value = float(text) if text is not None else math.nan
+    except ValueError:
+        return None
+    return value if math.isfinite(value) else None
+
+
+def _mission_source(run: RunData) -> tuple[str, str] | None:
+    """(text, source) of the mission the FCS flew: the copy kept in the folder, else its
+    ``mission_file`` parameter resolved as the FCS does (absolute, or relative to the FMU's
+    resources folder)."""
+    for copy in sorted(run.folder.glob(MISSION_COPY + ".*")):
+        return copy.read_text(encoding="utf-8"), str(copy)
+    fcs = run.roles.fcs
+    if fcs is None:
+        return None
+    value = parameter(run, fcs, "mission_file")
+    if not value:
+        return None
+    path = Path(value)
+    if path.is_absolute():
+        return (path.read_text(encoding="utf-8"), str(path)) if path.is_file() else None
+    fmu = run.info.get("components", {}).get(fcs)
+    if not fmu:
+        return None
+    member = str(PurePosixPath("resources") / PurePosixPath(*path.parts))
+    try:
+        with zipfile.ZipFile(fmu) as z:
+            return z.read(member).decode("utf-8"), f"{fmu}!{member}"
+    except (OSError, KeyError, zipfile.BadZipFile):
+        return None
+
+
+def load_mission(run: RunData) -> tuple[Mission | None, str | None]:
+    """The run's mission and the text it was read from, or (None, None) when it cannot be found or read."""
+    found = _mission_source(run)
+    if found is None:
+        return None, None
+    text, source = found
+    try:
+        if source.endswith(".plan"):
+            from openemss.models.fcs.qgc import plan_to_yaml
+
+            return parse_mission(plan_to_yaml(text, source), source + " (converted)"), text
+        return parse_mission(text, source), text
+    except FcsError:
+        return None, None

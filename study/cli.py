@@ -1,0 +1,156 @@
+"""``emss study ...``: run a study file on Dask, list its cases.
+
+``emss study run STUDY.yaml [--scheduler ADDRESS] [--workers N] [--out DIR] [--retry-failed] [--json]``
+runs every case not yet done (:mod:`.runner`) into ``DIR/cases/<case>`` and writes
+``DIR/study.csv``; a study with a ``redesign`` block first runs the cycle sweep
+(:mod:`.redesign`) and afterwards compares the two engines (:mod:`.compare`).
+
+``emss study cases STUDY.yaml [--json]`` lists the cases without running them.
+
+The ``emss`` command finds :func:`register` by itself; :class:`.spec.StudyError` is bad
+input and prints as one line.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+from typing import Any
+
+from .spec import StudyDef, StudyError, load_study
+
+__all__ = ["register", "run_study", "cmd_run", "cmd_cases"]
+
+
+def register(subparsers: argparse._SubParsersAction) -> tuple[type[Exception], ...]:  # type: ignore[type-arg]
+    """Add ``study`` and its sub-commands to `subparsers`; return the user-error types."""
+    st = subparsers.add_parser("study", help="parametric studies: many cases of a system on Dask",
+                               description="Run every case of a study file (variants, grids of parameter "
+                                           "values, missions, scenarios), each in its own process, on a Dask "
+                                           "LocalCluster or a scheduler; resumable.")
+    sub = st.add_subparsers(dest="study_command", required=True, parser_class=type(st))
+    run = sub.add_parser("run", help="run a study (skips cases already done)",
+                         description="Run the cases of STUDY.yaml not yet done into DIR/cases/<case> and write "
+                                     "the study table DIR/study.csv; progress on stderr.")
+    run.add_argument("study", type=Path, metavar="STUDY.yaml", help="the study file")
+    run.add_argument("--scheduler", metavar="ADDRESS",
+                     help="a Dask scheduler (tcp://host:8786); default: a LocalCluster on this machine")
+    run.add_argument("--workers", type=int, metavar="N",
+                     help="worker processes of the LocalCluster (default: the number of cores)")
+    run.add_argument("--out", type=Path, metavar="DIR", help="study folder (default: results/study-<name>)")
+    run.add_argument("--retry-failed", action="store_true", help="run cases again that failed in an earlier run")
+    run.add_argument("--json", action="store_true", help="print the outcome as JSON")
+    run.set_defaults(handler=cmd_run)
+    cases = sub.add_parser("cases", help="list the cases of a study without running them")
+    cases.add_argument("study", type=Path, metavar="STUDY.yaml", help="the study file")
+    cases.add_argument("--json", action="store_true", help="print as JSON")
+    cases.set_defaults(handler=cmd_cases)
+    return (StudyError,)
+
+
+def _with_redesign(study: StudyDef, out: Path) -> tuple[StudyDef, dict[str, Any] | None]:
+    if not study.redesign:
+        return study, None
+    from dataclasses import replace
+
+    from .redesign import cycle_redesign, parse_redesign
+
+    cfg = parse_redesign(study)
+    variants, info = cycle_redesign(study, cfg, out)
+    return replace(study, variants=tuple(variants)), {"config": cfg, "info": info}
+
+
+def run_study(path: Path, out: Path | None = None, scheduler: str | None = None, workers: int | None = None,
+              retry_failed: bool = False) -> dict[str, Any]:
+    """Run a study file end to end; returns what the command prints (see ``--json``)."""
+    from .plan import expand_cases
+    from .runner import run_cases
+
+    study = load_study(path)
+    if workers is not None and workers < 1:
+        raise StudyError(f"--workers {workers}: must be an integer >= 1")
+    folder = (out or Path("results") / f"study-{study.name}").resolve()
+    folder.mkdir(parents=True, exist_ok=True)
+    study, redesign = _with_redesign(study, folder)
+    cases = expand_cases(study)
+    outcome = run_cases(cases, folder, scheduler=scheduler, workers=workers, retry_failed=retry_failed)
+    result: dict[str, Any] = {
+        "study": study.name, "out": str(folder), "table": str(outcome.table), "cases": len(cases),
+        "ran": len(outcome.ran), "skipped": len(outcome.skipped), "failed": outcome.failed,
+        "wall_time_s": outcome.wall_time_s, "workers": outcome.workers,
+    }
+    if redesign is not None:
+        result["redesign"] = _report(study, cases, outcome, redesign, folder)
+    return result
+
+
+def _report(study: StudyDef, cases: list[Any], outcome: Any, redesign: dict[str, Any], folder: Path) -> dict[str, Any]:
+    from .compare import compare_engines
+    from .redesign import BASELINE, REDESIGNED
+
+    cfg = redesign["config"]
+    reports: dict[str, Any] = {"cycle": redesign["info"]}
+    missions = [m for m, _ in study.missions] or [""]
+    for mission in missions:
+        pick = {v: next(c.name for c in cases if dict(c.labels).get("variant") == v
+                        and dict(c.labels).get("mission", "") == mission) for v in (BASELINE, REDESIGNED)}
+        names = None
+        mpath = dict(study.missions).get(mission)
+        if mpath is not None:
+            try:
+                from openemss.models.fcs.mission import load_mission
+
+                names = [s.name for s in load_mission(mpath).sections]
+            except Exception:  # the names only label the plot
+                names = None
+        sub = folder / (f"mission-{mission}" if len(missions) > 1 else "")
+        reports[mission or "mission"] = compare_engines(
+            folder if len(missions) == 1 else sub, pick, outcome.results, redesign["info"], cfg.component,
+            cfg.section, cfg.section_variable, names)
+    return reports
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    res = run_study(args.study, args.out, args.scheduler, args.workers, args.retry_failed)
+    if args.json:
+        print(json.dumps(res, indent=2, default=str))
+    else:
+        print(f"study {res['study']}: {res['cases']} case(s), {res['ran']} run now, {res['skipped']} skipped, "
+              f"{len(res['failed'])} failed; table {res['table']}")
+        for name, rep in (res.get("redesign") or {}).items():
+            if name == "cycle":
+                r, b = rep["redesigned"], rep["baseline"]
+                print(f"cycle sweep: lowest SFC at BPR {r['BPR']:.2f}, OPR {r['OPR']:.2f} "
+                      f"({r['SFC_kg_N_s'] * 1e6:.2f} vs baseline {b['SFC_kg_N_s'] * 1e6:.2f} mg/(N s): "
+                      f"{rep['design_point_SFC_change_pct']:+.1f} % at the design point)")
+                continue
+            mf = rep.get("mission_fuel_change_pct")
+            ct = rep.get("fuel_change_at_common_time_pct")
+            print(f"{name}: mission fuel change {'n/a' if mf is None else f'{mf:+.1f} %'}; fuel change at "
+                  f"t = {rep.get('common_time_s', float('nan')):.0f} s {'n/a' if ct is None else f'{ct:+.1f} %'}"
+                  + (f" ({rep['note']})" if rep.get("note") else ""))
+            if rep.get("files"):
+                print(f"  plots: {', '.join(rep['files'].values())}")
+    return 1 if res["failed"] else 0
+
+
+def cmd_cases(args: argparse.Namespace) -> int:
+    from .plan import expand_cases
+
+    study = load_study(args.study)
+    if study.redesign:
+        print("emss study cases: the redesign block's engines are known after the cycle sweep; showing the "
+              "cases without them", file=sys.stderr)
+        from dataclasses import replace
+
+        study = replace(study, redesign={})
+    cases = expand_cases(study)
+    if args.json:
+        print(json.dumps([{"name": c.name, "labels": dict(c.labels), "values": dict(c.values),
+                           "digest": c.digest} for c in cases], indent=2, default=str))
+        return 0
+    for c in cases:
+        print(f"{c.name}  ({', '.join(f'{k}={v}' for k, v in c.values) or 'no parameter values'})")
+    print(f"{len(cases)} case(s)", file=sys.stderr)
+    return 0

@@ -1,0 +1,166 @@
+"""Two engines through the same mission, side by side: fuel, fuel flow and Tt4 on the same axes.
+
+Reads each case's ``timeseries.csv`` (and ``summary.json`` where there is one),
+and writes into ``out/report/``: ``report.json``, ``report.md``,
+``fuel_burned.png`` (burned fuel over time) and ``section.png`` (fuel flow and
+Tt4 over one mission section, against the time since the section began).
+
+Missions that were not flown to the end by both engines are compared at the
+last time both reached (stated in the report), never as whole-mission fuel.
+"""
+from __future__ import annotations
+
+import csv
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .case import CaseResult, case_dir
+
+__all__ = ["read_series", "compare_engines"]
+
+
+def read_series(path: Path, columns: list[str]) -> dict[str, np.ndarray]:
+    """The named columns (and ``time_s``) of a ``timeseries.csv`` as float arrays (missing: absent)."""
+    with open(path, newline="", encoding="utf-8") as f:
+        reader = csv.reader(f)
+        header = next(reader, [])
+        idx = {name: header.index(name) for name in ["time_s", *columns] if name in header}
+        data: dict[str, list[float]] = {name: [] for name in idx}
+        for row in reader:
+            if len(row) < len(header):
+                break  # a row being written when the run died
+            for name, i in idx.items():
+                try:
+                    data[name].append(float(row[i]))
+                except ValueError:
+                    data[name].append(math.nan)
+    return {k: np.asarray(v, dtype=float) for k, v in data.items()}
+
+
+def _section_window(s: dict[str, np.ndarray], var: str, section: int) -> tuple[np.ndarray, str]:
+    """Mask of the rows in `section` (the whole run when it was not reached) and a note."""
+    if var in s and np.any(s[var] == section):
+        return s[var] == section, ""
+    return np.ones_like(s["time_s"], dtype=bool), f"section {section} not reached: whole run shown"
+
+
+def compare_engines(out: Path, cases: dict[str, str], results: dict[str, CaseResult], info: dict[str, Any],
+                    component: str, section: int, section_variable: str,
+                    section_names: list[str] | None = None) -> dict[str, Any]:
+    """Compare the engines of `cases` (label -> case name) flying one mission; write the report files.
+
+    Returns
+    -------
+    dict
+        ``design_point_SFC_change_pct``, per engine the burned fuel at the common time and in the
+        mission (where both completed), the change in fuel [%], and the report's file paths.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    report = out / "report"
+    report.mkdir(parents=True, exist_ok=True)
+    cols = [f"{component}.fuel_burned_kg", f"{component}.fuel_flow_kg_s", f"{component}.Tt4_K", section_variable]
+    series: dict[str, dict[str, np.ndarray]] = {}
+    for label, name in cases.items():
+        path = case_dir(out, name) / "timeseries.csv"
+        if path.is_file():
+            s = read_series(path, cols)
+            if s.get("time_s") is not None and s["time_s"].size and cols[0] in s:
+                series[label] = s
+    res: dict[str, Any] = {"design_point_SFC_change_pct": info.get("design_point_SFC_change_pct"),
+                           "engines": {}, "files": {}}
+    if len(series) < 2:
+        res["note"] = "fewer than two engines have recorded results: nothing to compare"
+        (report / "report.json").write_text(json.dumps(res, indent=2) + "\n", encoding="utf-8")
+        return res
+    t_common = min(float(s["time_s"][-1]) for s in series.values())
+    for label, s in series.items():
+        r = results.get(cases[label])
+        summ = r.summary if r is not None else {}
+        res["engines"][label] = {
+            "case": cases[label], "status": r.status if r is not None else "missing",
+            "sim_time_s": float(s["time_s"][-1]),
+            "fuel_at_common_time_kg": float(np.interp(t_common, s["time_s"], s[cols[0]])),
+            "mission_completed": summ.get("mission_completed"),
+            "mission_fuel_kg": summ.get("fuel_burned_kg") if summ.get("mission_completed") else None,
+        }
+    labels = list(series)
+    a, b = (res["engines"][k] for k in labels[:2])
+    res["common_time_s"] = t_common
+    res["fuel_change_at_common_time_pct"] = 100.0 * (b["fuel_at_common_time_kg"] / a["fuel_at_common_time_kg"] - 1.0) \
+        if a["fuel_at_common_time_kg"] > 0 else None
+    if a["mission_fuel_kg"] and b["mission_fuel_kg"]:
+        res["mission_fuel_change_pct"] = 100.0 * (b["mission_fuel_kg"] / a["mission_fuel_kg"] - 1.0)
+    else:
+        res["mission_fuel_change_pct"] = None
+        res["note"] = (f"the mission was not completed by both engines: fuel compared at t = {t_common:.1f} s, "
+                       "the last time both reached")
+
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    for label, s in series.items():
+        ax.plot(s["time_s"], s[cols[0]], label=label)
+    ax.axvline(t_common, color="0.6", lw=0.8, ls=":")
+    ax.set(xlabel="time [s]", ylabel="burned fuel [kg]", title="Burned fuel over the mission")
+    ax.grid(True, alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(report / "fuel_burned.png", dpi=120)
+    plt.close(fig)
+
+    name = section_names[section] if section_names and 0 <= section < len(section_names) else f"section {section}"
+    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True)
+    notes = []
+    for label, s in series.items():
+        mask, note = _section_window(s, section_variable, section)
+        t = s["time_s"][mask]
+        t = t - t[0]
+        if cols[1] in s:
+            ax1.plot(t, s[cols[1]][mask], label=label)
+        if cols[2] in s:
+            ax2.plot(t, s[cols[2]][mask], label=label)
+        if note:
+            notes.append(f"{label}: {note}")
+    ax1.set(ylabel="fuel flow [kg/s]", title=f"Mission section {section}: {name}" + (
+        f"\n({'; '.join(notes)})" if notes else ""))
+    ax2.set(xlabel="time since the section began [s]", ylabel="Tt4 [K]")
+    for ax in (ax1, ax2):
+        ax.grid(True, alpha=0.3)
+        ax.legend()
+    fig.tight_layout()
+    fig.savefig(report / "section.png", dpi=120)
+    plt.close(fig)
+    res["section"] = {"index": section, "name": name, "notes": notes}
+    res["files"] = {"fuel_burned": str(report / "fuel_burned.png"), "section": str(report / "section.png")}
+    (report / "report.json").write_text(json.dumps(res, indent=2, default=float) + "\n", encoding="utf-8")
+    (report / "report.md").write_text(markdown(res), encoding="utf-8")
+    return res
+
+
+def _pct(v: Any) -> str:
+    return "n/a" if v is None else f"{v:+.2f} %"
+
+
+def markdown(res: dict[str, Any]) -> str:
+    """The comparison as a short Markdown report."""
+    lines = ["# Engine redesign: design-point SFC against mission fuel", "",
+             f"- design-point SFC change (redesigned vs baseline): {_pct(res.get('design_point_SFC_change_pct'))}",
+             f"- mission fuel change: {_pct(res.get('mission_fuel_change_pct'))}",
+             f"- fuel change at t = {res.get('common_time_s', float('nan')):.1f} s (both engines flying): "
+             f"{_pct(res.get('fuel_change_at_common_time_pct'))}", ""]
+    if res.get("note"):
+        lines += [f"Note: {res['note']}.", ""]
+    lines += ["| engine | case | status | simulated [s] | fuel at common time [kg] | mission fuel [kg] |",
+              "|---|---|---|---|---|---|"]
+    for label, e in res.get("engines", {}).items():
+        mf = e.get("mission_fuel_kg")
+        lines.append(f"| {label} | {e['case']} | {e['status']} | {e['sim_time_s']:.1f} | "
+                     f"{e['fuel_at_common_time_kg']:.2f} | {'' if mf is None else f'{mf:.2f}'} |")
+    lines += ["", "![burned fuel](fuel_burned.png)", "", "![fuel flow and Tt4](section.png)", ""]
+    return "\n".join(lines)

@@ -1,0 +1,302 @@
+"""Study files: YAML, validated with one-line errors that name the file, line and field.
+
+A study names one SSP system and what varies; every combination of a variant, a
+grid point, a mission and a scenario is one case (:func:`expand_cases`).
+
+.. code-block:: yaml
+
+    study: engine_redesign            # name [A-Za-z0-9_.-]
+    description: text                 # optional
+    system: ../ssp                    # folder with SystemStructure.ssd, an .ssd or an .ssp (relative to this file)
+    stop_time_s: 4000                 # optional, default: the SSD's DefaultExperiment
+    rate_hz: 20                       # optional communication rate [Hz]
+    algorithm: jacobi                 # optional: jacobi or gauss-seidel
+    record: [engine.*, fcs.section_index]   # optional: variables to record (default: every connector)
+    record_every: 1                   # optional
+    params: [../ssp/engine_reference_study.ssv]   # parameter sets applied to every case
+    values: {engine.use_ambient: false}            # parameter values applied to every case
+    missions: {munich: ../missions/munich.yaml}    # optional: each case flies each mission
+    mission_parameter: fcs.mission_file            # default: fcs.mission_file
+    variants:                         # optional: named parameter sets and values
+      - {name: baseline, params: [a.ssv], values: {engine.preset: reference_study}}
+    grid:                             # optional: every combination of the value lists
+      engine.design_BPR: [1.0, 1.5]
+      engine.design_PR_hpc: {from: 4.0, to: 6.0, num: 3}
+    scenarios: {nominal: null, bleed: bleed.yaml}  # optional: each case runs each scenario (null: none)
+
+Parameter values are typed by the FMU variable they set (Real, Integer,
+Boolean, String); a variable that does not exist or a value of the wrong kind
+is refused before any case runs.
+"""
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+__all__ = ["StudyError", "Variant", "StudyDef", "load_study", "parse_study"]
+
+ValueT = float | int | bool | str
+NAME_RE = re.compile(r"^[A-Za-z0-9_.=+-]+$")
+TOP_KEYS = ("study", "description", "system", "stop_time_s", "rate_hz", "algorithm", "record", "record_every",
+            "params", "values", "missions", "mission_parameter", "variants", "grid", "scenarios", "redesign")
+MAX_GRID_POINTS = 100_000
+
+
+class StudyError(ValueError):
+    """A study file or study run that cannot be used: the message is one line naming file, line and field."""
+
+
+class _Lines(dict):  # type: ignore[type-arg]
+    """A mapping that remembers the line of each key (1-based)."""
+
+    lines: dict[Any, int]
+
+
+class _Loader(yaml.SafeLoader):
+    def construct_mapping(self, node: yaml.MappingNode, deep: bool = False) -> _Lines:  # type: ignore[override]
+        out = _Lines(super().construct_mapping(node, deep=True))
+        out.lines = {self.construct_object(k, deep=True): k.start_mark.line + 1 for k, _ in node.value}
+        return out
+
+
+_Loader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _Loader.construct_mapping)
+
+
+@dataclass(frozen=True)
+class Variant:
+    """A named set of parameter files [.ssv] and values (``component.variable`` -> value)."""
+
+    name: str
+    params: tuple[Path, ...] = ()
+    values: tuple[tuple[str, ValueT], ...] = ()
+
+
+@dataclass(frozen=True)
+class StudyDef:
+    """A validated study file; paths are absolute."""
+
+    name: str
+    source: Path
+    system: Path
+    description: str = ""
+    stop_time_s: float | None = None
+    rate_hz: float | None = None
+    algorithm: str = "jacobi"
+    record: tuple[str, ...] = ()
+    record_every: int = 1
+    params: tuple[Path, ...] = ()
+    values: tuple[tuple[str, ValueT], ...] = ()
+    missions: tuple[tuple[str, Path], ...] = ()
+    mission_parameter: str = "fcs.mission_file"
+    variants: tuple[Variant, ...] = ()
+    grid: tuple[tuple[str, tuple[ValueT, ...]], ...] = ()
+    scenarios: tuple[tuple[str, Path | None], ...] = ()
+    redesign: dict[str, Any] = field(default_factory=dict)
+
+
+class _Ctx:
+    def __init__(self, source: str) -> None:
+        self.source = source
+
+    def fail(self, where: Any, label: str, message: str) -> StudyError:
+        """The error for field ``label``, located at the line of its key in the mapping ``where``."""
+        lines: dict[Any, int] = getattr(where, "lines", {})
+        line = None
+        rest = label
+        while rest:  # the key is a suffix of the label: 'grid.engine.design_BPR' -> 'engine.design_BPR'
+            if rest in lines:
+                line = lines[rest]
+                break
+            cut = min((i for i in (rest.find("."), rest.find("].")) if i >= 0), default=-1)
+            rest = rest[cut + (2 if rest[cut:cut + 2] == "]." else 1):] if cut >= 0 else ""
+        loc = f"{self.source}:{line}" if line else self.source
+        return StudyError(f"{loc}: field '{label}': {message}")
+
+
+def _path(ctx: _Ctx, base: Path, doc: Any, key: str, label: str, value: Any, must_exist: bool = True) -> Path:
+    if not isinstance(value, str) or not value.strip():
+        raise ctx.fail(doc, label, "expected a file or folder path (relative to the study file)")
+    p = Path(value).expanduser()
+    p = (base / p).resolve() if not p.is_absolute() else p
+    if must_exist and not p.exists():
+        raise ctx.fail(doc, label, f"'{value}' does not exist (looked at {p})")
+    return p
+
+
+def _name(ctx: _Ctx, doc: Any, label: str, value: Any) -> str:
+    if not isinstance(value, str | int) or isinstance(value, bool) or not NAME_RE.match(str(value)):
+        raise ctx.fail(doc, label, f"{value!r}: a name of letters, digits and _ . = + - is expected")
+    return str(value)
+
+
+def _number(ctx: _Ctx, doc: Any, label: str, value: Any, lo: float, hi: float) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float) or not (lo <= float(value) <= hi):
+        raise ctx.fail(doc, label, f"{value!r}: expected a number from {lo:g} to {hi:g}")
+    return float(value)
+
+
+def _scalar(ctx: _Ctx, doc: Any, label: str, value: Any) -> ValueT:
+    if isinstance(value, bool | int | str) or (isinstance(value, float) and math.isfinite(value)):
+        return value
+    raise ctx.fail(doc, label, f"{value!r}: expected a number, true/false or a string")
+
+
+def _var_name(ctx: _Ctx, doc: Any, label: str, value: Any) -> str:
+    if not isinstance(value, str) or "." not in value.strip(".") or " " in value:
+        raise ctx.fail(doc, label, f"{value!r}: expected component.variable")
+    return value
+
+
+def _values(ctx: _Ctx, doc: Any, key: str, value: Any) -> tuple[tuple[str, ValueT], ...]:
+    if value is None:
+        return ()
+    if not isinstance(value, dict):
+        raise ctx.fail(doc, key, "expected a mapping of component.variable: value")
+    return tuple((_var_name(ctx, value, f"{key}.{k}", k), _scalar(ctx, value, f"{key}.{k}", v))
+                 for k, v in value.items())
+
+
+def _paths(ctx: _Ctx, base: Path, doc: Any, key: str, value: Any) -> tuple[Path, ...]:
+    if value is None:
+        return ()
+    items = value if isinstance(value, list) else [value]
+    return tuple(_path(ctx, base, doc, key, f"{key}[{i}]", v) for i, v in enumerate(items))
+
+
+def _named_files(ctx: _Ctx, base: Path, doc: Any, key: str, value: Any,
+                 allow_none: bool) -> tuple[tuple[str, Path | None], ...]:
+    if value is None:
+        return ()
+    if isinstance(value, list):  # a list of files: named by their stems
+        value = _Lines({Path(str(v)).stem if v else "none": v for v in value})
+    if not isinstance(value, dict) or not value:
+        raise ctx.fail(doc, key, "expected a mapping name: file (or a list of files)")
+    out: list[tuple[str, Path | None]] = []
+    for k, v in value.items():
+        label = f"{key}.{k}"
+        if v is None and allow_none:
+            out.append((_name(ctx, value, label, k), None))
+        else:
+            out.append((_name(ctx, value, label, k), _path(ctx, base, value, k, label, v)))
+    return tuple(out)
+
+
+def _grid_values(ctx: _Ctx, doc: Any, label: str, value: Any) -> tuple[ValueT, ...]:
+    if isinstance(value, dict):
+        unknown = set(value) - {"from", "to", "num"}
+        if unknown or not {"from", "to", "num"} <= set(value):
+            raise ctx.fail(doc, label, "a range is {from: X, to: Y, num: N}")
+        a = _number(ctx, doc, label + ".from", value["from"], -math.inf, math.inf)
+        b = _number(ctx, doc, label + ".to", value["to"], -math.inf, math.inf)
+        n = value["num"]
+        if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+            raise ctx.fail(doc, label + ".num", f"{n!r}: expected an integer >= 1")
+        return tuple(a + (b - a) * i / (n - 1) if n > 1 else a for i in range(n))
+    if not isinstance(value, list) or not value:
+        raise ctx.fail(doc, label, "expected a non-empty list of values or {from, to, num}")
+    return tuple(_scalar(ctx, doc, label, v) for v in value)
+
+
+def _variants(ctx: _Ctx, base: Path, doc: Any, value: Any) -> tuple[Variant, ...]:
+    if value is None:
+        return ()
+    if not isinstance(value, list) or not value:
+        raise ctx.fail(doc, "variants", "expected a non-empty list of {name, params, values}")
+    out: list[Variant] = []
+    for i, v in enumerate(value):
+        label = f"variants[{i}]"
+        if not isinstance(v, dict):
+            raise ctx.fail(doc, "variants", f"{label}: expected a mapping {{name, params, values}}")
+        unknown = set(v) - {"name", "params", "values"}
+        if unknown:
+            raise ctx.fail(v, sorted(unknown)[0], f"{label}: unknown key; allowed: name, params, values")
+        if "name" not in v:
+            raise ctx.fail(doc, "variants", f"{label}: 'name' is required")
+        out.append(Variant(_name(ctx, v, "name", v["name"]), _paths(ctx, base, v, f"{label}.params", v.get("params")),
+                           _values(ctx, v, f"{label}.values", v.get("values"))))
+    names = [v.name for v in out]
+    dup = next((n for n in names if names.count(n) > 1), None)
+    if dup:
+        raise ctx.fail(doc, "variants", f"two variants are named '{dup}'; names must be unique")
+    return tuple(out)
+
+
+def parse_study(doc: Any, source: Path) -> StudyDef:
+    """Validate a parsed study document (from :func:`load_study`); paths relative to ``source``'s folder."""
+    ctx = _Ctx(str(source))
+    base = source.parent
+    if not isinstance(doc, dict):
+        raise StudyError(f"{source}: a study file is a mapping with at least 'study' and 'system'")
+    for k in doc:
+        if k not in TOP_KEYS:
+            raise ctx.fail(doc, str(k), f"unknown key; allowed: {', '.join(TOP_KEYS)}")
+    for k in ("study", "system"):
+        if k not in doc:
+            raise StudyError(f"{source}: field '{k}' is required")
+    algorithm = doc.get("algorithm", "jacobi")
+    if algorithm not in ("jacobi", "gauss-seidel"):
+        raise ctx.fail(doc, "algorithm", f"{algorithm!r}: expected jacobi or gauss-seidel")
+    record = doc.get("record") or []
+    if isinstance(record, str):
+        record = [record]
+    if not isinstance(record, list) or not all(isinstance(r, str) for r in record):
+        raise ctx.fail(doc, "record", "expected a list of component.variable patterns")
+    every = doc.get("record_every", 1)
+    if isinstance(every, bool) or not isinstance(every, int) or every < 1:
+        raise ctx.fail(doc, "record_every", f"{every!r}: expected an integer >= 1")
+    grid_doc = doc.get("grid") or _Lines()
+    if not isinstance(grid_doc, dict):
+        raise ctx.fail(doc, "grid", "expected a mapping component.variable: [values] or {from, to, num}")
+    grid = tuple((_var_name(ctx, grid_doc, f"grid.{k}", k), _grid_values(ctx, grid_doc, f"grid.{k}", v))
+                 for k, v in grid_doc.items())
+    if math.prod(len(v) for _, v in grid) > MAX_GRID_POINTS:
+        raise ctx.fail(doc, "grid", f"more than {MAX_GRID_POINTS} grid points")
+    redesign = doc.get("redesign") or {}
+    if not isinstance(redesign, dict):
+        raise ctx.fail(doc, "redesign", "expected a mapping (see studies/engine_redesign.yaml)")
+    stop = doc.get("stop_time_s")
+    rate = doc.get("rate_hz")
+    return StudyDef(
+        name=_name(ctx, doc, "study", doc["study"]), source=source.resolve(),
+        system=_path(ctx, base, doc, "system", "system", doc["system"]),
+        description=str(doc.get("description") or ""),
+        stop_time_s=None if stop is None else _number(ctx, doc, "stop_time_s", stop, 1e-9, 1e9),
+        rate_hz=None if rate is None else _number(ctx, doc, "rate_hz", rate, 0.1, 100.0),
+        algorithm=algorithm, record=tuple(record), record_every=every,
+        params=_paths(ctx, base, doc, "params", doc.get("params")),
+        values=_values(ctx, doc, "values", doc.get("values")),
+        missions=tuple((n, p) for n, p in _named_files(ctx, base, doc, "missions", doc.get("missions"), False)
+                       if p is not None),
+        mission_parameter=_var_name(ctx, doc, "mission_parameter", doc.get("mission_parameter", "fcs.mission_file")),
+        variants=_variants(ctx, base, doc, doc.get("variants")),
+        grid=grid,
+        scenarios=_named_files(ctx, base, doc, "scenarios", doc.get("scenarios"), True),
+        redesign=dict(redesign),
+    )
+
+
+def load_study(path: str | Path) -> StudyDef:
+    """Read and validate a study file.
+
+    Raises
+    ------
+    StudyError
+        One line naming the file, the line and the field, and what is allowed.
+    """
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise StudyError(f"{p}: cannot read the study file ({exc.strerror or exc})") from None
+    try:
+        doc = yaml.load(text, Loader=_Loader)  # noqa: S506 - a SafeLoader subclass
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f"{p}:{mark.line + 1}" if mark is not None else str(p)
+        raise StudyError(f"{where}: not valid YAML ({getattr(exc, 'problem', None) or exc})") from None
+    return parse_study(doc, p)

@@ -1,0 +1,73 @@
+"""The study table: one CSV row per case (parameters, outcome, fuel, times, limits)."""
+from __future__ import annotations
+
+import csv
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from .case import CaseDef, CaseResult
+
+__all__ = ["OUTCOME_COLUMNS", "rows", "write_table"]
+
+#: Columns after the case's parameters. ``summary.json`` (written by ``emss run`` where the
+#: project's report hook is installed) gives mission_completed ... limits_hit; a case without one
+#: leaves them empty.
+OUTCOME_COLUMNS: tuple[str, ...] = ("status", "error", "attempts", "ran", "mission_completed", "landed",
+                                    "fuel_burned_kg", "sim_time_s", "wall_time_s", "realtime_factor",
+                                    "max_Tt4_K", "limits_hit", "folder")
+
+
+def _cell(v: Any) -> Any:
+    if v is None:
+        return ""
+    if isinstance(v, list | tuple):
+        return ";".join(str(x) for x in v)
+    if isinstance(v, dict):
+        return ";".join(f"{k}" for k, x in v.items() if x)
+    return v
+
+
+def rows(cases: Sequence[CaseDef], results: dict[str, CaseResult], ran: set[str],
+         out: Path) -> tuple[list[str], list[dict[str, Any]]]:
+    """The table's columns and rows, in case order (a case without a result has status ``pending``)."""
+    dims: list[str] = []
+    for c in cases:
+        for dim, _ in c.labels:
+            if dim not in dims:
+                dims.append(dim)
+    table: list[dict[str, Any]] = []
+    for c in cases:
+        values = dict(c.values)
+        row: dict[str, Any] = {"case": c.name}
+        for dim in dims:
+            row[dim] = values.get(dim, dict(c.labels).get(dim, ""))
+        r = results.get(c.name)
+        s = r.summary if r is not None else {}
+        sim = r.sim_time_s if r is not None else None
+        wall = r.wall_time_s if r is not None else None
+        row.update({
+            "status": r.status if r is not None else "pending",
+            "error": r.error if r is not None else "",
+            "attempts": r.attempts if r is not None else 0,
+            "ran": ("this run" if c.name in ran else "earlier") if r is not None else "",
+            "mission_completed": s.get("mission_completed"), "landed": s.get("landed"),
+            "fuel_burned_kg": s.get("fuel_burned_kg"), "sim_time_s": sim, "wall_time_s": wall,
+            "realtime_factor": s.get("realtime_factor", sim / wall if sim is not None and wall else None),
+            "max_Tt4_K": s.get("max_Tt4_K"), "limits_hit": s.get("limits_hit"),
+            "folder": str(Path("cases") / c.name),
+        })
+        table.append({k: _cell(v) for k, v in row.items()})
+    return ["case", *dims, *OUTCOME_COLUMNS], table
+
+
+def write_table(path: Path, cases: Sequence[CaseDef], results: dict[str, CaseResult], ran: set[str]) -> Path:
+    """Write (atomically) the study table ``path`` (CSV, header line first)."""
+    columns, table = rows(cases, results, ran, path.parent)
+    tmp = path.with_suffix(".csv.tmp")
+    with open(tmp, "w", newline="", encoding="utf-8") as f:
+        w = csv.DictWriter(f, fieldnames=columns)
+        w.writeheader()
+        w.writerows(table)
+    tmp.replace(path)
+    return path

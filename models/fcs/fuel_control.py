@@ -3,7 +3,11 @@
 The law of SPEC.md, stated exactly:
 
 1. Demand. The thrust lever delta in [0, 1] gives the corrected fan speed demand
-   ``N1c_dem = k_delta * delta`` [%].
+   ``N1c_dem = k_delta * delta`` [%], never below the flight-idle setting:
+   ``N1c_dem = max(k_delta * delta, N1c_idle)``. Idle is a corrected speed (as the
+   idle of a real FADEC is a scheduled speed, not a fuel flow), so the engine is
+   held at the bottom of its running range at every altitude instead of being
+   starved below it; Wf_min stays as the lean blow-out floor of the command.
 2. Three regulators, each an incremental (velocity-form) PI computing a fuel-flow
    change per controller step from its own error::
 
@@ -64,6 +68,8 @@ class FuelControlParams:
     ----------
     k_delta_pct : float
         Corrected fan speed demand per unit thrust lever [%].
+    N1c_idle_pct : float
+        Flight idle: the lowest corrected fan speed demand [%].
     Tt41_max_K : float
         HP turbine rotor inlet temperature limit [K].
     N1_max_pct : float
@@ -81,6 +87,7 @@ class FuelControlParams:
     """
 
     k_delta_pct: float
+    N1c_idle_pct: float
     Tt41_max_K: float
     N1_max_pct: float
     kp_kg_s_pct: float
@@ -110,7 +117,7 @@ class FuelControlOutput:
     dWf_kg_s : float
         Change of the command in this step, |dWf| <= stp_max [kg/s].
     N1c_dem_pct : float
-        Demand from the lever, k_delta * delta [%].
+        Demand from the lever, max(k_delta * delta, N1c_idle) [%].
     N1c_lim_pct : float
         Limited demand: N1c_dem, or the measured N1c while a limiter is selected [%].
     limiter : str
@@ -184,7 +191,7 @@ class FuelController(Tunable[FuelControlParams]):
         """
         p = self._params
         d = min(max(delta, 0.0), 1.0)
-        N1c_dem = p.k_delta_pct * d
+        N1c_dem = max(p.k_delta_pct * d, p.N1c_idle_pct)
         e = (N1c_dem - N1c_pct, p.Tt41_max_K - Tt41_K, p.N1_max_pct - N1_pct)
         e0 = e if self._e_prev is None else self._e_prev
         dWf, limiter = p.kp_kg_s_pct * (e[0] - e0[0]) + p.ki_kg_s2_pct * dt_s * e[0], "demand"

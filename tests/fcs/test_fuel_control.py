@@ -97,6 +97,21 @@ def test_decel_is_rate_limited_and_respects_minimum_fuel() -> None:
     assert h["Wf"][-1] == pytest.approx(p.Wf_min_kg_s)
 
 
+def test_chop_to_idle_settles_at_the_flight_idle_speed_not_below() -> None:
+    """Lever 0 with flight idle at 55 % N1c: the demand is floored, so the engine settles at idle,
+    Wf = 55 / G on this first-order engine, instead of running down to Wf_min."""
+    ctrl, eng = trimmed(95.0, Tt41_max_K=2000.0, N1c_idle_pct=55.0)
+    p = ctrl.parameters
+    h = run(ctrl, eng, 0.0, 40.0)
+    assert min(h["dWf"]) >= -p.stp_max_kg_s * (1 + 1e-12)
+    assert h["N1c"][-1] == pytest.approx(55.0, abs=0.01)
+    assert h["Wf"][-1] == pytest.approx(55.0 / G_PCT_PER_KG_S, rel=1e-4)
+    assert min(h["N1c"]) > 55.0 - 1.0  # undershoot of the deceleration below 1 %
+    # above idle the lever law is untouched: 0.8 -> 80 %
+    h = run(ctrl, eng, 0.8, 30.0)
+    assert h["N1c"][-1] == pytest.approx(80.0, abs=0.01)
+
+
 def test_Tt41_limit_bites_and_holds() -> None:
     """Full lever needs Tt41 = 600 + 3000 * 0.25 = 1350 K at 100 %: a 1250 K limit must hold it."""
     ctrl, eng = trimmed(60.0, Tt41_max_K=1250.0)

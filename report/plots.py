@@ -87,7 +87,7 @@ def ground_track(runs: Sequence[PlotRun], path: Path) -> Path | None:
     lat_all: list[float] = []
     for i, r in enumerate(drawn):
         lat, lon = r.data.get("airframe", "lat_deg"), r.data.get("airframe", "lon_deg")
-        ax.plot(lon, lat, _style(i), color="C0" if len(drawn) == 1 else f"C{i}", lw=1.2, label=r.label)
+        ax.plot(lon, lat, _style(i), color="C0" if len(drawn) == 1 else f"C{i}", lw=1.2, label=r.label, zorder=3)
         lat_all.extend([float(np.nanmin(lat)), float(np.nanmax(lat))])
     mission = next((r.mission for r in runs if r.mission is not None), None)
     if mission is not None:
@@ -97,13 +97,16 @@ def ground_track(runs: Sequence[PlotRun], path: Path) -> Path | None:
             ax.annotate(f"{k}" if name == f"WP{k}" else f"{k} {name}", (lon_d, lat_d), textcoords="offset points",
                         xytext=(4, 4), fontsize=8, color="C3")
             lat_all.append(lat_d)
+        used = {getattr(sec.get("runway"), "name", None) for sec in mission.sections}
         for j, (name, rwy) in enumerate(mission.runways):
             end = from_local_ne(rwy.threshold, rwy.length_m * math.cos(rwy.heading_rad),
                                 rwy.length_m * math.sin(rwy.heading_rad), rwy.elevation_m)
             xs = [math.degrees(rwy.threshold.lon_rad), math.degrees(end.lon_rad)]
             ys = [math.degrees(rwy.threshold.lat_rad), math.degrees(end.lat_rad)]
-            ax.plot(xs, ys, "-", color="k", lw=3, solid_capstyle="butt", label="runways" if j == 0 else None)
-            ax.annotate(name, (xs[0], ys[0]), textcoords="offset points", xytext=(3, -9), fontsize=6)
+            ax.plot(xs, ys, "-", color="0.3", lw=3, solid_capstyle="butt", zorder=1,
+                    label="runways" if j == 0 else None)
+            if name in used:  # the runways the mission flies from or to (the others would crowd the label)
+                ax.annotate(name, (xs[0], ys[0]), textcoords="offset points", xytext=(3, -9), fontsize=7)
         ax.plot([], [], "^", color="C3", label="waypoints")
     mid = 0.5 * (min(lat_all) + max(lat_all))
     ax.set_aspect(1.0 / max(math.cos(math.radians(mid)), 1e-3))

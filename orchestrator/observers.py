@@ -314,6 +314,7 @@ class Progress:
         self.interval_s = interval_s
         self.status = status
         self._read_status: Callable[[], object] | None = None
+        self._status_shown = ""
         self._t0_wall = 0.0
         self._next = 0.0
         self._sim0 = 0.0
@@ -336,7 +337,7 @@ class Progress:
 
     def _status_text(self) -> str:
         if self._read_status is None:
-            return ""
+            return self._status_shown
         try:
             value = self._read_status()
         except Exception:  # a failed or freed FMU: the bar goes on without its status
@@ -345,7 +346,8 @@ class Progress:
             value = value.decode("utf-8", "replace")
         text = f"{value:g}" if isinstance(value, float) else str(value)
         w = self.STATUS_WIDTH
-        return "  " + (text if len(text) <= w else text[: w - 1] + "~").ljust(w)
+        self._status_shown = "  " + (text if len(text) <= w else text[: w - 1] + "~").ljust(w)
+        return self._status_shown
 
     def _draw(self, time_s: float, now: float) -> None:
         span = max(self.stop_time_s - self._sim0, 1e-12)
@@ -359,6 +361,8 @@ class Progress:
         self._shown = True
 
     def finish(self, execution: Execution, error: BaseException | None) -> None:
+        if error is not None:  # no FMI call into a failed FMU: the last status read stays
+            self._read_status = None
         if self._shown:
             self._draw(execution.time_s, time.perf_counter())
             self.stream.write("\n")

@@ -181,6 +181,7 @@ class TurbofanOffDesign:
                         P_hp=c["hpc"].power_W, P_lp=c["fan_outer"].power_W + c["fan_inner"].power_W,
                         Wf=dp.Wf_kg_s, Fn=dp.Fn_N, Tt4=dp.Tt4_K, PRh=c["hpt"].PR, PRl=c["lpt"].PR)
         self.ref["Wc21"] = c["booster"].Wc_kg_s
+        self._fast: Any = None                              # the compiled residuals, built on first use
         self.x_design = (1.0, maps.beta_fan_design, maps.beta_hpc_design, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0) + (
             (maps.beta_booster_design,) if self.nb else ())
 
@@ -190,6 +191,25 @@ class TurbofanOffDesign:
             n for n, d in zip(("fan_sector_pressure", "hpc_sector_pressure"), dist, strict=True) if d is not None)
 
     # ------------------------------------------------------------------ cycle
+    @property
+    def fast(self) -> Any:
+        """The compiled residuals (:class:`.jit_cycle.FastCycle`), or None where they do not apply."""
+        if self._fast is None:
+            from .jit_cycle import FastCycle
+            self._fast = FastCycle.build(self) or False
+        return self._fast or None
+
+    def _residuals(self, x: np.ndarray, cond: tuple[float, float, float], demand: tuple[str, float],
+                   extras: tuple[float, float, float], dist: tuple[Distortion | None, Distortion | None] = (None, None),
+                   hb_frac: float | None = None) -> np.ndarray:
+        """The residuals of :meth:`_cycle` (the same numbers), from the compiled kernel where it applies."""
+        fc = self.fast
+        if fc is not None and dist[0] is None and dist[1] is None and x.size == 9:
+            from .jit_cycle import DEMAND
+            if fc(x, cond, (DEMAND[demand[0]], demand[1]), extras, hb_frac):
+                return fc.r.copy()
+        return self._cycle(x, cond, demand, extras, dist, hb_frac)[0]
+
     def _cycle(self, x: np.ndarray, cond: tuple[float, float, float], demand: tuple[str, float],
                extras: tuple[float, float, float], dist: tuple[Distortion | None, Distortion | None] = (None, None),
                hb_frac: float | None = None) -> tuple[np.ndarray, dict[str, Any]]:
@@ -379,20 +399,14 @@ class TurbofanOffDesign:
                tol: float) -> OffDesignPoint:
         x0, J0 = self.start(dist, guess, cond)
         names = self.residual_names(dist)
-        last: dict[str, Any] = {}
 
         def resid(x: np.ndarray) -> np.ndarray:
-            r, info = self._cycle(x, cond, (kind, value), extras, dist)
-            last["x"], last["info"] = x.copy(), info
-            return r
+            return self._residuals(x, cond, (kind, value), extras, dist)
 
         res = newton_solve(resid, x0, names, tol=tol, jacobian=J0,
                            where=f"offdesign of {self.p.name!r} at alt {cond[0]} m, Mach {cond[1]}, "
                                  f"{kind}={value:.6g}")
-        if "x" in last and np.array_equal(last["x"], res.x):
-            info = last["info"]
-        else:
-            info = self._cycle(res.x, cond, (kind, value), extras, dist)[1]
+        info = self._cycle(res.x, cond, (kind, value), extras, dist)[1]       # the stations, once
         return self._result(res, info, cond, dist)
 
     def start(self, dist: tuple[Distortion | None, Distortion | None], guess: OffDesignPoint | None,

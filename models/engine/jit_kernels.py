@@ -1,0 +1,396 @@
+"""Compiled building blocks of the fast gas path: gas properties, their inverses, map tables, surge margin.
+
+The same equations as :mod:`.gas` (NASA Glenn mixtures of air and lean combustion
+products), :mod:`.map_interp` (C1 bicubic Hermite tables with linear extrapolation)
+and :meth:`.maps.CompressorMap.surge_margin` (flow basis), written on plain floats and
+arrays so that numba compiles them (``njit``). The Python modules stay the reference;
+:mod:`.jit_cycle` builds the turbofan's residuals from these blocks and a test checks
+that both give the same residuals.
+
+Errors are not raised here: a function that meets an input the Python version would
+refuse sets ``err[0] = 1`` and returns a finite dummy value; the caller then reruns
+the Python version, which raises with its full message.
+
+Array layouts
+-------------
+``gc`` : shape (2, 6, 8), per temperature interval (below, above ``T_mid``) the
+coefficients of cp_air, cp_fuel (7 used), h_air, h_fuel, phi_air, phi_fuel (8), as
+:func:`.gas._poly_coeffs` builds them (per kg of air and per kg of fuel burned).
+``gs`` : T_mid, FAR_stoich, h_air(200 K), h_fuel(200 K), h_air(2200 K), h_fuel(2200 K),
+the same four for phi, R_air part, R_fuel part, LHV, h of the liquid fuel.
+A map table: grid ``xg``, ``yg``, inverse spacings ``ihx``, ``ihy``, ``cells`` of shape
+(nx-1, ny-1, n_out, 16) and ``lim`` = (x_lo, x_hi, y_lo, y_hi, x_min, x_max, y_min, y_max).
+
+References
+----------
+B. J. McBride, M. J. Zehe, S. Gordon, NASA/TP-2002-211556, 2002 (the polynomials).
+F. N. Fritsch, R. E. Carlson, SIAM J. Numer. Anal. 17(2), 1980 (the tables' slopes).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import os
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+__all__ = ["AVAILABLE", "jit", "T_MIN", "T_MAX"]
+
+T_MIN = 200.0
+T_MAX = 2200.0
+_STEP_TOL = 1e-5
+_MAX_ITER = 30
+
+
+def _plain(fn: Callable[..., Any]) -> Callable[..., Any]:
+    return fn
+
+
+def _cache_dir() -> str:
+    """Where compiled kernels are kept: $OPENEMSS_JIT_CACHE, else the user's cache folder."""
+    root = os.environ.get("OPENEMSS_JIT_CACHE") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "openemss", "numba")
+    here = os.path.dirname(os.path.abspath(__file__))
+    digest = hashlib.sha256()
+    for name in ("jit_kernels.py", "jit_cycle.py"):     # a kernel embeds the ones it calls: hash them together
+        with open(os.path.join(here, name), "rb") as fh:
+            digest.update(fh.read())
+    return os.path.join(root, digest.hexdigest()[:20])
+
+
+def _install_locator(numba_caching: Any) -> None:
+    """Cache the kernels by content, not by path.
+
+    numba keeps compiled functions beside their source (``__pycache__``), keyed by the
+    file's path. An FMU is extracted to a new temporary folder by every importer, so
+    that cache would never be found again and each process would compile the kernels
+    anew (10 to 20 s). This locator keeps them in one folder per content of the two
+    kernel modules (:func:`_cache_dir`), wherever the modules were unpacked; numba
+    checks the source's content hash as well.
+    """
+    base = numba_caching._CacheLocator
+    impl = getattr(numba_caching, "CacheImpl", None) or numba_caching._CacheImpl
+    path = _cache_dir()
+
+    class _ContentLocator(base):  # type: ignore[misc, valid-type]
+        def __init__(self, py_func: Any, py_file: str) -> None:
+            self._py_file, self._lineno = py_file, py_func.__code__.co_firstlineno
+
+        def get_cache_path(self) -> str:
+            return path
+
+        def get_source_stamp(self) -> Any:
+            with open(self._py_file, "rb") as fh:
+                return hashlib.sha256(fh.read()).hexdigest()
+
+        def get_disambiguator(self) -> str:
+            return str(self._lineno)
+
+        @classmethod
+        def from_function(cls, py_func: Any, py_file: str) -> Any:
+            if os.path.dirname(os.path.abspath(py_file)) != os.path.dirname(os.path.abspath(__file__)):
+                return None
+            self = cls(py_func, py_file)
+            try:
+                self.ensure_cache_path()
+            except OSError:
+                return None                     # not writable: numba's own locators
+            return self
+
+    if not any(c.__name__ == "_ContentLocator" and getattr(c, "_path", None) == path
+               for c in impl._locator_classes):
+        _ContentLocator._path = path            # type: ignore[attr-defined]
+        impl._locator_classes.insert(0, _ContentLocator)
+
+
+try:                                        # numba is a dependency; without it the Python path is used
+    if os.environ.get("OPENEMSS_NO_JIT"):
+        raise ImportError("OPENEMSS_NO_JIT is set")
+    from numba import njit as _njit
+    AVAILABLE = True
+    try:
+        from numba.core import caching as _caching
+        _install_locator(_caching)
+    except Exception:                       # pragma: no cover - a numba without this internal API: path cache
+        pass
+
+    def jit(fn: Callable[..., Any]) -> Callable[..., Any]:
+        """numba ``njit``, cached on disk (fastmath off: results equal the Python ones to rounding)."""
+        return _njit(cache=True, nogil=True)(fn)
+except ImportError:                         # pragma: no cover
+    AVAILABLE = False
+    jit = _plain
+
+
+# ---------------------------------------------------------------------- gas
+@jit
+def cp(gc: np.ndarray, gs: np.ndarray, T: float, f: float, err: np.ndarray) -> float:
+    """cp [J/(kg K)] at T [K], FAR f [-]."""
+    if not (T_MIN <= T <= T_MAX) or not (0.0 <= f <= gs[1]):
+        err[0] = 1
+        return 1000.0
+    k = 0 if T <= gs[0] else 1
+    i = 1.0 / T
+    a = gc[k, 0]
+    v = i * (a[0] * i + a[1]) + a[2] + T * (a[3] + T * (a[4] + T * (a[5] + T * a[6])))
+    if f != 0.0:
+        a = gc[k, 1]
+        v = (v + f * (i * (a[0] * i + a[1]) + a[2] + T * (a[3] + T * (a[4] + T * (a[5] + T * a[6]))))) / (1.0 + f)
+    return v
+
+
+@jit
+def h(gc: np.ndarray, gs: np.ndarray, T: float, f: float, err: np.ndarray) -> float:
+    """Sensible enthalpy [J/kg] at T [K], FAR f [-]."""
+    if not (T_MIN <= T <= T_MAX) or not (0.0 <= f <= gs[1]):
+        err[0] = 1
+        return 0.0
+    k = 0 if T <= gs[0] else 1
+    b = gc[k, 2]
+    lnT = math.log(T)
+    v = b[0] / T + b[1] * lnT + T * (b[2] + T * (b[3] + T * (b[4] + T * (b[5] + T * b[6])))) + b[7]
+    if f != 0.0:
+        b = gc[k, 3]
+        v = (v + f * (b[0] / T + b[1] * lnT + T * (b[2] + T * (b[3] + T * (b[4] + T * (b[5] + T * b[6]))))
+                      + b[7])) / (1.0 + f)
+    return v
+
+
+@jit
+def h_parts(gc: np.ndarray, gs: np.ndarray, T: float, err: np.ndarray) -> tuple[float, float]:
+    """(h_air, h_fuel) [J/kg] at T [K], as :meth:`.gas.GasModel.h_parts`."""
+    if not (T_MIN <= T <= T_MAX):
+        err[0] = 1
+        return 0.0, 0.0
+    k = 0 if T <= gs[0] else 1
+    lnT = math.log(T)
+    b = gc[k, 2]
+    ha = b[0] / T + b[1] * lnT + T * (b[2] + T * (b[3] + T * (b[4] + T * (b[5] + T * b[6])))) + b[7]
+    b = gc[k, 3]
+    hf = b[0] / T + b[1] * lnT + T * (b[2] + T * (b[3] + T * (b[4] + T * (b[5] + T * b[6])))) + b[7]
+    return ha, hf
+
+
+@jit
+def phi(gc: np.ndarray, gs: np.ndarray, T: float, f: float, err: np.ndarray) -> float:
+    """Entropy function [J/(kg K)] at T [K], FAR f [-]."""
+    if not (T_MIN <= T <= T_MAX) or not (0.0 <= f <= gs[1]):
+        err[0] = 1
+        return 0.0
+    k = 0 if T <= gs[0] else 1
+    i = 1.0 / T
+    lnT = math.log(T)
+    b = gc[k, 4]
+    v = i * (b[0] * i + b[1]) + b[2] * lnT + T * (b[3] + T * (b[4] + T * (b[5] + T * b[6]))) + b[7]
+    if f != 0.0:
+        b = gc[k, 5]
+        v = (v + f * (i * (b[0] * i + b[1]) + b[2] * lnT + T * (b[3] + T * (b[4] + T * (b[5] + T * b[6])))
+                      + b[7])) / (1.0 + f)
+    return v
+
+
+@jit
+def R(gs: np.ndarray, f: float) -> float:
+    """Gas constant [J/(kg K)] at FAR f [-]."""
+    if f == 0.0:
+        return gs[10]
+    return (gs[10] + f * gs[11]) / (1.0 + f)
+
+
+@jit
+def T_from_h(gc: np.ndarray, gs: np.ndarray, hv: float, f: float, Tg: float, err: np.ndarray) -> float:
+    """Temperature [K] of enthalpy hv [J/kg]: the Newton iteration of :meth:`.gas.GasModel.T_from_h`."""
+    if not (0.0 <= f <= gs[1]):
+        err[0] = 1
+        return 300.0
+    inv = 1.0 / (1.0 + f)
+    h_min, h_max = (gs[2] + f * gs[3]) * inv, (gs[4] + f * gs[5]) * inv
+    slack = 1e-12 * (h_max - h_min)
+    if not (h_min - slack <= hv <= h_max + slack):
+        err[0] = 1
+        return 300.0
+    T = Tg if T_MIN <= Tg <= T_MAX else 298.15 + hv / 1100.0
+    for _ in range(_MAX_ITER):
+        T = T_MIN if T < T_MIN else (T_MAX if T > T_MAX else T)
+        k = 0 if T <= gs[0] else 1
+        i, lnT = 1.0 / T, math.log(T)
+        a, b = gc[k, 0], gc[k, 2]
+        c_ = i * (a[0] * i + a[1]) + a[2] + T * (a[3] + T * (a[4] + T * (a[5] + T * a[6])))
+        h_ = b[0] * i + b[1] * lnT + T * (b[2] + T * (b[3] + T * (b[4] + T * (b[5] + T * b[6])))) + b[7]
+        if f != 0.0:
+            a, b = gc[k, 1], gc[k, 3]
+            c_ = (c_ + f * (i * (a[0] * i + a[1]) + a[2] + T * (a[3] + T * (a[4] + T * (a[5] + T * a[6]))))) * inv
+            h_ = (h_ + f * (b[0] * i + b[1] * lnT + T * (b[2] + T * (b[3] + T * (b[4] + T * (b[5] + T * b[6]))))
+                            + b[7])) * inv
+        dT = (h_ - hv) / c_
+        T -= dT
+        if -_STEP_TOL < dT < _STEP_TOL:
+            return T
+    err[0] = 1
+    return T
+
+
+@jit
+def T_from_phi(gc: np.ndarray, gs: np.ndarray, pv: float, f: float, Tg: float, err: np.ndarray) -> float:
+    """Temperature [K] of entropy function pv [J/(kg K)]: :meth:`.gas.GasModel.T_from_phi`."""
+    if not (0.0 <= f <= gs[1]):
+        err[0] = 1
+        return 300.0
+    inv = 1.0 / (1.0 + f)
+    p_min, p_max = (gs[6] + f * gs[7]) * inv, (gs[8] + f * gs[9]) * inv
+    slack = 1e-12 * (p_max - p_min)
+    if not (p_min - slack <= pv <= p_max + slack):
+        err[0] = 1
+        return 300.0
+    T = Tg if T_MIN <= Tg <= T_MAX else 298.15 * math.exp(pv / 1100.0)
+    for _ in range(_MAX_ITER):
+        T = T_MIN if T < T_MIN else (T_MAX if T > T_MAX else T)
+        k = 0 if T <= gs[0] else 1
+        i, lnT = 1.0 / T, math.log(T)
+        a, b = gc[k, 0], gc[k, 4]
+        c_ = i * (a[0] * i + a[1]) + a[2] + T * (a[3] + T * (a[4] + T * (a[5] + T * a[6])))
+        p_ = i * (b[0] * i + b[1]) + b[2] * lnT + T * (b[3] + T * (b[4] + T * (b[5] + T * b[6]))) + b[7]
+        if f != 0.0:
+            a, b = gc[k, 1], gc[k, 5]
+            c_ = (c_ + f * (i * (a[0] * i + a[1]) + a[2] + T * (a[3] + T * (a[4] + T * (a[5] + T * a[6]))))) * inv
+            p_ = (p_ + f * (i * (b[0] * i + b[1]) + b[2] * lnT + T * (b[3] + T * (b[4] + T * (b[5] + T * b[6])))
+                            + b[7])) * inv
+        T_new = T * math.exp((pv - p_) / c_)
+        dT = T_new - T
+        T = T_new
+        if -_STEP_TOL < dT < _STEP_TOL:
+            return T
+    err[0] = 1
+    return T
+
+
+@jit
+def T_isentropic(gc: np.ndarray, gs: np.ndarray, T1: float, pr: float, f: float, Tg: float,
+                 err: np.ndarray) -> float:
+    """Temperature [K] after an isentropic pressure change by pr [-] (:meth:`.gas.GasModel.T_isentropic`)."""
+    if not pr > 0.0:
+        err[0] = 1
+        return T1
+    p2 = phi(gc, gs, T1, f, err) + R(gs, f) * math.log(pr)
+    return T_from_phi(gc, gs, p2, f, Tg, err)
+
+
+@jit
+def static_from_total(gc: np.ndarray, gs: np.ndarray, Tt: float, M: float, f: float,
+                      err: np.ndarray) -> tuple[float, float]:
+    """Static temperature [K] and p/pt [-] at Mach M (:meth:`.gas.GasModel.static_from_total`)."""
+    ht, R_ = h(gc, gs, Tt, f, err), R(gs, f)
+    k = 0.5 * M * M * R_
+    T = Tt / (1.0 + k / (cp(gc, gs, Tt, f, err) - R_))
+    for _ in range(_MAX_ITER):
+        c = cp(gc, gs, T, f, err)
+        g = c / (c - R_)
+        dT = (h(gc, gs, T, f, err) + k * g * T - ht) / (c + k * g)
+        T -= dT
+        if -1e-7 < dT < 1e-7:
+            return T, math.exp((phi(gc, gs, T, f, err) - phi(gc, gs, Tt, f, err)) / R_)
+        if err[0]:
+            return Tt, 1.0
+    err[0] = 1
+    return Tt, 1.0
+
+
+# ---------------------------------------------------------------------- map tables
+@jit
+def _cell(xg: np.ndarray, v: float, lo: float, hi: float) -> int:
+    """bisect_right over the interior breakpoints: the cell index of v in [lo, hi]."""
+    i = 0
+    n = xg.shape[0]
+    while i < n - 2 and xg[i + 1] <= v:
+        i += 1
+    return i
+
+
+@jit
+def table(xg: np.ndarray, yg: np.ndarray, ihx: np.ndarray, ihy: np.ndarray, cells: np.ndarray, lim: np.ndarray,
+          x: float, y: float, out: np.ndarray, gx: np.ndarray, gy: np.ndarray, err: np.ndarray) -> None:
+    """Values (and d/dx, d/dy into gx, gy) of every output at (x, y), as :class:`.map_interp.BicubicTable`."""
+    inside = lim[0] <= x <= lim[1] and lim[2] <= y <= lim[3]
+    if not inside and not (lim[4] <= x <= lim[5] and lim[6] <= y <= lim[7]):
+        err[0] = 1
+        for k in range(cells.shape[2]):
+            out[k] = 1.0
+            gx[k] = 0.0
+            gy[k] = 0.0
+        return
+    xc = min(max(x, lim[0]), lim[1])
+    yc = min(max(y, lim[2]), lim[3])
+    dx, dy = x - xc, y - yc
+    i = _cell(xg, xc, lim[0], lim[1])
+    j = _cell(yg, yc, lim[2], lim[3])
+    hx, hy = ihx[i], ihy[j]
+    t = (xc - xg[i]) * hx
+    u = (yc - yg[j]) * hy
+    for k in range(cells.shape[2]):
+        c = cells[i, j, k]
+        r0 = c[0] + u * (c[1] + u * (c[2] + u * c[3]))
+        r1 = c[4] + u * (c[5] + u * (c[6] + u * c[7]))
+        r2 = c[8] + u * (c[9] + u * (c[10] + u * c[11]))
+        r3 = c[12] + u * (c[13] + u * (c[14] + u * c[15]))
+        p = r0 + t * (r1 + t * (r2 + t * r3))
+        s0 = c[1] + u * (2.0 * c[2] + 3.0 * u * c[3])
+        s1 = c[5] + u * (2.0 * c[6] + 3.0 * u * c[7])
+        s2 = c[9] + u * (2.0 * c[10] + 3.0 * u * c[11])
+        s3 = c[13] + u * (2.0 * c[14] + 3.0 * u * c[15])
+        pt = r1 + t * (2.0 * r2 + 3.0 * t * r3)
+        pu = s0 + t * (s1 + t * (s2 + t * s3))
+        ptu = s1 + t * (2.0 * s2 + 3.0 * t * s3)
+        px, py = pt * hx, pu * hy
+        if inside:
+            out[k] = p
+            gx[k] = px
+            gy[k] = py
+        else:
+            pxy = ptu * hx * hy
+            out[k] = p + px * dx + py * dy + pxy * dx * dy
+            gx[k] = px + pxy * dy
+            gy[k] = py + pxy * dx
+
+
+@jit
+def surge_margin(xg: np.ndarray, yg: np.ndarray, ihx: np.ndarray, ihy: np.ndarray, cells: np.ndarray,
+                 lim: np.ndarray, sx: np.ndarray, sw: np.ndarray, nc: float, beta: float, s_PR: float) -> float:
+    """Flow-basis surge margin [-] (:meth:`.maps.CompressorMap.surge_margin`); NaN where the Python raises."""
+    err = np.zeros(1, np.int64)
+    v, gx, gy = np.empty(3), np.empty(3), np.empty(3)
+    table(xg, yg, ihx, ihy, cells, lim, nc, beta, v, gx, gy, err)
+    if err[0]:
+        return math.nan
+    w, pr = v[0], (v[1] - 1.0) * s_PR + 1.0
+    if beta == 0.0:
+        x = nc
+    else:
+        n = sw.shape[0]
+        if not sw[0] <= w <= sw[n - 1]:
+            return math.nan
+        k = 0                                   # bisect_right(sw, w) - 1, clipped to [0, n - 2]
+        while k < n - 1 and sw[k] <= w:
+            k += 1
+        k = min(max(k - 1, 0), n - 2)
+        lo, hi, f_lo = sx[k], sx[k + 1], sw[k] - w
+        x = lo + (hi - lo) * (w - sw[k]) / (sw[k + 1] - sw[k])
+        for _ in range(60):
+            table(xg, yg, ihx, ihy, cells, lim, x, 0.0, v, gx, gy, err)
+            f = v[0] - w
+            if abs(f) <= 1e-12 * max(1.0, abs(w)):
+                break
+            if (f < 0.0) == (f_lo < 0.0):
+                lo, f_lo = x, f
+            else:
+                hi = x
+            x_new = x - f / gx[0] if gx[0] != 0.0 else 0.5 * (lo + hi)
+            x = x_new if lo < x_new < hi else 0.5 * (lo + hi)
+            if hi - lo <= 1e-14:
+                break
+    table(xg, yg, ihx, ihy, cells, lim, x, 0.0, v, gx, gy, err)
+    if err[0]:
+        return math.nan
+    return ((v[1] - 1.0) * s_PR + 1.0) / pr - 1.0

@@ -40,6 +40,8 @@ def register(subparsers: argparse._SubParsersAction) -> tuple[type[Exception], .
                      help="worker processes of the LocalCluster (default: the number of cores)")
     run.add_argument("--out", type=Path, metavar="DIR", help="study folder (default: results/study-<name>)")
     run.add_argument("--retry-failed", action="store_true", help="run cases again that failed in an earlier run")
+    run.add_argument("--stop-time", type=float, metavar="S",
+                     help="stop time [s] of every case instead of the study file's (e.g. a short trial)")
     run.add_argument("--json", action="store_true", help="print the outcome as JSON")
     run.set_defaults(handler=cmd_run)
     cases = sub.add_parser("cases", help="list the cases of a study without running them")
@@ -62,12 +64,18 @@ def _with_redesign(study: StudyDef, out: Path) -> tuple[StudyDef, dict[str, Any]
 
 
 def run_study(path: Path, out: Path | None = None, scheduler: str | None = None, workers: int | None = None,
-              retry_failed: bool = False) -> dict[str, Any]:
+              retry_failed: bool = False, stop_time_s: float | None = None) -> dict[str, Any]:
     """Run a study file end to end; returns what the command prints (see ``--json``)."""
+    from dataclasses import replace
+
     from .plan import expand_cases
     from .runner import run_cases
 
     study = load_study(path)
+    if stop_time_s is not None:
+        if not (0.0 < stop_time_s < 1e9):
+            raise StudyError(f"--stop-time {stop_time_s}: must be a positive number of seconds")
+        study = replace(study, stop_time_s=float(stop_time_s))
     if workers is not None and workers < 1:
         raise StudyError(f"--workers {workers}: must be an integer >= 1")
     folder = (out or Path("results") / f"study-{study.name}").resolve()
@@ -112,7 +120,7 @@ def _report(study: StudyDef, cases: list[Any], outcome: Any, redesign: dict[str,
 
 
 def cmd_run(args: argparse.Namespace) -> int:
-    res = run_study(args.study, args.out, args.scheduler, args.workers, args.retry_failed)
+    res = run_study(args.study, args.out, args.scheduler, args.workers, args.retry_failed, args.stop_time)
     if args.json:
         print(json.dumps(res, indent=2, default=str))
     else:

@@ -127,9 +127,10 @@ def compare_engines(out: Path, cases: dict[str, str], results: dict[str, CaseRes
             ax2.plot(t, s[cols[2]][mask], label=label)
         if note:
             notes.append(f"{label}: {note}")
+    missed = [n.split(":")[0] for n in notes]
     ax1.set(ylabel="fuel flow [kg/s]", title=f"Mission section {section}: {name}" + (
-        f"\n({'; '.join(notes)})" if notes else ""))
-    ax2.set(xlabel="time since the section began [s]", ylabel="Tt4 [K]")
+        f"\n(not reached by {', '.join(missed)}: the whole run is shown)" if missed else ""))
+    ax2.set(xlabel="time since the section began [s]" if not missed else "time [s]", ylabel="Tt4 [K]")
     for ax in (ax1, ax2):
         ax.grid(True, alpha=0.3)
         ax.legend()

@@ -148,8 +148,9 @@ def run_cases(cases: Sequence[CaseDef], out: Path, scheduler: str | None = None,
                       f"(table: {table})")
         return outcome
     n_workers = max(1, min(workers or os.cpu_count() or 1, len(todo)))
-    # A LocalCluster fails a task at the first death of its worker, so that the retry is ours (one).
-    with dask.config.set({"distributed.scheduler.allowed-failures": 0}):
+    # A LocalCluster fails a task at the first death of its worker, so that the retry is ours (one), and
+    # gives each worker only the case it runs: a case waiting on a worker that dies is not blamed for it.
+    with dask.config.set({"distributed.scheduler.allowed-failures": 0, "distributed.scheduler.worker-saturation": 1.0}):
         client, cluster = _client(scheduler, n_workers)
         try:
             slots = sum(client.nthreads().values()) or n_workers

@@ -276,7 +276,7 @@ def parse_study(doc: Any, source: Path) -> StudyDef:
         variants=_variants(ctx, base, doc, doc.get("variants")),
         grid=grid,
         scenarios=_named_files(ctx, base, doc, "scenarios", doc.get("scenarios"), True),
-        redesign=dict(redesign),
+        redesign=redesign,  # keeps the line of each key for errors
     )
 
 

@@ -23,8 +23,8 @@ def _cell(v: Any) -> Any:
         return ""
     if isinstance(v, list | tuple):
         return ";".join(str(x) for x in v)
-    if isinstance(v, dict):
-        return ";".join(f"{k}" for k, x in v.items() if x)
+    if isinstance(v, dict):  # e.g. limits_hit: {name: {count: n, ...}}: the names that were hit
+        return ";".join(str(k) for k, x in v.items() if (x.get("count") if isinstance(x, dict) else x))
     return v
 
 
@@ -33,9 +33,11 @@ def rows(cases: Sequence[CaseDef], results: dict[str, CaseResult], ran: set[str]
     """The table's columns and rows, in case order (a case without a result has status ``pending``)."""
     dims: list[str] = []
     for c in cases:
-        for dim, _ in c.labels:
+        for dim, _ in [*c.labels, *c.values]:  # the study's dimensions, then every parameter value that varies
             if dim not in dims:
                 dims.append(dim)
+    dims = [d for d in dims if any(d == k for c in cases for k, _ in c.labels)
+            or len({repr(dict(c.values).get(d)) for c in cases}) > 1]
     table: list[dict[str, Any]] = []
     for c in cases:
         values = dict(c.values)

@@ -9,6 +9,12 @@ exact to centimetres over an approach.
 
 Phases of :class:`AutoLand` (each reported as a string):
 
+``HOLD``       only when the approach starts more than hold_enter_m above the approach
+               altitude (a descent that could not be completed before, e.g. with a high
+               idle thrust): orbit of radius hold_radius_m, gear down for drag, centred on
+               the extended centre line two radii beyond the point where the glide path
+               passes the approach altitude, descending to that altitude, as a holding
+               pattern would. -> ``LOC_ARMED`` within hold_exit_m of the approach altitude.
 ``LOC_ARMED``  lateral: track to the extended centre line (L1 guidance); vertical:
                hold the approach altitude. -> ``LOC`` when |cross-track| < loc_capture.
 ``LOC``        localizer tracked; glide slope armed. -> ``GS`` when the aircraft
@@ -107,6 +113,9 @@ class ApproachParams:
     flare_gamma_max_rad: float
     gear_up_agl_m: float
     climb_engage_agl_m: float
+    hold_enter_m: float
+    hold_exit_m: float
+    hold_radius_m: float
 
     @classmethod
     def from_file(cls, **overrides: float) -> ApproachParams:
@@ -227,7 +236,7 @@ class AutoLand(Tunable[ApproachParams]):
         self.runway = runway
         self.approach_alt_m = approach_alt_m
         self._g = guidance if guidance is not None else L1Guidance()
-        self.phase = "LOC_ARMED"
+        self.phase = ""  # decided at the first step: HOLD or LOC_ARMED
         self._tau_flare = 1.0
         self._theta_cmd = 0.0
 
@@ -235,6 +244,15 @@ class AutoLand(Tunable[ApproachParams]):
     def done(self) -> bool:
         """The aircraft has stopped on the runway."""
         return self.phase == "STOPPED"
+
+    def hold_center(self) -> LatLon:
+        """Centre of the descent hold: on the extended centre line, two hold radii beyond the point
+        where the glide path passes the approach altitude, so that the whole circle lies at least one
+        radius outside it: at the approach altitude the aircraft leaves the hold below the glide path
+        (R tan(gs), 210 m at 4 km and 3 deg) and captures it from below, as in a normal approach."""
+        p = self._params
+        d_fix = max(self.approach_alt_m - self.runway.elevation_m - p.tch_m, 0.0) / math.tan(p.gs_angle_rad)
+        return self.runway.point(-(d_fix + 2.0 * p.hold_radius_m))
 
     def step(self, dt_s: float, pos: LatLon, alt_m: float, vn_m_s: float, ve_m_s: float, psi_rad: float,
              tas_m_s: float, theta_rad: float, on_ground: bool) -> ApproachCommand:
@@ -271,6 +289,10 @@ class AutoLand(Tunable[ApproachParams]):
         theta_cmd: float | None = None
         idle, align, steer, brake = False, None, 0.0, 0.0
 
+        if not self.phase:
+            self.phase = "HOLD" if alt_m > self.approach_alt_m + p.hold_enter_m else "LOC_ARMED"
+        if self.phase == "HOLD" and alt_m < self.approach_alt_m + p.hold_exit_m:
+            self.phase = "LOC_ARMED"
         if self.phase == "LOC_ARMED" and abs(ils.loc_m) < p.loc_capture_m and ils.along_m < 0.0:
             self.phase = "LOC"
         if self.phase == "LOC" and ils.gs_m > -p.gs_capture_m and ils.along_m < 0.0:
@@ -287,7 +309,10 @@ class AutoLand(Tunable[ApproachParams]):
         if self.phase == "ROLLOUT" and vg < p.v_stop_m_s:
             self.phase = "STOPPED"
 
-        if self.phase in ("LOC_ARMED", "LOC"):
+        if self.phase == "HOLD":
+            alt_cmd = self.approach_alt_m
+            phi = self._g.orbit(pos, vn_m_s, ve_m_s, self.hold_center(), p.hold_radius_m, 1, psi_rad).phi_cmd_rad
+        elif self.phase in ("LOC_ARMED", "LOC"):
             alt_cmd = self.approach_alt_m
         elif self.phase == "GS":
             gamma = -p.gs_angle_rad - p.k_gs_1_s * ils.gs_m / V

@@ -39,28 +39,33 @@ def test_glide_path_geometry() -> None:
     assert distance_m(RWY.threshold, RWY.point(4000.0)) == pytest.approx(4000.0, rel=3e-3)  # sphere vs ellipsoid
 
 
-@pytest.mark.parametrize("xwind_kt", [0.0, 10.0, -10.0])
-def test_ils_approach_to_full_stop(xwind_kt: float) -> None:
+@pytest.mark.parametrize("xwind_kt, above_m", [(0.0, 0.0), (10.0, 0.0), (-10.0, 0.0), (10.0, 1500.0)])
+def test_ils_approach_to_full_stop(xwind_kt: float, above_m: float) -> None:
+    """From 10 NM, intercepting at 30 deg; with above_m > 0 the approach starts that high above the
+    approach altitude on an aircraft that descends at 1.7 deg at most in clean configuration (as with a
+    high idle thrust; the path modes, gear down, may fly steeper): it first descends in the hold, then flies
+    the same approach."""
     land = AutoLand(RWY, approach_alt_m=RWY.elevation_m + 760.0)
+    gamma_min = -0.03 if above_m > 0.0 else -0.1
     # 10 NM out, 2 km right of the centre line, intercepting at 30 deg, 65 m/s
     start = RWY.point(-18520.0, 2000.0)
     hdg = RWY.heading_rad - math.radians(30.0)
     xw = xwind_kt * KT  # wind from the left of the runway (blowing to the right) for > 0
     wn, we = -xw * math.sin(RWY.heading_rad), xw * math.cos(RWY.heading_rad)
-    ac = Kinematic(start, hdg, 65.0, wind_n=wn, wind_e=we, h=RWY.elevation_m + 760.0)
+    ac = Kinematic(start, hdg, 65.0, wind_n=wn, wind_e=we, h=RWY.elevation_m + 760.0 + above_m)
     log: dict[str, list] = {k: [] for k in ("phase", "loc", "gs", "along", "h")}
     on_ground = False
     touchdown = None
     theta = 0.07  # airborne: gamma + 4 deg of angle of attack; on the ground it follows the pitch command
     t = 0.0
-    while not land.done and t < 900.0:
+    while not land.done and t < 900.0 + 2.0 * above_m / (65.0 * -gamma_min):
         cmd = land.step(DT, ac.pos, ac.h, ac.vn, ac.ve, ac.psi, ac.V, theta, on_ground)
         for k, v in (("phase", cmd.phase), ("loc", cmd.ils.loc_m), ("gs", cmd.ils.gs_m), ("along", cmd.ils.along_m),
                      ("h", cmd.ils.h_agl_m)):
             log[k].append(v)
         if not on_ground:
-            gamma_cmd = cmd.gamma_cmd_rad if cmd.gamma_cmd_rad is not None else \
-                max(-0.1, min(0.1, 0.1 * (cmd.alt_cmd_m - ac.h) / ac.V))
+            gamma_cmd = max(-0.1, cmd.gamma_cmd_rad) if cmd.gamma_cmd_rad is not None else \
+                max(gamma_min, min(0.1, 0.1 * (cmd.alt_cmd_m - ac.h) / ac.V))
             ac.step(DT, cmd.phi_cmd_rad, gamma_cmd)
             theta = ac.gamma + 0.07
             if ac.h <= RWY.elevation_m:
@@ -81,6 +86,10 @@ def test_ils_approach_to_full_stop(xwind_kt: float) -> None:
     ph = np.array(log["phase"])
     for name in ("LOC", "GS", "FLARE", "DEROTATION", "ROLLOUT"):
         assert name in ph
+    assert ("HOLD" in ph) == (above_m > 0.0) and (above_m == 0.0 or ph[0] == "HOLD")
+    if above_m > 0.0:  # the hold stays near its circle and ends at the approach altitude
+        held = ph == "HOLD"
+        assert log["h"][int(np.argmin(held))] < 760.0 + 30.0 + 1.0
     along = np.array(log["along"])
     loc = np.array(log["loc"])
     gs = np.array(log["gs"])

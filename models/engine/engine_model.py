@@ -150,6 +150,7 @@ class EngineModel:
                                      valve.threshold_N2_pct)
         self.tr = TurbofanTransient(self.od, I_lp_kg_m2, I_hp_kg_m2)
         self.p, self.dt_internal_s, self.method, self.tol = p, dt_internal_s, method, tol
+        self._Nc1_d = self.dp.components["fan_outer"].Nc_rpm
         self.limits, self.valve, self.target, self.crit = limits, valve, distortion_target, critical_angle_deg
         self.linear_input_frac = linear_input_frac
         self.log: Callable[[str], None] = logger if logger is not None else (lambda msg: None)
@@ -233,10 +234,9 @@ class EngineModel:
         try:
             s = self.tr.state(t_s, N1, N2, Wf, guess=self.state,
                               handling_bleed_frac=self.valve_pos * self.valve.open_frac, **kw)  # type: ignore[arg-type]
-            pt = s.point
-            if pt.beta_hpc < _BETA_FLOOR or pt.beta_fan < _BETA_FLOOR:
-                raise ModelError(f"beyond the surge side of a compressor map (beta fan {pt.beta_fan:.4f}, "
-                                 f"HPC {pt.beta_hpc:.4f} < {_BETA_FLOOR})")
+            if s.beta_hpc < _BETA_FLOOR or s.beta_fan < _BETA_FLOOR:
+                raise ModelError(f"beyond the surge side of a compressor map (beta fan {s.beta_fan:.4f}, "
+                                 f"HPC {s.beta_hpc:.4f} < {_BETA_FLOOR})")
             return s
         except (ModelError, FloatingPointError, ZeroDivisionError, OverflowError, ValueError) as exc:
             self.failures += 1
@@ -255,7 +255,7 @@ class EngineModel:
         self.fuel_limited = False
         if s is not None or self.state is None:
             return None if s is None else (s, Wf)
-        lo, hi = self.state.point.Wf_kg_s, Wf
+        lo, hi = self.state.Wf_kg_s, Wf
         same = abs(hi - lo) <= 1e-9 * abs(hi)                  # the held fuel flow itself no longer matches
         Wf_min = self.limits.Wf_min_frac * self.dp.Wf_kg_s
         good: tuple[TransientState, float] | None = None
@@ -288,7 +288,7 @@ class EngineModel:
             return None
         if abs(key[4] - old[4]) > 10.0 or abs(key[5] - old[5]) > 0.002 or abs(key[6] - old[6]) > 0.1:
             return None
-        Wf0 = self.state.point.Wf_kg_s
+        Wf0 = self.state.Wf_kg_s
         if abs(Wf - Wf0) > self.linear_input_frac * Wf0:
             return None
         return self.tr.fuel_sensitivity(self.state)
@@ -319,7 +319,7 @@ class EngineModel:
         failed = False
         s = self.state
         key = self._make_key(Wf, u)
-        Wf_used = self.state.point.Wf_kg_s
+        Wf_used = self.state.Wf_kg_s
         a1, a2 = s.dN1_dt_rpm_s, s.dN2_dt_rpm_s
         if key != self._key:                                   # inputs changed: derivative at the step start
             sens = self._small_change(key, Wf)
@@ -340,7 +340,7 @@ class EngineModel:
                 N1, N2 = self.N1_rpm + hh * a1, self.N2_rpm + hh * a2
                 pred_ok = True
                 if self.method == "heun":
-                    pred = self._evaluate(t1, N1, N2, s.point.Wf_kg_s, u, kw)
+                    pred = self._evaluate(t1, N1, N2, s.Wf_kg_s, u, kw)
                     if pred is None:
                         pred_ok = False
                     else:
@@ -364,7 +364,7 @@ class EngineModel:
             a1, a2 = s.dN1_dt_rpm_s, s.dN2_dt_rpm_s
             t = t1
         self.t_s = t0 + dt_s
-        Wf_used = self.state.point.Wf_kg_s
+        Wf_used = self.state.Wf_kg_s
         self.fuel_burned_kg += Wf_used * dt_s
         self._key = self._make_key(Wf, u) if not (failed or self.fuel_limited) else None
         if failed and not self.flags[3]:
@@ -376,26 +376,35 @@ class EngineModel:
     def _publish(self, Wf: float, Wf_in: float, failed: bool = False) -> None:
         s = self.state
         assert s is not None
-        pt = s.point
-        FAR4 = pt.stations["4"].FAR
+        o = s.fast
+        if o is not None:                       # the compiled kernel's outputs, as OffDesignPoint forms them
+            p, x = self.p, s.x
+            N1, N2, Fn, sm_f, sm_h = s.N1_rpm, s.N2_rpm, o[0], o[15], o[16]
+            out = (Fn, o[1], o[2], Wf, N1, N2, 100.0 * N1 / p.N1_rpm, 100.0 * N2 / p.N2_rpm,
+                   100.0 * o[3] / self._Nc1_d, o[5], o[6], o[7], o[8], o[9], o[10], o[10] / o[11], x[7] * p.BPR,
+                   sm_f, sm_h, sm_f, sm_h)
+            hb, FAR4, W2 = o[12], o[13], o[14]
+        else:
+            pt = s.point
+            out = (pt.Fn_N, pt.Fg_N, pt.ram_drag_N, Wf, pt.N1_rpm, pt.N2_rpm, pt.N1_pct, pt.N2_pct, pt.N1c_pct,
+                   pt.Tt4_K, pt.T41_K, pt.Tt21_K, pt.Tt17_K, pt.Tt7_K, pt.Pt3_Pa, pt.OPR, pt.BPR, pt.SM_fan,
+                   pt.SM_hpc, pt.SM_fan_clean, pt.SM_hpc_clean)
+            Fn, hb, FAR4, W2 = pt.Fn_N, pt.handling_bleed_frac, pt.stations["4"].FAR, pt.stations["2"].W_kg_s
         lim = self.limits
         v = self.values
-        for i, x in enumerate((pt.Fn_N, pt.Fg_N, pt.ram_drag_N, Wf, pt.N1_rpm, pt.N2_rpm, pt.N1_pct, pt.N2_pct,
-                               pt.N1c_pct, pt.Tt4_K, pt.T41_K, pt.Tt21_K, pt.Tt17_K, pt.Tt7_K, pt.Pt3_Pa, pt.OPR,
-                               pt.BPR, pt.SM_fan, pt.SM_hpc, pt.SM_fan_clean, pt.SM_hpc_clean,
-                               Wf / pt.Fn_N if pt.Fn_N > 0.0 else math.inf, self.fuel_burned_kg,
-                               s.dN1_dt_rpm_s, s.dN2_dt_rpm_s, pt.handling_bleed_frac, FAR4,
-                               pt.stations["2"].W_kg_s)):
-            v[i] = float(x)
-        new = [bool(pt.SM_fan < 0.0 or pt.SM_hpc < 0.0 or self.fuel_limited),
+        for i, x_ in enumerate(out + (Wf / Fn if Fn > 0.0 else math.inf, self.fuel_burned_kg, s.dN1_dt_rpm_s,
+                                      s.dN2_dt_rpm_s, hb, FAR4, W2)):
+            v[i] = float(x_)
+        N1_pct, N2_pct, SM_fan, SM_hpc = v[6], v[7], v[17], v[18]
+        new = [bool(SM_fan < 0.0 or SM_hpc < 0.0 or self.fuel_limited),
                bool(FAR4 < lim.FAR_lean or Wf_in < lim.Wf_min_frac * self.dp.Wf_kg_s),
-               bool(pt.N1_pct > lim.N1_max_pct or pt.N2_pct > lim.N2_max_pct), failed, self.fuel_limited]
+               bool(N1_pct > lim.N1_max_pct or N2_pct > lim.N2_max_pct), failed, self.fuel_limited]
         for i, (name, _) in enumerate(FLAGS[:3] + FLAGS[4:]):
             i = i if i < 3 else 4
             if new[i] and not self.flags[i]:
                 self.events += 1
-                self.log(f"engine: t={self.t_s:.6g} s: {name} (N1 {pt.N1_pct:.2f} %, N2 {pt.N2_pct:.2f} %, "
-                         f"SM fan {pt.SM_fan:.4f}, SM HPC {pt.SM_hpc:.4f}, FAR4 {FAR4:.5f})")
+                self.log(f"engine: t={self.t_s:.6g} s: {name} (N1 {N1_pct:.2f} %, N2 {N2_pct:.2f} %, "
+                         f"SM fan {SM_fan:.4f}, SM HPC {SM_hpc:.4f}, FAR4 {FAR4:.5f})")
         self.flags[:] = new
 
     def value(self, name: str) -> float:

@@ -359,8 +359,8 @@ def _map_tuple(m: Any, compressor: bool) -> tuple[Any, ...] | None:
     """(xg, yg, ihx, ihy, cells, lim, scalars, surge x, surge w) of a scaled map, None if it is of another kind."""
     from .map_scaled import ScaledCompressorMap, ScaledTurbineMap
     lo, hi = -math.inf, math.inf
-    if not compressor and hasattr(m, "inner") and hasattr(m, "Nc_min"):      # engine_model's speed clamp
-        lo, hi, m = m.Nc_min, m.Nc_max, m.inner
+    if not compressor and hasattr(m, "inner") and hasattr(m, "Nc_min"):      # engine_model's speed clamp:
+        lo, m = m.Nc_min, m.inner           # its conditional expression clamps below only (not above Nc_max)
     if not isinstance(m, ScaledCompressorMap if compressor else ScaledTurbineMap):
         return None
     sc = np.array([m.s_Wc, m.s_PR, m.s_eff, m.s_Nc, lo, hi])

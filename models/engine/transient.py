@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -43,7 +42,6 @@ _FREE = (0, 1, 2, 5, 6, 7)          # indices of the matched unknowns in the off
 _INPUTS = [3, 4, 8]                 # N1, N2, Wf: states and input
 
 
-@dataclass(frozen=True)
 class TransientState:
     """The engine at one instant.
 
@@ -52,19 +50,73 @@ class TransientState:
     t_s : float
         Time [s].
     point : OffDesignPoint
-        The matched gas path (its shaft residuals are the imbalances, not zero).
+        The matched gas path (its shaft residuals are the imbalances, not zero). Built on first
+        access from the matched unknowns (one Python evaluation of the gas path): a transient
+        step needs only :attr:`fast` and the unknowns.
     dN1_dt_rpm_s, dN2_dt_rpm_s : float
         Spool accelerations [rpm/s].
     net_lp_W, net_hp_W : float
         Spool power imbalances [W].
+    x : tuple of float
+        The matched unknowns (scaled, as :attr:`.offdesign_result.OffDesignPoint.x`).
+    distortion : (Distortion or None, Distortion or None)
+        Distortion at the fan and HPC faces.
+    fast : numpy.ndarray or None
+        The outputs of the compiled kernel (:data:`.jit_cycle.OUT`) at the match, surge margins
+        included; None where the kernel does not apply (then read :attr:`point`).
+    N1_rpm, N2_rpm, Wf_kg_s, beta_fan, beta_hpc : float
+        Speeds [rpm], fuel flow [kg/s] and map coordinates [-] of the match.
     """
 
-    t_s: float
-    point: OffDesignPoint
-    dN1_dt_rpm_s: float
-    dN2_dt_rpm_s: float
-    net_lp_W: float
-    net_hp_W: float
+    __slots__ = ("t_s", "dN1_dt_rpm_s", "dN2_dt_rpm_s", "net_lp_W", "net_hp_W", "x", "distortion", "fast",
+                 "N1_rpm", "N2_rpm", "Wf_kg_s", "beta_fan", "beta_hpc", "_point", "_jac")
+
+    def __init__(self, t_s: float, point: OffDesignPoint | Callable[[], OffDesignPoint], dN1_dt_rpm_s: float,
+                 dN2_dt_rpm_s: float, net_lp_W: float, net_hp_W: float, x: tuple[float, ...] = (),
+                 distortion: tuple[Distortion | None, Distortion | None] = (None, None),
+                 fast: np.ndarray | None = None, scale: tuple[float, float, float] = (1.0, 1.0, 1.0),
+                 jacobian: Callable[[], np.ndarray] | None = None) -> None:
+        self.t_s, self.dN1_dt_rpm_s, self.dN2_dt_rpm_s = t_s, dN1_dt_rpm_s, dN2_dt_rpm_s
+        self.net_lp_W, self.net_hp_W = net_lp_W, net_hp_W
+        self._point = point
+        if isinstance(point, OffDesignPoint):
+            x, distortion = point.x, point.distortion
+        self.x, self.distortion, self.fast, self._jac = x, distortion, fast, jacobian
+        self.N1_rpm, self.N2_rpm, self.Wf_kg_s = x[3] * scale[0], x[4] * scale[1], x[8] * scale[2]
+        self.beta_fan, self.beta_hpc = x[1], x[2]
+
+    @property
+    def point(self) -> OffDesignPoint:
+        """The matched gas path (see the class docstring)."""
+        p = self._point
+        if not isinstance(p, OffDesignPoint):
+            p = self._point = p()
+        return p
+
+    @property
+    def jacobian(self) -> np.ndarray:
+        """Jacobian of all residuals with respect to all unknowns at the match (for warm starts)."""
+        if self._jac is None:
+            return self.point.jacobian
+        J = self._jac()
+        self._jac = lambda: J
+        return J
+
+
+class _LazyResult:
+    """A :class:`.newton.NewtonResult` of the chord iteration whose Jacobian (the inverse of the cached
+    inverse) is formed only when read."""
+
+    __slots__ = ("x", "r", "_H", "iterations", "evaluations", "_J")
+
+    def __init__(self, x: np.ndarray, r: np.ndarray, H: np.ndarray, iterations: int, evaluations: int) -> None:
+        self.x, self.r, self._H, self.iterations, self.evaluations, self._J = x, r, H, iterations, evaluations, None
+
+    @property
+    def jacobian(self) -> np.ndarray:
+        if self._J is None:
+            self._J = np.linalg.inv(self._H)
+        return self._J
 
 
 class TurbofanTransient:
@@ -97,6 +149,9 @@ class TurbofanTransient:
               offtake_lp_W: float | None = None, handling_bleed_frac: float | None = None) -> TransientState:
         """Matched gas path and spool accelerations at speeds [rpm] and fuel flow [kg/s].
 
+        The residuals come from the compiled kernel (:mod:`.jit_cycle`) where it applies
+        (no distortion): the same equations as :meth:`.offdesign.TurbofanOffDesign._cycle`.
+
         `distortion` is the (fan, HPC) sector distortion of :mod:`.distortion`, switchable
         from one call to the next. `customer_bleed_frac` (W/W25 [-]), `offtake_hp_W` and
         `offtake_lp_W` [W] default to the design parameters'; `handling_bleed_frac` [-], if
@@ -111,8 +166,11 @@ class TurbofanTransient:
             If the gas path cannot be matched (e.g. speeds off the maps).
         """
         od, p = self.od, self.od.p
-        g = guess.point if isinstance(guess, TransientState) else guess
-        x_full, J_full = od.start(distortion, g)
+        if isinstance(guess, TransientState) and \
+                tuple(d is None for d in guess.distortion) == tuple(d is None for d in distortion):
+            x_full, J_full = np.array(guess.x, dtype=float), guess          # Jacobian read only if needed
+        else:
+            x_full, J_full = od.start(distortion, guess.point if isinstance(guess, TransientState) else guess)
         n = x_full.size
         free = list(_FREE) + list(range(9, n))
         rows = list(range(6)) + list(range(9, n))
@@ -133,13 +191,15 @@ class TurbofanTransient:
             return x
 
         def resid(xr: np.ndarray) -> np.ndarray:
-            r, info = od._cycle(full_x(xr), cond, demand, extras, distortion, hb)
-            last["r"], last["info"], last["xr"] = r, info, xr.copy()
+            r = od._residuals(full_x(xr), cond, demand, extras, distortion, hb)
+            last["r"], last["xr"] = r, xr.copy()
             return r[rows]
 
         key = (tuple(d is None for d in distortion), n)
         res = self._chord(resid, x_full[free], d_in, key, tol) if isinstance(guess, TransientState) else None
         if res is None:
+            if isinstance(J_full, TransientState):
+                J_full = J_full.jacobian
             J0 = None if J_full is None else np.asarray(J_full)[np.ix_(rows, free)]
             all_names = od.residual_names(distortion)
             names = all_names[:6] + all_names[9:]
@@ -152,15 +212,28 @@ class TurbofanTransient:
                                                    hb))
         if not np.array_equal(last["xr"], res.x):
             resid(res.x)
-        r, info = last["r"], last["info"]
+        r = last["r"]
         x_full[free] = res.x
-        J = np.eye(n) if J_full is None else np.array(J_full, dtype=float)
-        J[np.ix_(rows, free)] = res.jacobian
-        full = NewtonResult(x_full, r, J, res.iterations, res.evaluations)
-        pt = od._result(full, info, cond, distortion)
+        fc, fast = od.fast, None
+        if fc is not None and n == 9 and fc(x_full, cond, (0, Wf_kg_s), extras, hb, True):
+            fast = fc.o.copy()                                  # outputs and surge margins, compiled
+
+        def jacobian(J_full: Any = J_full, res: NewtonResult = res) -> np.ndarray:
+            src = J_full.jacobian if isinstance(J_full, TransientState) else J_full
+            J = np.eye(n) if src is None else np.array(src, dtype=float)
+            J[np.ix_(rows, free)] = res.jacobian
+            return J
+
+        def point(x: np.ndarray = x_full.copy()) -> OffDesignPoint:
+            info = od._cycle(x, cond, demand, extras, distortion, hb)[1]
+            return od._result(NewtonResult(x, r, jacobian(), res.iterations, res.evaluations), info, cond,
+                              distortion)
+
         net_hp, net_lp = r[6] * od.ref["P_hp"], r[7] * od.ref["P_lp"]
-        return TransientState(t_s, pt, spool_acceleration(net_lp, N1_rpm, self.I_lp),
-                              spool_acceleration(net_hp, N2_rpm, self.I_hp), net_lp, net_hp)
+        return TransientState(t_s, point, spool_acceleration(net_lp, N1_rpm, self.I_lp),
+                              spool_acceleration(net_hp, N2_rpm, self.I_hp), net_lp, net_hp,
+                              tuple(float(v) for v in x_full), distortion, fast,
+                              (p.N1_rpm, p.N2_rpm, od.ref["Wf"]), jacobian)
 
     def _fd_jacobian(self, od: TurbofanOffDesign, x: np.ndarray, cond: tuple[float, float, float],
                      demand: tuple[str, float], extras: tuple[float, float, float],
@@ -192,10 +265,10 @@ class TurbofanTransient:
         _, H, J_in, Js_free, Js_in = self._cache[:5]
         dx = -H @ J_in[:, 2]                         # re-matched free unknowns per unit of x_Wf
         dr = Js_free @ dx + Js_in[:, 2]              # shaft residuals (HP, LP) per unit of x_Wf
-        od, pt = self.od, state.point
+        od = self.od
         per = 1.0 / od.ref["Wf"]
-        return (spool_acceleration(dr[1] * od.ref["P_lp"] * per, pt.N1_rpm, self.I_lp),
-                spool_acceleration(dr[0] * od.ref["P_hp"] * per, pt.N2_rpm, self.I_hp))
+        return (spool_acceleration(dr[1] * od.ref["P_lp"] * per, state.N1_rpm, self.I_lp),
+                spool_acceleration(dr[0] * od.ref["P_hp"] * per, state.N2_rpm, self.I_hp))
 
     def _chord(self, resid: Callable[[np.ndarray], np.ndarray], x: np.ndarray, d_in: np.ndarray,
                key: tuple[Any, ...], tol: float) -> NewtonResult | None:
@@ -214,7 +287,7 @@ class TurbofanTransient:
             norm = float(np.max(np.abs(r)))
             if norm < tol:
                 self._cache = (key, H, J_in, *shaft)
-                return NewtonResult(x, r, np.linalg.inv(H), it, it + 1)
+                return _LazyResult(x, r, H, it, it + 1)
             dx = -H @ r
             try:
                 r_new = resid(x + dx)

@@ -33,7 +33,7 @@ from openemss.models.engine.engine_model import (
     condition_from_ambient,
 )
 
-REQUIREMENTS = ["numpy>=1.24", "scipy>=1.10"]
+REQUIREMENTS = ["numpy>=1.24", "scipy>=1.10", "numba>=0.59"]
 
 #: Design parameters exposed as ``design_<name>``: (field, description with unit).
 DESIGN = (

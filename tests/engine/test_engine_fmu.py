@@ -192,7 +192,7 @@ def test_fmu_is_self_contained(fmu: Path, tmp_path: Path) -> None:
     import zipfile
 
     z = zipfile.ZipFile(fmu)
-    assert z.read("resources/requirements.txt").decode().split() == ["numpy>=1.24", "scipy>=1.10"]
+    assert z.read("resources/requirements.txt").decode().split() == ["numpy>=1.24", "scipy>=1.10", "numba>=0.59"]
     names = z.namelist()
     assert any(n.endswith("presets/larzac04_sls.json") for n in names)
     assert any(n.endswith("maps/axi5.json") for n in names)

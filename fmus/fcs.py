@@ -39,7 +39,7 @@ from pythonfmu import Boolean, Fmi2Causality, Fmi2Slave, Fmi2Variability, Intege
 
 from openemss.models.fcs.atmosphere import isa, mach_from_tas
 from openemss.models.fcs.errors import FcsError
-from openemss.models.fcs.fcs import FlightControlSystem
+from openemss.models.fcs.fcs import OUTPUT_SIGNALS, FlightControlSystem
 from openemss.models.fcs.geo import LatLon, local_ne_m
 from openemss.models.fcs.mission import Mission, load_mission
 from openemss.models.fcs.state import AircraftState, EngineState
@@ -177,6 +177,7 @@ class Fcs(Fmi2Slave):
         self._section_name = ""
         self._section_phase = ""
         self._completed = False
+        self._fuel_limiter = 0
         self.register_variable(Boolean("gear_down", causality=out, variability=discrete,
                                        description="Landing gear command, true = down [-]",
                                        getter=lambda: self._gear_down))
@@ -193,6 +194,9 @@ class Fcs(Fmi2Slave):
         self.register_variable(Boolean("mission_completed", causality=out, variability=discrete,
                                        description="Every mission section is completed [-]",
                                        getter=lambda: self._completed))
+        self.register_variable(Integer("fuel_limiter", causality=out, variability=discrete,
+                                       description=OUTPUT_SIGNALS["fuel_limiter"],
+                                       getter=lambda: self._fuel_limiter))
         self._prev_pos: LatLon | None = None
         self._prev_h = 0.0
 
@@ -277,4 +281,5 @@ class Fcs(Fmi2Slave):
         self._section_name = tg.section_name
         self._section_phase = tg.phase
         self._completed = self._fcs.finished
+        self._fuel_limiter = o.fuel_limiter
         return True

@@ -29,7 +29,7 @@ from .state_machine import MissionRunner
 from .tecs import Tecs, TecsInput
 from .tunable import Tunable
 
-__all__ = ["FcsOutput", "FlightControlSystem", "OUTPUT_SIGNALS"]
+__all__ = ["FcsOutput", "FlightControlSystem", "FUEL_LIMITERS", "OUTPUT_SIGNALS"]
 
 #: Flat output signals of :meth:`FcsOutput.signals`: name -> description with unit (for FMU variables).
 OUTPUT_SIGNALS: dict[str, str] = {
@@ -50,7 +50,11 @@ OUTPUT_SIGNALS: dict[str, str] = {
     "tas_cmd_m_s": "Commanded true airspeed (NaN when none) [m/s]",
     "track_cmd_rad": "Commanded true track (NaN when none) [rad]",
     "xtk_m": "Cross-track error of the active path, right positive (NaN when none) [m]",
+    "fuel_limiter": "Regulator the fuel controller selected: 0 the lever's N1c demand, 1 the Tt41 limit, "
+                    "2 the N1 limit [-]",
 }
+#: Codes of :attr:`FcsOutput.fuel_limiter`.
+FUEL_LIMITERS = ("demand", "Tt41", "N1")
 
 
 class _ParamHolder(Tunable[ApproachParams]):
@@ -90,6 +94,8 @@ class FcsOutput:
         The active section's targets (section index/name, phase, altitude, speed, track).
     tas_cmd_m_s : float
         Speed target as true airspeed [m/s] (NaN on the ground).
+    fuel_limiter : int
+        Regulator the fuel controller selected, an index of :data:`FUEL_LIMITERS` [-].
     """
 
     elevator: float
@@ -104,6 +110,7 @@ class FcsOutput:
     phi_cmd_rad: float
     targets: Targets
     tas_cmd_m_s: float
+    fuel_limiter: int = 0
 
     def signals(self) -> dict[str, float | int | str | bool]:
         """The outputs as a flat mapping named as :data:`OUTPUT_SIGNALS` (what an FMU exposes)."""
@@ -113,7 +120,8 @@ class FcsOutput:
                 "Wf_cmd_kg_s": self.Wf_cmd_kg_s, "theta_cmd_rad": self.theta_cmd_rad,
                 "phi_cmd_rad": self.phi_cmd_rad, "section_index": tg.section_index, "section_name": tg.section_name,
                 "section_phase": tg.phase, "alt_cmd_m": math.nan if tg.alt_cmd_m is None else tg.alt_cmd_m,
-                "tas_cmd_m_s": self.tas_cmd_m_s, "track_cmd_rad": tg.track_cmd_rad, "xtk_m": tg.xtk_m}
+                "tas_cmd_m_s": self.tas_cmd_m_s, "track_cmd_rad": tg.track_cmd_rad, "xtk_m": tg.xtk_m,
+                "fuel_limiter": self.fuel_limiter}
 
 
 class FlightControlSystem:
@@ -214,4 +222,4 @@ class FlightControlSystem:
             rudder = min(max(-ap.k_psi_steer_1_rad * wrap_pi(x.psi_rad - tg.align_heading_rad), -1.0), 1.0)
         f = self.fuel.step(dt_s, lever, eng.N1c_pct, eng.N1_pct, eng.Tt41_K)
         return FcsOutput(elevator, lat.aileron, rudder, tg.steer, tg.brake, tg.gear_down, lever, f.Wf_cmd_kg_s,
-                         theta_c, lat.phi_cmd_rad, tg, tas_cmd)
+                         theta_c, lat.phi_cmd_rad, tg, tas_cmd, FUEL_LIMITERS.index(f.limiter))

@@ -22,7 +22,7 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
-from .errors import AirframeError, OutOfEnvelopeError
+from .errors import AirframeError, LossOfAircraftError, OutOfEnvelopeError
 from .geometry import load_geometry
 
 __all__ = ["Airframe", "AirframeState", "JSBSIM_ROOT", "DEFAULT_RATE_HZ"]
@@ -51,6 +51,18 @@ _STATE_PROPS: tuple[tuple[str, float], ...] = (
     ("accelerations/Nz", 1.0), ("velocities/h-dot-fps", FT),
     ("atmosphere/P-psf", PSF), ("atmosphere/T-R", RANKINE), ("atmosphere/rho-slugs_ft3", SLUG_FT3),
 )
+
+
+#: Sink rate at touchdown beyond which the aircraft is lost [m/s]. The landing gear is designed for
+#: 3.05 m/s (limit, CS/FAR 25.473) and must absorb 3.66 m/s without collapsing (reserve energy,
+#: CS/FAR 25.723(b)); at twice the limit it is taken as destroyed.
+CRASH_SINK_M_S = 6.0
+#: Height of the centre of gravity above ground below which the fuselage touches it [m]: on its
+#: wheels the CG of UPERA stands 0.92 m high, the fuselage radius is about 0.4 m.
+CRASH_CG_AGL_M = 0.4
+#: Height within which a wingtip below the ground (semi-span x sin|bank| above the CG height) is a
+#: wingtip strike [m].
+WINGTIP_CHECK_AGL_M = 5.0
 
 
 @dataclass(frozen=True)
@@ -157,6 +169,10 @@ class Airframe:
         pm = fdm.get_property_manager()
         self._nodes = tuple((pm.get_node(p), k) for p, k in _STATE_PROPS)
         self._wow = pm.get_node("gear/wow")
+        self._hdot = pm.get_node("velocities/h-dot-fps")
+        self._agl = pm.get_node("position/h-agl-ft")
+        self._phi = pm.get_node("attitude/phi-rad")
+        self._gear_cmd = pm.get_node("gear/gear-cmd-norm")
         self._mass = pm.get_node("inertia/mass-slugs")
         self._tank = pm.get_node("propulsion/tank[0]/contents-lbs")
         self._thrust = pm.get_node("external_reactions/thrust/magnitude")
@@ -340,6 +356,8 @@ class Airframe:
         tank = self._tank.set_double_value
         burn = self._wf_kg_s * self.dt_s
         fuel = self._fuel_kg
+        airborne = self._wow.get_double_value() < 0.5
+        sink_m_s = -self._hdot.get_double_value() * FT
         for _ in range(n):
             if burn > 0.0:
                 fuel = fuel - burn if fuel > burn else 0.0
@@ -347,6 +365,31 @@ class Airframe:
             run()
         self._fuel_kg = fuel
         self._steps += n
+        agl_m = self._agl.get_double_value() * FT
+        if agl_m < WINGTIP_CHECK_AGL_M:
+            self._check_ground_contact(agl_m, sink_m_s if airborne and self._wow.get_double_value() > 0.5 else 0.0)
+
+    def _check_ground_contact(self, agl_m: float, touchdown_sink_m_s: float) -> None:
+        """Raise :class:`LossOfAircraftError` for a contact outside the landing envelope: a touchdown
+        sinking faster than CRASH_SINK_M_S, the fuselage on the ground (gear up or collapsed), or a
+        wingtip below it."""
+        phi = self._phi.get_double_value()
+        tip_m = agl_m - self.geometry.wing.span_m / 2.0 * abs(math.sin(phi))
+        what = ""
+        if touchdown_sink_m_s > CRASH_SINK_M_S:
+            what = f"touchdown sinking at {touchdown_sink_m_s:.1f} m/s (the gear holds {CRASH_SINK_M_S:g} m/s)"
+        elif agl_m < CRASH_CG_AGL_M:
+            what = (f"fuselage on the ground (centre of gravity {agl_m:.2f} m above it, gear "
+                    f"{'down' if self._gear_cmd.get_double_value() > 0.5 else 'up'})")
+        elif tip_m < 0.0:
+            what = f"wingtip strike at {math.degrees(phi):.0f} deg of bank"
+        if what:
+            raise LossOfAircraftError(
+                f"aircraft lost at t = {self.time_s:.2f} s: {what}, at {self._node('position/lat-geod-deg'):.5f} N "
+                f"{self._node('position/long-gc-deg'):.5f} E, {self._node('velocities/vtrue-fps') * FT:.0f} m/s")
+
+    def _node(self, prop: str) -> float:
+        return float(self._fdm[prop])
 
     # -- outputs ------------------------------------------------------------
     @property

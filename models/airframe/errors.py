@@ -6,7 +6,7 @@ what is allowed.
 """
 from __future__ import annotations
 
-__all__ = ["AirframeError", "OutOfEnvelopeError", "TrimError"]
+__all__ = ["AirframeError", "LossOfAircraftError", "OutOfEnvelopeError", "TrimError"]
 
 
 class AirframeError(Exception):
@@ -19,3 +19,7 @@ class OutOfEnvelopeError(AirframeError, ValueError):
 
 class TrimError(AirframeError):
     """The trim solver found no steady level flight at the requested condition."""
+
+
+class LossOfAircraftError(AirframeError):
+    """The aircraft hit the ground outside the landing envelope: the simulation cannot go on."""

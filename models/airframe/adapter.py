@@ -386,7 +386,8 @@ class Airframe:
         if what:
             raise LossOfAircraftError(
                 f"aircraft lost at t = {self.time_s:.2f} s: {what}, at {self._node('position/lat-geod-deg'):.5f} N "
-                f"{self._node('position/long-gc-deg'):.5f} E, {self._node('velocities/vtrue-fps') * FT:.0f} m/s")
+                f"{self._node('position/long-gc-deg'):.5f} E, {self._node('velocities/vtrue-fps') * FT:.0f} m/s true "
+                f"airspeed, sinking at {-self._hdot.get_double_value() * FT:.1f} m/s")
 
     def _node(self, prop: str) -> float:
         return float(self._fdm[prop])

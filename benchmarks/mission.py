@@ -1,0 +1,113 @@
+"""Real-time factor of the whole coupled Munich mission, and where the time goes.
+
+Runs ``ssp/`` (engine, airframe and FCS FMUs wired by the shipped SSD, the Munich mission of
+``missions/munich.yaml``) in our orchestrator at 20 Hz, Jacobi, recording every connector to
+``timeseries.csv`` as ``emss run`` does, and prints:
+
+* the real-time factor of the run (simulated time / wall time), against the targets of issue 8
+  (at least 100x, aiming at 200x), and the engine-less floor: the same system's cost without the
+  engine's share, i.e. what the real-time factor would be with an engine that cost nothing;
+* per component: time in ``fmi2DoStep``, in the batched gets and sets (the FMI calls into
+  pythonfmu), µs per macro step and share of the wall time;
+* the orchestrator's own share: wall time minus everything spent inside the FMUs (transfers,
+  recording, the loop itself).
+
+The set-up (instantiating the FMUs, the engine's steady start, compiling its kernels on a
+first run) is timed apart and printed, not counted in the real-time factor.
+
+A mission that does not complete still gives the figures up to where it stopped (the table says
+so). ``--stop-time`` runs a part of the mission; ``--profile FILE`` writes a cProfile of the run
+(read it with ``python -m pstats FILE`` or snakeviz). Nothing is asserted (DESIGN.md rule 12).
+
+Run: ``python benchmarks/mission.py [--stop-time S] [--params X.ssv ...] [--record-every N]
+[--profile FILE]``
+"""
+from __future__ import annotations
+
+import argparse
+import cProfile
+import shutil
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+TARGET_X, AIM_X = 100.0, 200.0
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--stop-time", type=float, help="stop time [s] (default: the SSD's, the whole mission)")
+    ap.add_argument("--params", type=Path, nargs="+", default=[], help="parameter sets (.ssv) to apply")
+    ap.add_argument("--record-every", type=int, default=1, help="record every N-th step (default 1)")
+    ap.add_argument("--profile", type=Path, help="write a cProfile of the run to this file")
+    args = ap.parse_args(argv)
+
+    from openemss.orchestrator.build import ensure_built
+    from openemss.orchestrator.errors import EmssError
+    from openemss.orchestrator.execution import Execution
+    from openemss.orchestrator.observers import CsvRecorder
+    from openemss.orchestrator.ssp import load_system
+    from openemss.orchestrator.system import bind_system
+
+    ensure_built(ROOT / "fmus", ROOT / "ssp" / "resources")
+    work = Path(tempfile.mkdtemp(prefix="emss-bench-mission-"))
+    try:
+        bound = bind_system(load_system(ROOT / "ssp"), list(args.params))
+        ex = Execution(bound, algorithm="jacobi")
+        ex.add_observer(CsvRecorder(work / "timeseries.csv", every=args.record_every))
+        stop = args.stop_time if args.stop_time is not None else bound.definition.stop_time_s
+        prof = cProfile.Profile() if args.profile else None
+        error = ""
+        t_init = time.perf_counter()
+        ex.initialize(stop)  # instantiation, the engine's start, compiled kernels: not part of the run
+        t0 = time.perf_counter()
+        setup_s = t0 - t_init
+        try:
+            if prof is not None:
+                prof.enable()
+            ex.run(stop)
+        except EmssError as exc:
+            error = str(exc)
+        finally:
+            if prof is not None:
+                prof.disable()
+                prof.dump_stats(str(args.profile))
+        wall = time.perf_counter() - t0
+        sim = ex.time_s - ex.start_time_s
+        _report(ex.stats(), sim, wall, setup_s, error)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+    return 0
+
+
+def _report(stats: dict[str, dict[str, float]], sim_s: float, wall_s: float, setup_s: float, error: str) -> None:
+    steps = max((s["steps"] for s in stats.values()), default=0)
+    print(f"Munich mission, ssp/ at 20 Hz (Jacobi), every connector recorded: {sim_s:.1f} s simulated "
+          f"in {wall_s:.2f} s wall, {steps} macro steps (set-up before the first step: {setup_s:.2f} s, "
+          "not counted)")
+    if error:
+        print(f"the run stopped early: {error}")
+    print(f"\n{'where':<22}{'doStep s':>10}{'get+set s':>11}{'us/step':>10}{'share %':>9}")
+    print("-" * 62)
+    inside = 0.0
+    for name, s in stats.items():
+        fmi = s["do_step_s"] + s["get_s"] + s["set_s"]
+        inside += fmi
+        print(f"{name:<22}{s['do_step_s']:>10.3f}{s['get_s'] + s['set_s']:>11.3f}"
+              f"{1e6 * fmi / max(steps, 1):>10.1f}{100 * fmi / wall_s:>9.1f}")
+    own = wall_s - inside
+    print(f"{'orchestrator':<22}{'':>10}{'':>11}{1e6 * own / max(steps, 1):>10.1f}{100 * own / wall_s:>9.1f}")
+    print("-" * 62)
+    rtf = sim_s / wall_s if wall_s > 0 else float("inf")
+    engine = sum(s["do_step_s"] + s["get_s"] + s["set_s"] for n, s in stats.items() if n == "engine")
+    floor = sim_s / (wall_s - engine) if wall_s > engine else float("inf")
+    verdict = "met" if rtf >= TARGET_X else "NOT met"
+    print(f"real-time factor {rtf:.1f}x: target {TARGET_X:.0f}x {verdict}"
+          + (f", aim {AIM_X:.0f}x met" if rtf >= AIM_X else f" (aim {AIM_X:.0f}x)"))
+    print(f"without the engine's share the same run would go at {floor:.1f}x (the other components' floor)")
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -146,8 +146,10 @@ class EngineModel:
                                   "open_frac in [0, 0.5)")
         p = _params(params)
         self.dp = design(p)
-        self.od = TurbofanOffDesign(self.dp, _robust_maps(scaled_maps(self.dp)), valve.open_frac,
-                                     valve.threshold_N2_pct)
+        # unextended maps: on the sub-idle extension a fast chop drives the fan to its surge line (N2 falls
+        # faster than N1) and the step then holds; see models/engine/README.md, Limits
+        maps = _robust_maps(scaled_maps(self.dp, extended=False))
+        self.od = TurbofanOffDesign(self.dp, maps, valve.open_frac, valve.threshold_N2_pct)
         self.tr = TurbofanTransient(self.od, I_lp_kg_m2, I_hp_kg_m2)
         self.p, self.dt_internal_s, self.method, self.tol = p, dt_internal_s, method, tol
         self._Nc1_d = self.dp.components["fan_outer"].Nc_rpm

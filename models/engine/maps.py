@@ -447,22 +447,34 @@ class TurbineMap:
                 f"PR {self.pr[0]:g}..{self.pr[-1]:g})")
 
 
-def load_map(name_or_path: str | Path, extrapolation: float = DEFAULT_EXTRAPOLATION) -> CompressorMap | TurbineMap:
-    """Load a map file (:func:`load_map_data`) and build its interpolating map."""
+def _data(name_or_path: str | Path, extended: bool) -> MapData:
     data = load_map_data(name_or_path)
+    if extended:
+        from .map_extension import extend_map_data
+        data = extend_map_data(data)
+    return data
+
+
+def load_map(name_or_path: str | Path, extrapolation: float = DEFAULT_EXTRAPOLATION,
+             extended: bool = False) -> CompressorMap | TurbineMap:
+    """Load a map file (:func:`load_map_data`) and build its interpolating map; with `extended`, on the
+    grid extended for sub-idle operation (:func:`.map_extension.extend_map_data`)."""
+    data = _data(name_or_path, extended)
     if data.kind == "compressor":
         return CompressorMap(data, extrapolation)
     return TurbineMap(data, extrapolation)
 
 
-def load_compressor_map(name_or_path: str | Path, extrapolation: float = DEFAULT_EXTRAPOLATION) -> CompressorMap:
+def load_compressor_map(name_or_path: str | Path, extrapolation: float = DEFAULT_EXTRAPOLATION,
+                        extended: bool = False) -> CompressorMap:
     """:func:`load_map` for a compressor map (raises ModelError for another kind)."""
-    return CompressorMap(load_map_data(name_or_path), extrapolation)
+    return CompressorMap(_data(name_or_path, extended), extrapolation)
 
 
-def load_turbine_map(name_or_path: str | Path, extrapolation: float = DEFAULT_EXTRAPOLATION) -> TurbineMap:
+def load_turbine_map(name_or_path: str | Path, extrapolation: float = DEFAULT_EXTRAPOLATION,
+                     extended: bool = False) -> TurbineMap:
     """:func:`load_map` for a turbine map (raises ModelError for another kind)."""
-    return TurbineMap(load_map_data(name_or_path), extrapolation)
+    return TurbineMap(_data(name_or_path, extended), extrapolation)
 
 
 # The scaled maps live in their own module (which imports this one); re-exported here.

@@ -100,24 +100,27 @@ class TurbofanMaps:
 
 
 def scaled_maps(dp: DesignPoint, fan: str = "lpc_hbtf", hpc: str = "axi5", hpt: str = "hpt1269",
-                lpt: str = "lpt2269", booster: str = "lpc_hbtf") -> TurbofanMaps:
+                lpt: str = "lpt2269", booster: str = "lpc_hbtf", extended: bool = True) -> TurbofanMaps:
     """Maps of :mod:`.maps` scaled to the design point `dp` (corrected speeds in rpm); the booster
-    map only if the design has a booster (PR_booster > 1)."""
+    map only if the design has a booster (PR_booster > 1). With `extended` (default) the maps carry
+    the sub-idle extension of :mod:`.map_extension` (the original nodes unchanged)."""
     from .maps import ScaledCompressorMap, ScaledTurbineMap, load_compressor_map, load_turbine_map
     c = dp.components
     fo = c["fan_outer"]
     W2c = dp.stations["2"].Wc_kg_s
-    f = ScaledCompressorMap.from_design(load_compressor_map(fan), W2c, fo.PR, fo.eta_is, fo.Nc_rpm)
-    h = ScaledCompressorMap.from_design(load_compressor_map(hpc), c["hpc"].Wc_kg_s, c["hpc"].PR,
+    ext = {"extended": extended}
+    f = ScaledCompressorMap.from_design(load_compressor_map(fan, **ext), W2c, fo.PR, fo.eta_is, fo.Nc_rpm)
+    h = ScaledCompressorMap.from_design(load_compressor_map(hpc, **ext), c["hpc"].Wc_kg_s, c["hpc"].PR,
                                         c["hpc"].eta_is, c["hpc"].Nc_rpm)
-    t1 = ScaledTurbineMap.from_design(load_turbine_map(hpt), c["hpt"].Wc_kg_s, c["hpt"].PR, c["hpt"].eta_is,
-                                      c["hpt"].Nc_rpm)
-    t2 = ScaledTurbineMap.from_design(load_turbine_map(lpt), c["lpt"].Wc_kg_s, c["lpt"].PR, c["lpt"].eta_is,
-                                      c["lpt"].Nc_rpm)
+    t1 = ScaledTurbineMap.from_design(load_turbine_map(hpt, **ext), c["hpt"].Wc_kg_s, c["hpt"].PR,
+                                      c["hpt"].eta_is, c["hpt"].Nc_rpm)
+    t2 = ScaledTurbineMap.from_design(load_turbine_map(lpt, **ext), c["lpt"].Wc_kg_s, c["lpt"].PR,
+                                      c["lpt"].eta_is, c["lpt"].Nc_rpm)
     b, b_beta = None, 0.5
     if isinstance(dp.params, TurbofanParams) and dp.params.PR_booster > 1.0:
         cb = c["booster"]
-        b = ScaledCompressorMap.from_design(load_compressor_map(booster), cb.Wc_kg_s, cb.PR, cb.eta_is, cb.Nc_rpm)
+        b = ScaledCompressorMap.from_design(load_compressor_map(booster, **ext), cb.Wc_kg_s, cb.PR, cb.eta_is,
+                                            cb.Nc_rpm)
         b_beta = b.beta_map
     return TurbofanMaps(f, h, t1, t2, f.beta_map, h.beta_map, b, b_beta)
 

@@ -4,9 +4,14 @@ Target of issue 5: under 150 microseconds per 50 ms step (the engine alone at 30
 time). Prints a table (median and best of several repeats, microseconds per step) and a
 cProfile summary of where the time of a step goes; asserts nothing (DESIGN.md, rule 12).
 
-Cases (Larzac 04 preset, 5000 m, Mach 0.6, N1 90 %, explicit Euler, one internal step):
+Cases (Larzac 04 preset, explicit Euler, one internal step):
 
-* ``model, inputs held``: :class:`EngineModel` with constant inputs (steady cruise): one
+* ``mission, Python cycle`` / ``mission, compiled cycle``: the mission-like profile of
+  :func:`_mission_inputs` (take-off, climb to 7500 m and Mach 0.75, cruise, idle descent,
+  slam and chop) with a rate-limited fuel controller, on the Python gas path (the
+  baseline, measured in the same run) and on the compiled kernel (:mod:`.jit_cycle`);
+
+* ``model, inputs held``: at 5000 m, Mach 0.6, N1 90 %, constant inputs (steady cruise): one
   gas-path match per step (at the new spool speeds);
 * ``model, inputs changing``: fuel flow and altitude change every step (a fuel controller,
   a climb): two matches per step (the derivative at the step start with the new inputs, then
@@ -57,6 +62,45 @@ def _model_runner(changing: bool, steps: int) -> tuple[EngineModel, object]:
     return m, run
 
 
+def _mission_inputs(t: float) -> tuple[float, float, float]:
+    """(N1 demand [%], altitude [m], Mach [-]) of the mission-like profile at time t [s], 300 s in all:
+    take-off roll and initial climb (0-40 s), climb to 7500 m accelerating to Mach 0.75 (40-150 s), cruise
+    (150-210 s), idle descent to 1500 m (210-260 s), slam to 100 % and chop to idle at 1500 m (260-300 s)."""
+    if t < 40.0:
+        return 100.0, 3.0 * max(0.0, t - 25.0), min(0.3, 0.012 * t)
+    if t < 150.0:
+        f = (t - 40.0) / 110.0
+        return 98.0, 45.0 + f * (7500.0 - 45.0), 0.3 + f * 0.45
+    if t < 210.0:
+        return 91.0 + 0.5 * math.sin(0.7 * t), 7500.0, 0.75
+    if t < 260.0:
+        f = (t - 210.0) / 50.0
+        return 62.0, 7500.0 - f * 6000.0, 0.75 - f * 0.25
+    return (100.0 if t < 275.0 else 62.0), 1500.0, 0.5
+
+
+def _mission_runner(fast: bool, steps: int) -> tuple[EngineModel, object]:
+    """The engine flown through :func:`_mission_inputs` by a fuel controller as the FCS's: the fuel flow moves
+    toward the N1 demand by at most 2 % (up) and 1 % (down) of design fuel flow per 50 ms step, not below
+    15 %; `fast` False: Python cycle only."""
+    m = EngineModel("larzac04_sls")
+    if not fast:
+        m.od._fast = False
+    N1d, Wf_d = m.p.N1_rpm, m.dp.Wf_kg_s
+    pt = m.od.solve(0.0, 0.0, N1_pct=60.0)
+    m.start(EngineInputs(pt.Wf_kg_s, 0.0, 0.0))
+    wf = [pt.Wf_kg_s]
+
+    def run() -> None:
+        for k in range(steps):
+            n1, alt, mach = _mission_inputs(H * k)
+            err = n1 - 100.0 * m.values[4] / N1d
+            wf[0] = max(0.15 * Wf_d, wf[0] + max(-0.01 * Wf_d, min(0.02 * Wf_d, 0.004 * Wf_d * err)))
+            m.step(H, EngineInputs(wf[0], alt, mach))
+
+    return m, run
+
+
 def _time(run: object, steps: int, repeat: int) -> tuple[float, float]:
     out = []
     for _ in range(repeat):
@@ -69,12 +113,11 @@ def _time(run: object, steps: int, repeat: int) -> tuple[float, float]:
 def _fmu_case(steps: int, repeat: int) -> tuple[float, float] | str:
     try:
         sys.path.insert(0, str(ROOT / "tests"))
-        from systems import Comp, write_system
-
         from openemss.orchestrator.build import ensure_built
         from openemss.orchestrator.execution import Execution
         from openemss.orchestrator.ssp import load_system
         from openemss.orchestrator.system import bind_system
+        from systems import Comp, write_system
     except ImportError as exc:                                  # pragma: no cover
         return f"not run: {exc}"
     tmp = Path(tempfile.mkdtemp(prefix="bench_engine_fmu_"))
@@ -107,15 +150,30 @@ def main() -> None:
     ap.add_argument("--steps", type=int, default=200)
     a = ap.parse_args()
     rows = []
+    n_mis = int(round(300.0 / H))
+    t0 = time.perf_counter()
+    m, run = _mission_runner(True, 2)
+    run()                                                       # type: ignore[operator]
+    t_first = time.perf_counter() - t0
+    for name, fast in (("mission, Python cycle", False), ("mission, compiled cycle", True)):
+        meds = []
+        for _ in range(max(1, a.repeat // 2)):
+            m, run = _mission_runner(fast, n_mis)
+            meds.append(_time(run, n_mis, 1)[0])
+        rows.append((name, statistics.median(meds), min(meds)))
     for name, changing in (("model, inputs held", False), ("model, inputs changing", True)):
         m, run = _model_runner(changing, a.steps)
         med, best = _time(run, a.steps, a.repeat)
         rows.append((name, med, best))
     fmu = _fmu_case(a.steps, a.repeat)
-    print(f"one 50 ms engine step (target 150 us), {a.steps} steps x {a.repeat} repeats")
+    print(f"one 50 ms engine step (target 150 us); mission-like profile: {n_mis} steps (300 s), "
+          f"other cases {a.steps} steps x {a.repeat} repeats")
+    print(f"first engine built and stepped in this process: {t_first:.2f} s (kernel compiled or loaded "
+          "from the cache)")
     print(f"{'case':<28} {'median us':>10} {'best us':>10} {'x real time':>12}")
     for name, med, best in rows:
         print(f"{name:<28} {med * 1e6:10.0f} {best * 1e6:10.0f} {H / med:12.0f}")
+    print(f"compiled / Python on the mission: {rows[1][1] / rows[0][1]:.3f} (speed-up {rows[0][1] / rows[1][1]:.1f} x)")
     if isinstance(fmu, tuple):
         print(f"{'FMU in our orchestrator':<28} {fmu[0] * 1e6:10.0f} {fmu[1] * 1e6:10.0f} {H / fmu[0]:12.0f}")
     else:

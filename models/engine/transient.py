@@ -69,19 +69,20 @@ class TransientState:
     """
 
     __slots__ = ("t_s", "dN1_dt_rpm_s", "dN2_dt_rpm_s", "net_lp_W", "net_hp_W", "x", "distortion", "fast",
-                 "N1_rpm", "N2_rpm", "Wf_kg_s", "beta_fan", "beta_hpc", "_point", "_jac")
+                 "N1_rpm", "N2_rpm", "Wf_kg_s", "beta_fan", "beta_hpc", "_point", "_jac", "_jbase")
 
     def __init__(self, t_s: float, point: OffDesignPoint | Callable[[], OffDesignPoint], dN1_dt_rpm_s: float,
                  dN2_dt_rpm_s: float, net_lp_W: float, net_hp_W: float, x: tuple[float, ...] = (),
                  distortion: tuple[Distortion | None, Distortion | None] = (None, None),
                  fast: np.ndarray | None = None, scale: tuple[float, float, float] = (1.0, 1.0, 1.0),
-                 jacobian: Callable[[], np.ndarray] | None = None) -> None:
+                 jacobian: Callable[[], np.ndarray] | None = None, jbase: np.ndarray | None = None) -> None:
         self.t_s, self.dN1_dt_rpm_s, self.dN2_dt_rpm_s = t_s, dN1_dt_rpm_s, dN2_dt_rpm_s
         self.net_lp_W, self.net_hp_W = net_lp_W, net_hp_W
         self._point = point
         if isinstance(point, OffDesignPoint):
             x, distortion = point.x, point.distortion
         self.x, self.distortion, self.fast, self._jac = x, distortion, fast, jacobian
+        self._jbase = jbase             # the Jacobian entries outside the matched block (shared, never changed)
         self.N1_rpm, self.N2_rpm, self.Wf_kg_s = x[3] * scale[0], x[4] * scale[1], x[8] * scale[2]
         self.beta_fan, self.beta_hpc = x[1], x[2]
 
@@ -169,8 +170,10 @@ class TurbofanTransient:
         if isinstance(guess, TransientState) and \
                 tuple(d is None for d in guess.distortion) == tuple(d is None for d in distortion):
             x_full, J_full = np.array(guess.x, dtype=float), guess          # Jacobian read only if needed
+            J_base = guess._jbase
         else:
             x_full, J_full = od.start(distortion, guess.point if isinstance(guess, TransientState) else guess)
+            J_base = J_full
         n = x_full.size
         free = list(_FREE) + list(range(9, n))
         rows = list(range(6)) + list(range(9, n))
@@ -218,8 +221,10 @@ class TurbofanTransient:
         if fc is not None and n == 9 and fc(x_full, cond, (0, Wf_kg_s), extras, hb, True):
             fast = fc.o.copy()                                  # outputs and surge margins, compiled
 
-        def jacobian(J_full: Any = J_full, res: NewtonResult = res) -> np.ndarray:
-            src = J_full.jacobian if isinstance(J_full, TransientState) else J_full
+        if isinstance(J_full, np.ndarray):              # a Newton solve here: its Jacobian is the new base
+            J_base = J_full
+
+        def jacobian(src: np.ndarray | None = J_base, res: NewtonResult = res) -> np.ndarray:
             J = np.eye(n) if src is None else np.array(src, dtype=float)
             J[np.ix_(rows, free)] = res.jacobian
             return J
@@ -233,7 +238,7 @@ class TurbofanTransient:
         return TransientState(t_s, point, spool_acceleration(net_lp, N1_rpm, self.I_lp),
                               spool_acceleration(net_hp, N2_rpm, self.I_hp), net_lp, net_hp,
                               tuple(float(v) for v in x_full), distortion, fast,
-                              (p.N1_rpm, p.N2_rpm, od.ref["Wf"]), jacobian)
+                              (p.N1_rpm, p.N2_rpm, od.ref["Wf"]), jacobian, J_base)
 
     def _fd_jacobian(self, od: TurbofanOffDesign, x: np.ndarray, cond: tuple[float, float, float],
                      demand: tuple[str, float], extras: tuple[float, float, float],
@@ -242,14 +247,14 @@ class TurbofanTransient:
         """Inverse of d r/d x_free and the matrix d r/d inputs (N1, N2, Wf), by forward differences;
         also the rows of the two shaft residuals (HP, LP): d r_shaft/d x_free and d r_shaft/d inputs."""
         rows_all = rows + [6, 7]
-        r0 = od._cycle(x, cond, demand, extras, distortion, hb)[0][rows_all]
+        r0 = od._residuals(x, cond, demand, extras, distortion, hb)[rows_all]
         cols = free + _INPUTS
         J = np.empty((len(rows_all), len(cols)))
         for j, c in enumerate(cols):
             xp = x.copy()
             h = 1e-6 * max(1.0, abs(x[c]))
             xp[c] += h
-            J[:, j] = (od._cycle(xp, cond, demand, extras, distortion, hb)[0][rows_all] - r0) / h
+            J[:, j] = (od._residuals(xp, cond, demand, extras, distortion, hb)[rows_all] - r0) / h
         m, nf = len(rows), len(free)
         return np.linalg.inv(J[:m, :nf]), J[:m, nf:], J[m:, :nf], J[m:, nf:]
 

@@ -229,7 +229,9 @@ class TurbofanTransient:
             J[np.ix_(rows, free)] = res.jacobian
             return J
 
-        def point(x: np.ndarray = x_full.copy()) -> OffDesignPoint:
+        x_match = x_full.copy()
+
+        def point(x: np.ndarray = x_match) -> OffDesignPoint:
             info = od._cycle(x, cond, demand, extras, distortion, hb)[1]
             return od._result(NewtonResult(x, r, jacobian(), res.iterations, res.evaluations), info, cond,
                               distortion)

@@ -146,9 +146,10 @@ class EngineModel:
                                   "open_frac in [0, 0.5)")
         p = _params(params)
         self.dp = design(p)
-        # unextended maps: on the sub-idle extension a fast chop drives the fan to its surge line (N2 falls
-        # faster than N1) and the step then holds; see models/engine/README.md, Limits
-        maps = _robust_maps(scaled_maps(self.dp, extended=False))
+        # the maps extended to sub-idle (map_extension.py), so idle is where a real engine idles; a fast chop
+        # on them would drive the fan to its surge line (N2 falling faster than N1) were it not for the fuel
+        # system's minimum-flow stop on Pt3 (EngineLimits.Wf_Pt3_min_kg_s_Pa), applied in _kwargs
+        maps = _robust_maps(scaled_maps(self.dp, extended=True))
         self.od = TurbofanOffDesign(self.dp, maps, valve.open_frac, valve.threshold_N2_pct)
         self.tr = TurbofanTransient(self.od, I_lp_kg_m2, I_hp_kg_m2)
         self.p, self.dt_internal_s, self.method, self.tol = p, dt_internal_s, method, tol
@@ -182,7 +183,10 @@ class EngineModel:
 
     def _kwargs(self, u: EngineInputs) -> tuple[float, dict[str, object]]:
         """Fuel flow [kg/s] and keyword arguments of :meth:`.transient.TurbofanTransient.state`."""
-        Wf_min = self.limits.Wf_min_frac * self.dp.Wf_kg_s
+        # the fuel system's stops: a fixed minimum flow and the minimum-flow stop scheduled on the compressor
+        # delivery pressure of the last step (what the burner gets below a commanded chop; not logged)
+        Wf_min = max(self.limits.Wf_min_frac * self.dp.Wf_kg_s,
+                     self.limits.Wf_Pt3_min_kg_s_Pa * self.values[_IDX["Pt3_Pa"]])
         Wf = u.Wf_kg_s if u.Wf_kg_s >= Wf_min else Wf_min          # fuel cut: flagged, not clipped-logged
         dist: tuple[Distortion | None, Distortion | None] = (None, None)
         if u.distortion_on:
@@ -317,6 +321,9 @@ class EngineModel:
         n = max(1, math.ceil(dt_s / self.dt_internal_s - 1e-9))
         h = dt_s / n
         Wf, kw = self._kwargs(u)
+        Wf_slew = self.state.Wf_kg_s - self.limits.Wf_decel_max_kg_s2 * dt_s   # the metering valve's slew
+        if Wf < Wf_slew:
+            Wf = Wf_slew
         t0 = self.t_s
         failed = False
         s = self.state

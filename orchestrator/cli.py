@@ -68,6 +68,10 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--record-every", type=int, default=1, metavar="N", help="record every N-th step")
     run.add_argument("--scenario", type=Path, metavar="FILE",
                      help="YAML file of timed events: set, ramp, hold, release inputs and tunable parameters")
+    run.add_argument("--until", metavar="CONDITION",
+                     help="end the run after the first step where 'component.variable OP number' holds (OP one of "
+                          "== != < <= > >=), e.g. 'fcs.mission_completed == 1'; default: the condition a plugin "
+                          "proposes for the system (the report plugin: the mission completed), 'never' for none")
     run.add_argument("--realtime", type=float, default=0.0, metavar="FACTOR",
                      help="pace against the wall clock: 1.0 = real time, 2.0 = twice as fast; 0 = as fast as "
                           "possible (default)")
@@ -240,6 +244,9 @@ def cmd_run(args: argparse.Namespace) -> int:
                    record=_record_paths(bound, args.record))
     if args.scenario is not None:
         ex.add_manipulator(ScenarioManipulator(load_scenario(args.scenario)))
+    until = _stop_condition(bound, args.until)
+    if until:
+        ex.stop_when(until)
     if not (args.realtime >= 0 and args.realtime == args.realtime):
         raise ConfigurationError(f"--realtime {args.realtime}: must be >= 0 (0 = as fast as possible)")
     pacer = RealTimePacer(args.realtime) if args.realtime > 0 else None
@@ -274,8 +281,8 @@ def cmd_run(args: argparse.Namespace) -> int:
         print(json.dumps(summary, indent=2))
         return 1 if failures else 0
     print(f"{sysdef.name}: {summary['steps']} steps of {ex.step_size_s:g} s ({args.algorithm}) to "
-          f"t = {stop:g} s in {summary['wall_time_s']:.3f} s wall, {summary['realtime_factor']:.1f}x "
-          f"real time; results in {out}")
+          f"t = {ex.time_s:g} s in {summary['wall_time_s']:.3f} s wall, {summary['realtime_factor']:.1f}x "
+          f"real time; results in {out}" + (f" (stopped early: {ex.stopped_by})" if ex.stopped_by else ""))
     if pacer is not None:
         rt = summary["realtime"]
         print(f"paced at {rt['target_factor']:g}x real time: achieved {rt['achieved_factor']:.3f}x, "
@@ -285,6 +292,19 @@ def cmd_run(args: argparse.Namespace) -> int:
     if args.stats:
         print(_stats_table(ex.stats()))
     return 1 if failures else 0
+
+
+def _stop_condition(bound: BoundSystem, requested: str | None) -> str | None:
+    """``--until``, else the first stop condition a plugin proposes for this system; None for none."""
+    if requested is not None:
+        return None if requested.strip().lower() == "never" else requested
+    every = [f"{c.name}.{v}" for c in bound.components for v in c.variables]
+    for module in plugins():
+        propose = getattr(module, "stop_condition", None)
+        cond = propose(every) if propose is not None else None
+        if cond:
+            return str(cond)
+    return None
 
 
 def _stats_table(stats: dict[str, dict[str, float]]) -> str:

@@ -8,9 +8,9 @@ numpy vector per FMI type: ``outputs`` (what the slaves' batched gets write) and
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Protocol
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -136,6 +136,10 @@ class Execution:
         self._record = record
         self._initialized = False
         self.manipulators: list[Manipulator] = []
+        self._until: Callable[[], bool] | None = None
+        self._until_text = ""
+        self._pending_until: Any = None
+        self.stopped_by = ""  # the stop condition that ended the run early, if one did
         self._overrides: list[tuple[np.ndarray, int, float]] = []
         self._linked_inputs: dict[tuple[int, str, int], int] = {}  # (component, type, vr) -> index in inputs
 
@@ -153,6 +157,26 @@ class Execution:
 
     def add_manipulator(self, manipulator: Manipulator) -> None:
         self.manipulators.append(manipulator)
+
+    def stop_when(self, condition: str) -> None:
+        """End :meth:`run` after the first step at which ``condition`` holds (``component.variable OP
+        number``, e.g. ``"fcs.mission_completed == 1"``), before its stop time; :attr:`stopped_by`
+        then names the condition.
+
+        Raises
+        ------
+        ConfigurationError
+            If the condition cannot be read or names no variable of the system.
+        """
+        from .manipulators import parse_condition, reader
+
+        cond = parse_condition(condition, "--until")
+        if not self._initialized:
+            self._pending_until = cond
+            return
+        read = reader(self, cond.path, "--until")
+        self._until = lambda: cond.holds(read())
+        self._until_text = str(cond)
 
     def input_slot(self, path: str, where: str) -> tuple[str, int] | tuple[Slave, VariableInfo]:
         """Where a manipulator writes ``component.variable``: ``(type, index)`` in the input vectors
@@ -356,6 +380,9 @@ class Execution:
         self._initialized = True
         for m in self.manipulators:
             m.attach(self)
+        if self._pending_until is not None:
+            cond, self._pending_until = self._pending_until, None
+            self.stop_when(f"{cond.path} {cond.op} {cond.value!r}")
         self._manipulate(self.start_time_s)
         for o in self.observers:
             o.start(self)
@@ -401,6 +428,7 @@ class Execution:
             step = self.algorithm.step
             observers = [o.sample for o in self.observers]
             manipulate = self._manipulate if self.manipulators else None
+            until = self._until
             for k in range(self.k, n_steps):
                 step(self, k)
                 self.k = k + 1
@@ -409,6 +437,9 @@ class Execution:
                     manipulate(t)
                 for sample in observers:
                     sample(k + 1, t)
+                if until is not None and until():
+                    self.stopped_by = self._until_text
+                    break
         except BaseException as exc:
             error = exc
             raise

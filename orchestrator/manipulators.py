@@ -162,18 +162,21 @@ def _event(node: yaml.Node, file: str, index: int) -> list[Event]:
     return events
 
 
-def _condition(node: yaml.Node, where: str, index: int) -> Condition:
-    text = _scalar(node, where, "'when'")
+def parse_condition(text: str, where: str) -> Condition:
+    """``component.variable OP number`` (OP one of ``== != < <= > >=``; true/false stand for 1/0)."""
     m = _CONDITION.match(str(text))
     if m is None:
-        raise ScenarioError(f"{where}: event {index}: 'when' must read 'component.variable OP number' with OP one "
-                            f"of {' '.join(OPERATORS)}, got {text!r}")
+        raise ScenarioError(f"{where} must read 'component.variable OP number' with OP one of "
+                            f"{' '.join(OPERATORS)}, got {text!r}")
     try:
         value = float({"true": 1.0, "false": 0.0}.get(m.group(3).lower(), m.group(3)))
     except ValueError:
-        raise ScenarioError(f"{where}: event {index}: 'when' compares with a number or true/false, got "
-                            f"{m.group(3)!r}") from None
+        raise ScenarioError(f"{where} compares with a number or true/false, got {m.group(3)!r}") from None
     return Condition(m.group(1), m.group(2), value)
+
+
+def _condition(node: yaml.Node, where: str, index: int) -> Condition:
+    return parse_condition(_scalar(node, where, "'when'"), f"{where}: event {index}: 'when'")
 
 
 def load_scenario(path: Path | str) -> list[Event]:
@@ -234,7 +237,7 @@ class _Track:
         return float(self.slave.get_value(self.variable))
 
 
-def _reader(execution: Execution, path: str, where: str) -> Callable[[], float]:
+def reader(execution: Execution, path: str, where: str) -> Callable[[], float]:
     """A function returning the current value of ``component.variable`` (any causality)."""
     try:
         i, var = execution.system.variable(path)
@@ -299,7 +302,7 @@ class ScenarioManipulator:
             for e in all_events:
                 if e.when is not None:
                     conditions.setdefault(e.when, []).append((tr, e))
-        self._pending = [(c, _reader(execution, c.path, pairs[0][1].where), pairs) for c, pairs in conditions.items()]
+        self._pending = [(c, reader(execution, c.path, pairs[0][1].where), pairs) for c, pairs in conditions.items()]
         self.fired = []
 
     def _fire(self, time_s: float) -> None:

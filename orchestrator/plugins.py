@@ -10,6 +10,9 @@ A plugin is a module named by an entry point of the group ``openemss.plugins`` (
 ``status_variable(variables: Sequence[str]) -> str | None``
     given every ``component.variable`` of the system about to run, the variable the
     progress bar shows (e.g. a mission's active section), or None;
+``stop_condition(variables: Sequence[str]) -> str | None``
+    the condition (``component.variable OP number``) that ends a run of that system before
+    its stop time (e.g. a mission completed), or None; ``emss run --until`` overrides it;
 ``post_run(run_dir: Path, error: BaseException | None) -> Sequence[Path]``
     called after every ``emss run`` (also a failed one, once what was recorded is on
     disk) with the results folder; returns the files it wrote, nothing when the run is

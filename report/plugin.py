@@ -5,6 +5,7 @@
   ``summary.json``, the mission as flown (``mission.yaml``) and the plots into the
   results folder (also after a failed run, from what was recorded); nothing otherwise.
 * ``status_variable``: the progress bar shows the FCS's ``section_name``.
+* ``stop_condition``: the run ends when the FCS reports the mission completed.
 * ``emss plot RUN_DIR [RUN_DIR_B ...]`` and ``emss summary RUN_DIR``.
 """
 from __future__ import annotations
@@ -30,6 +31,17 @@ def status_variable(variables: Sequence[str]) -> str | None:
         comp, _, var = path.partition(".")
         if var == "section_name" and f"{comp}.section_index" in names:
             return path
+    return None
+
+
+def stop_condition(variables: Sequence[str]) -> str | None:
+    """End the run once the mission is completed (``<fcs>.mission_completed == 1``), when a component
+    flies a mission: the stop time of the system is then an upper bound, not the mission's length."""
+    names = set(variables)
+    for path in variables:
+        comp, _, var = path.partition(".")
+        if var == "mission_completed" and f"{comp}.section_index" in names:
+            return f"{path} == 1"
     return None
 
 

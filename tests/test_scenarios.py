@@ -183,3 +183,31 @@ def test_step_statistics_printed_and_in_run_json(system: Path, tmp_path: Path,
     stats = json.loads((tmp_path / "o" / "run.json").read_text())["step_statistics"]
     assert {c: s["steps"] for c, s in stats.items()} == {"a": 10, "b": 10, "c": 10}
     assert all(s["do_step_s"] > 0 and s["get_s"] > 0 for s in stats.values())
+
+
+def test_until_ends_the_run_at_the_first_step_the_condition_holds(system: Path, tmp_path: Path,
+                                                                   capsys: pytest.CaptureFixture[str]) -> None:
+    """a.u_real ramps 1 per s (scenario); --until 'a.y_real >= 4' (a.y_real = a.u_real, k = 1) ends the run
+    after the first recorded step at which a.y_real >= 4, long before the stop time of 10 s; the recorded
+    rows and run.json end there."""
+    f = tmp_path / "ramp.yaml"
+    f.write_text("events:\n  - from: 0.0\n    to: 10.0\n    ramp: {a.u_real: [0.0, 10.0]}\n")
+    out = tmp_path / "o"
+    rc = main(["run", str(system), "--scenario", str(f), "--until", "a.y_real >= 4", "--rate", "10",
+               "--out", str(out), "--record", "a.y_real"])
+    assert rc == 0
+    assert "stopped early: a.y_real >= 4" in capsys.readouterr().out
+    rows = (out / "timeseries.csv").read_text().splitlines()
+    y = [float(r.split(",")[1]) for r in rows[1:]]
+    assert y[-1] >= 4.0 and all(v < 4.0 for v in y[:-1])
+    assert 4.0 <= float(rows[-1].split(",")[0]) <= 4.1 + 1e-9
+    assert json.loads((out / "run.json").read_text())["steps"] == len(rows) - 2
+
+
+@pytest.mark.parametrize("cond, fragment", [("a.nope > 1", "no variable 'a.nope'"),
+                                            ("a.y_real ~ 1", "must read 'component.variable OP number'")])
+def test_until_with_a_bad_condition_is_one_line(system: Path, tmp_path: Path, cond: str, fragment: str,
+                                                capsys: pytest.CaptureFixture[str]) -> None:
+    rc = main(["run", str(system), "--until", cond, "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc != 0 and len(err) == 1 and fragment in err[0], err

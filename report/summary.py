@@ -30,9 +30,10 @@ STOPPED_M_S = 0.5
 LIMIT_BAND = 0.0025
 #: Engine Boolean outputs reported as limits when recorded.
 ENGINE_FLAGS = ("surge", "flameout", "overspeed", "fuel_limited", "solver_failed")
-#: FCS limiters: (name, FCS Boolean output if it has one, FCS input signal, FCS limit parameter).
-FCS_LIMITERS = (("Tt41_limit", "Tt41_limited", "Tt41_K", "fuel_control.Tt41_max_K"),
-                ("N1_limit", "N1_limited", "N1_pct", "fuel_control.N1_max_pct"))
+#: FCS limiters: (name, code of the FCS's Integer output ``fuel_limiter`` (0 the lever's demand, 1 the Tt41
+#: limit, 2 the N1 limit), FCS input signal, FCS limit parameter).
+FCS_LIMITERS = (("Tt41_limit", 1, "Tt41_K", "fuel_control.Tt41_max_K"),
+                ("N1_limit", 2, "N1_pct", "fuel_control.N1_max_pct"))
 
 
 def held_increments(time_s: np.ndarray, rate: np.ndarray) -> np.ndarray:
@@ -157,10 +158,10 @@ def limits_hit(run: RunData) -> dict[str, dict[str, Any]]:
     fcs = run.roles.fcs
     if fcs is None:
         return out
-    for name, output, signal, param in FCS_LIMITERS:
-        col = run.get("fcs", output)
-        if col is not None:
-            out[name] = {**flag_stats(t, col), "source": f"{fcs}.{output}"}
+    selected = run.get("fcs", "fuel_limiter")
+    for name, code, signal, param in FCS_LIMITERS:
+        if selected is not None:
+            out[name] = {**flag_stats(t, selected == code), "source": f"{fcs}.fuel_limiter == {code}"}
             continue
         value, limit = run.get("fcs", signal), parameter_float(run, fcs, param)
         if value is not None and limit is not None:

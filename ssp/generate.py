@@ -40,9 +40,15 @@ AIRFRAME_OUT = ("lat_deg", "lon_deg", "alt_msl_m", "alt_agl_m", "tas_m_s", "cas_
                 "load_factor", "vs_m_s", "p_amb_Pa", "T_amb_K", "rho_amb_kg_m3", "on_ground", "mass_kg", "fuel_kg")
 FCS_OUT = ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "brakes_norm", "steering_norm", "gear_down",
            "lever_norm", "fuel_flow_cmd_kg_s", "alt_cmd_m", "tas_cmd_m_s", "mach_cmd", "track_cmd_rad",
-           "section_index", "mission_completed")
+           "section_index", "mission_completed", "fuel_limiter")
+# Flight idle of the Larzac-04-sized engines (the fuel controller's lowest N1c demand, and the TECS lever
+# that demands it, N1c_idle / k_delta): 40 % corrected fan speed runs steadily on the engine model from sea
+# level to 7500 m (its lowest steady N1 there: 18 to 30 %) and gives 0.84 kN at 600 m, Mach 0.2 (a
+# 3-degree glide slope needs about 0.9 kN) and -0.2 kN at 7500 m, Mach 0.75.
+IDLE = {"fcs.fuel_control.N1c_idle_pct": 40.0, "fcs.tecs.lever_min": 0.40}
 # the flight control's first fuel-flow command and the engine's start: steady at 60 % N1, sea level static
-START = {"engine": {"start_N1_pct": 60.0, "preset": "larzac04_sls"}, "fcs": {"Wf0_kg_s": 0.07}}
+START = {"engine": {"start_N1_pct": 60.0, "preset": "larzac04_sls"},
+         "fcs": {"Wf0_kg_s": 0.07, **{k.partition(".")[2]: v for k, v in IDLE.items()}}}
 
 
 def _unit(fmu: Path, name: str, unit: str | None) -> str | None:
@@ -68,8 +74,11 @@ def _add(sys_: SystemBuilder, name: str, fmu_file: str, names: list[str]) -> Non
 
 def build_system() -> SystemBuilder:
     """The engine + airframe + flight-control system of the Munich mission."""
-    sys_ = SystemBuilder("openEMSS").experiment(0.0, 4000.0, STEP_S)
-    engine_in = ["fuel_flow_cmd_kg_s", "alt_m", "mach"]
+    # the Munich mission takes about 4040 s; emss run ends when the FCS reports it completed
+    sys_ = SystemBuilder("openEMSS").experiment(0.0, 5000.0, STEP_S)
+    # the distortion inputs are connectors too (unconnected), so a scenario that sets them is recorded
+    engine_in = ["fuel_flow_cmd_kg_s", "alt_m", "mach", "distortion_on", "distortion_sector_deg",
+                 "distortion_dPt_frac"]
     fcs_in = [*AIRFRAME_TO_FCS, "N1_pct", "N1c_pct", "Tt41_K"]
     airframe_in = [*FCS_TO_AIRFRAME, *ENGINE_TO_AIRFRAME]
     _add(sys_, "fcs", "Fcs.fmu", fcs_in + list(FCS_OUT))
@@ -111,9 +120,9 @@ _SI: dict[str, dict[str, float]] = {
 
 def parameter_sets() -> dict[str, ParameterSet]:
     """System-level parameter sets that select the engine."""
-    return {"engine_larzac04.ssv": ParameterSet("engine_larzac04", {"engine.preset": "larzac04_sls"}),
+    return {"engine_larzac04.ssv": ParameterSet("engine_larzac04", {"engine.preset": "larzac04_sls", **IDLE}),
             "engine_reference_study.ssv": ParameterSet("engine_reference_study",
-                                                       {"engine.preset": "reference_study"})}
+                                                       {"engine.preset": "reference_study", **IDLE})}
 
 
 def main() -> int:

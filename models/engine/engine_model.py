@@ -226,7 +226,8 @@ class EngineModel:
         self.state = self.tr.state(0.0, self.N1_rpm, self.N2_rpm, pt.Wf_kg_s, guess=pt,
                                    handling_bleed_frac=self.valve_pos * self.valve.open_frac, **kw)  # type: ignore[arg-type]
         self._key = self._make_key(pt.Wf_kg_s, u)
-        self._publish(pt.Wf_kg_s, u.Wf_kg_s)
+        # started at a speed: its input is the fuel it burns there (not a fuel cut)
+        self._publish(pt.Wf_kg_s, u.Wf_kg_s if N1_pct is None else pt.Wf_kg_s)
         return self.values
 
     # ------------------------------------------------------------------ step

@@ -102,12 +102,15 @@ def test_limits_from_engine_flags_and_the_fuel_controller(tmp_path: Path) -> Non
     assert lim["Tt41_limit"]["count"] == 1 and lim["Tt41_limit"]["first_time_s"] == pytest.approx(T[600])
     assert lim["Tt41_limit"]["limit"] == 1400.0 and lim["Tt41_limit"]["source"].startswith("inferred")
     assert lim["N1_limit"]["count"] == 0
-    # an FCS that reports its limiter is believed instead of the inference
-    flag = np.zeros(N)
-    flag[50:60] = 1
-    lim = _summary(Runs(tmp_path).make("flagged", columns={"fcs.Tt41_limited": flag, "fcs.Tt41_K": tt41}))["limits_hit"]
+    # an FCS that reports its limiter (fuel_limiter: 1 Tt41, 2 N1) is believed instead of the inference
+    code = np.zeros(N)
+    code[50:60] = 1
+    code[70:75] = 2
+    lim = _summary(Runs(tmp_path).make("flagged", columns={"fcs.fuel_limiter": code, "fcs.Tt41_K": tt41}))["limits_hit"]
     assert lim["Tt41_limit"] == {"count": 1, "first_time_s": pytest.approx(T[50]),
-                                 "duration_s": pytest.approx(10 * H_S), "source": "fcs.Tt41_limited"}
+                                 "duration_s": pytest.approx(10 * H_S), "source": "fcs.fuel_limiter == 1"}
+    assert lim["N1_limit"] == {"count": 1, "first_time_s": pytest.approx(T[70]),
+                               "duration_s": pytest.approx(5 * H_S), "source": "fcs.fuel_limiter == 2"}
 
 
 def _landing_columns(east_m: float, north_m: float = 0.0, gs_end: float = 0.1, airborne: bool = True) -> dict:

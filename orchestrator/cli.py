@@ -12,6 +12,7 @@ import json
 import os
 import pkgutil
 import sys
+import tempfile
 import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -26,9 +27,9 @@ from .plugins import load_problems, plugin_name, plugins
 from .ssp import load_system
 from .system import BoundSystem, bind_system
 
-#: The job ``emss run`` runs without a SYSTEM argument: the two-mass oscillator example,
-#: until the Munich demonstration mission exists.
-DEFAULT_EXAMPLE = PACKAGE_ROOT / "examples" / "oscillator"
+#: The job ``emss run`` runs without a SYSTEM argument: the project's coupled system in ssp/, which
+#: flies the Munich demonstration mission.
+DEFAULT_SYSTEM = PACKAGE_ROOT / "ssp"
 
 
 class _Parser(argparse.ArgumentParser):
@@ -41,9 +42,12 @@ class _Parser(argparse.ArgumentParser):
 def _add_system_args(p: argparse.ArgumentParser, optional: bool = False) -> None:
     p.add_argument("system", nargs="?" if optional else None, type=Path,
                    help="folder holding SystemStructure.ssd, an .ssd file or an .ssp archive"
-                        + (" (default: the shipped example)" if optional else ""))
+                        + (" (default: ssp/, the Munich mission)" if optional else ""))
     p.add_argument("--params", type=Path, nargs="+", action="extend", default=[], metavar="FILE.ssv",
                    help="system-level parameter sets (names component.variable), applied after the SSD's")
+    p.add_argument("--set", nargs="+", action="extend", default=[], metavar="COMPONENT.VARIABLE=VALUE",
+                   help="parameter values, applied last (e.g. fcs.mission_file=missions/my.yaml, "
+                        "engine.preset=reference_study)")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -186,8 +190,50 @@ def _post_run(out: Path, error: BaseException | None) -> tuple[list[Path], list[
     return written, failures
 
 
-def _load(system: Path, params: Sequence[Path]) -> BoundSystem:
-    return bind_system(load_system(system), list(params))
+def _load(system: Path, params: Sequence[Path], settings: Sequence[str] = (),
+          folder: Path | None = None) -> BoundSystem:
+    """Bind the system with its parameter sets; ``settings`` (``component.variable=value``) are typed by
+    the variables they set, written as one more parameter set into ``folder`` (the results, so a run
+    records what it was given) and applied last."""
+    bound = bind_system(load_system(system), list(params))
+    if not settings:
+        return bound
+    from lxml import etree
+
+    from .ssp_write import ParameterSet
+
+    values: dict[str, bool | int | float | str] = {}
+    for item in settings:
+        path, eq, text = item.partition("=")
+        if not eq:
+            raise ConfigurationError(f"--set {item!r}: write component.variable=value")
+        try:
+            _, var = bound.variable(path.strip())
+        except EmssError:
+            raise ConfigurationError(f"--set {item!r}: no variable '{path.strip()}' (write component.variable "
+                                     "with a component of this system)") from None
+        values[path.strip()] = _typed(text.strip(), var.type_name, item)
+    target = (folder or Path(tempfile.mkdtemp(prefix="emss-set-"))) / "cli_parameters.ssv"
+    target.parent.mkdir(parents=True, exist_ok=True)
+    target.write_bytes(etree.tostring(ParameterSet("cli_parameters", values).element(), xml_declaration=True,
+                                      encoding="UTF-8", pretty_print=True))
+    return bind_system(load_system(system), [*params, target])
+
+
+def _typed(text: str, type_name: str, item: str) -> bool | int | float | str:
+    """``text`` as a value of an FMI type; a String that names an existing file becomes its absolute path."""
+    try:
+        if type_name == "Real":
+            return float(text)
+        if type_name in ("Integer", "Enumeration"):
+            return int(text)
+        if type_name == "Boolean":
+            if text.lower() not in ("true", "false", "1", "0"):
+                raise ValueError
+            return text.lower() in ("true", "1")
+    except ValueError:
+        raise ConfigurationError(f"--set {item!r}: not a valid {type_name} value") from None
+    return str(Path(text).resolve()) if Path(text).is_file() else text
 
 
 def _multiples(items: Sequence[str]) -> dict[str, int]:
@@ -215,12 +261,10 @@ def _record_paths(bound: BoundSystem, patterns: Sequence[str] | None) -> list[st
 
 
 def _default_system() -> Path:
-    if not (DEFAULT_EXAMPLE / "SystemStructure.ssd").is_file():
-        raise ConfigurationError("no SYSTEM given and the shipped example is not available "
-                                 f"({DEFAULT_EXAMPLE}); give a system folder, .ssd or .ssp")
-    ensure_built(DEFAULT_EXAMPLE / "fmus", DEFAULT_EXAMPLE / "resources",
-                 report=lambda m: print(m, file=sys.stderr))
-    return DEFAULT_EXAMPLE
+    if not (DEFAULT_SYSTEM / "SystemStructure.ssd").is_file():
+        raise ConfigurationError("no SYSTEM given and the project's system is not available "
+                                 f"({DEFAULT_SYSTEM}); give a system folder, .ssd or .ssp")
+    return DEFAULT_SYSTEM
 
 
 def _ensure_project_fmus(system: Path) -> None:
@@ -233,7 +277,8 @@ def _ensure_project_fmus(system: Path) -> None:
 def cmd_run(args: argparse.Namespace) -> int:
     system = args.system if args.system is not None else _default_system()
     _ensure_project_fmus(system)
-    bound = _load(system, args.params)
+    out = args.out or Path("results") / f"{load_system(system).name}-{time.strftime('%Y%m%d-%H%M%S')}"
+    bound = _load(system, args.params, args.set, out)
     sysdef = bound.definition
     stop = args.stop_time if args.stop_time is not None else sysdef.stop_time_s
     if stop is None:
@@ -250,7 +295,6 @@ def cmd_run(args: argparse.Namespace) -> int:
     if not (args.realtime >= 0 and args.realtime == args.realtime):
         raise ConfigurationError(f"--realtime {args.realtime}: must be >= 0 (0 = as fast as possible)")
     pacer = RealTimePacer(args.realtime) if args.realtime > 0 else None
-    out = args.out or Path("results") / f"{sysdef.name}-{time.strftime('%Y%m%d-%H%M%S')}"
     csv = CsvRecorder(out / "timeseries.csv", every=args.record_every)
     record = RunRecord(out / "run.json", str(system), [str(p) for p in args.params],
                        {"stop_time_s": stop, "scenario": str(args.scenario) if args.scenario else None},
@@ -347,7 +391,7 @@ def cmd_export(args: argparse.Namespace) -> int:
     from .execution import check_rate
     from .export import export_container
 
-    bound = _load(args.system, args.params)
+    bound = _load(args.system, args.params, args.set)
     sysdef = bound.definition
     rate = args.rate if args.rate is not None else (1.0 / sysdef.step_size_s if sysdef.step_size_s
                                                    else DEFAULT_RATE_HZ)
@@ -360,7 +404,7 @@ def cmd_export(args: argparse.Namespace) -> int:
 
 
 def cmd_info(args: argparse.Namespace) -> int:
-    d = _describe(_load(args.system, args.params))
+    d = _describe(_load(args.system, args.params, args.set))
     if args.json:
         print(json.dumps(d, indent=2, default=str))
         return 0
@@ -396,7 +440,7 @@ def _fmu_problems(bound: BoundSystem) -> list[Problem]:
 
 def cmd_validate(args: argparse.Namespace) -> int:
     try:
-        bound = _load(args.system, args.params)
+        bound = _load(args.system, args.params, args.set)
         problems = _fmu_problems(bound)
     except SystemStructureError as exc:
         problems = exc.problems

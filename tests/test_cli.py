@@ -139,3 +139,32 @@ def test_export_writes_one_fmu_and_refuses_what_the_container_cannot_do(
     assert main(["export", str(oscillator), "--container", str(tmp_path / "bad.fmu")]) == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "mass1.x1_m -> mass2.x1_m" in err[0] and not (tmp_path / "bad.fmu").exists()
+
+
+def test_set_overrides_a_parameter_and_is_kept_with_the_results(oscillator: Path, tmp_path: Path,
+                                                                capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["info", str(oscillator), "--set", "mass2.kc_N_m=75"]) == 0
+    assert "mass2.kc_N_m = 75.0" in capsys.readouterr().out  # over the component's .ssv (50)
+    out = tmp_path / "out"
+    assert main(["run", str(oscillator), "--stop-time", "0.5", "--set", "mass2.kc_N_m=75", "--out", str(out)]) == 0
+    assert 'name="mass2.kc_N_m"' in (out / "cli_parameters.ssv").read_text()
+
+
+@pytest.mark.parametrize("item, fragment", [("mass2.kc_N_m", "write component.variable=value"),
+                                            ("mass2.nope=1", "no variable 'mass2.nope'"),
+                                            ("mass2.kc_N_m=stiff", "not a valid Real value")])
+def test_bad_set_is_one_line(oscillator: Path, tmp_path: Path, item: str, fragment: str,
+                             capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["run", str(oscillator), "--set", item, "--out", str(tmp_path / "o")]) != 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and fragment in err[0], err
+
+
+def test_run_without_a_system_flies_the_project_system(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The README's main command: no SYSTEM runs ssp/ (engine, airframe, FCS; the Munich mission), building
+    its FMUs first if needed; here its first two seconds."""
+    out = tmp_path / "run"
+    assert main(["run", "--stop-time", "2", "--out", str(out), "--no-post-run"]) == 0
+    assert "openEMSS: 40 steps" in capsys.readouterr().out
+    head = (out / "timeseries.csv").read_text().splitlines()[0]
+    assert "engine.thrust_N" in head and "fcs.section_index" in head and "airframe.alt_msl_m" in head

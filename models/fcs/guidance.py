@@ -192,6 +192,10 @@ class L1Guidance(Tunable[GuidanceParams]):
                              self._params.L1_orbit_max_radii * radius_m, psi_rad)
 
 
+#: Sharpest course change flown by (turn anticipated) with ``wp_fly_by``; sharper ones are flown over [rad].
+FLY_BY_MAX_TURN_RAD = math.radians(120.0)
+
+
 class WaypointSequencer:
     """Steps through a list of waypoints, following the great-circle leg to the next one.
 
@@ -199,7 +203,8 @@ class WaypointSequencer:
     when the along-track distance of its leg is flown (the aircraft is abeam or beyond),
     or -- with ``wp_fly_by`` set: fly-by waypoints, as in ARINC 424 -- when the distance to go is below the
     turn anticipation R tan(|dpsi|/2), with dpsi the course change to the next leg and R
-    the turn radius at ``fly_by_bank_frac`` (80 %) of the bank limit. Fly-by turns stay close to the legs but
+    the turn radius at ``fly_by_bank_frac`` (80 %) of the bank limit, for course changes up to
+    FLY_BY_MAX_TURN_RAD (120 deg; sharper ones are flown over). Fly-by turns stay close to the legs but
     pass the waypoint at a distance of the order of R (1/cos(dpsi/2) - 1) or more;
     fly-over (the default) passes within ``wp_accept_m`` and overshoots the next leg.
 
@@ -211,13 +216,18 @@ class WaypointSequencer:
         Waypoints in order.
     start : LatLon
         Start of the first leg (the aircraft position when the section begins).
+    then : LatLon, optional
+        Where the aircraft goes after the last waypoint (e.g. the first waypoint of the next
+        section): with fly-by, the turn at the last waypoint is anticipated towards it too.
     """
 
-    def __init__(self, guidance: L1Guidance, waypoints: list[LatLon], start: LatLon) -> None:
+    def __init__(self, guidance: L1Guidance, waypoints: list[LatLon], start: LatLon,
+                 then: LatLon | None = None) -> None:
         if not waypoints:
             raise FcsError("waypoint following needs at least one waypoint")
         self._g = guidance
         self._wps = list(waypoints)
+        self._then = then
         self._prev = start
         self.index = 0
         if central_angle_rad(start, self._wps[0]) == 0.0:  # starting on the first waypoint
@@ -239,12 +249,16 @@ class WaypointSequencer:
         a, b = self.leg
         cmd = self._g.leg(pos, vn_m_s, ve_m_s, a, b, psi_rad)
         lead = 0.0
-        if self._g.parameters.wp_fly_by and self.index + 1 < len(self._wps):
-            dpsi = wrap_pi(initial_bearing_rad(b, self._wps[self.index + 1]) - final_bearing_rad(a, b))
+        nxt = self._wps[self.index + 1] if self.index + 1 < len(self._wps) else \
+            (self._then if self.index + 1 == len(self._wps) else None)
+        if self._g.parameters.wp_fly_by and nxt is not None:
+            dpsi = wrap_pi(initial_bearing_rad(b, nxt) - final_bearing_rad(a, b))
             vg = math.hypot(vn_m_s, ve_m_s)
             gp = self._g.parameters
             r = vg * vg / (G0_M_S2 * math.tan(gp.fly_by_bank_frac * max(gp.phi_max_rad, 1e-3)))
-            lead = r * math.tan(min(abs(dpsi), math.radians(150.0)) / 2)
+            # a turn sharper than FLY_BY_MAX_TURN_RAD is flown over, as FMSs do: its anticipation would
+            # exceed several turn radii and cut the waypoint off altogether
+            lead = r * math.tan(abs(dpsi) / 2) if abs(dpsi) <= FLY_BY_MAX_TURN_RAD else 0.0
         if not self.done and (cmd.dist_to_go_m <= lead or distance_m(pos, b) < self._g.parameters.wp_accept_m):
             self._prev = b
             self.index += 1

@@ -29,7 +29,7 @@ from typing import Any
 
 from .approach import ApproachParams, AutoLand, centreline_steer
 from .atmosphere import cas_from_tas, isa
-from .geo import wrap_pi
+from .geo import LatLon, wrap_pi
 from .guidance import L1Guidance, OrbitTracker, WaypointSequencer
 from .mission import Mission, Section
 from .state import AircraftState, Targets
@@ -97,7 +97,10 @@ class _Waypoints(_Exec):
     def __init__(self, sec: Section, x: AircraftState, t_s: float, ctx: MissionRunner) -> None:
         super().__init__(sec, x, t_s, ctx)
         g = L1Guidance(dataclasses.replace(ctx.guidance.parameters, wp_fly_by=bool(sec["fly_by"])))
-        self.seq = WaypointSequencer(g, list(sec["waypoints"]), x.pos)
+        # flown by from the previous section's last waypoint: the first leg starts there, not where the
+        # turn into it began
+        start = ctx.flown_by if sec["fly_by"] and ctx.flown_by is not None else x.pos
+        self.seq = WaypointSequencer(g, list(sec["waypoints"]), start, ctx.next_fix() if sec["fly_by"] else None)
 
     def step(self, t_s: float, dt_s: float, x: AircraftState) -> Targets:
         cmd = self.seq.step(x.pos, x.vn_m_s, x.ve_m_s, x.psi_rad)
@@ -215,6 +218,8 @@ class MissionRunner:
                  approach_params: ApproachParams | None = None) -> None:
         self.mission = mission
         self.guidance = guidance if guidance is not None else L1Guidance()
+        #: last waypoint of the section just completed, when it was a fly-by waypoint section
+        self.flown_by: LatLon | None = None
         self.approach_params = approach_params if approach_params is not None else ApproachParams.from_file()
         self.active_index = 0
         self._exec: _Exec | None = None
@@ -230,6 +235,17 @@ class MissionRunner:
         """Name of the active section (``"finished"`` after the last)."""
         return "finished" if self.finished else self.mission.sections[self.active_index].name
 
+    def next_fix(self) -> LatLon | None:
+        """The first waypoint of the section after the active one, if that is a waypoint section (for
+        the turn anticipation of fly-by waypoints across sections)."""
+        secs = self.mission.sections
+        if self.active_index + 1 >= len(secs):
+            return None
+        nxt = secs[self.active_index + 1]
+        if nxt.type == "WaypointFollowing":
+            return nxt["waypoints"][0]
+        return None
+
     def step(self, t_s: float, dt_s: float, x: AircraftState) -> Targets:
         """Targets of the active section at time ``t_s`` [s]; advances on completion."""
         while not self.finished:
@@ -240,6 +256,7 @@ class MissionRunner:
             tg = self._exec.step(t_s, dt_s, x)
             if not self._exec.done:
                 return tg
+            self.flown_by = self._exec.seq.leg[1] if isinstance(self._exec, _Waypoints) and sec["fly_by"] else None
             self.active_index += 1
             self._exec = None
         if not self.history or self.history[-1][1] != len(self.mission.sections):

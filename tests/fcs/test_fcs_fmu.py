@@ -499,7 +499,7 @@ def coupled_system(fmus: Path, tmp_path: Path, engine_model: bool = False,  # ty
     ensure_built(ROOT / "fmus", fmus, names=["airframe", "engine"] if engine_model else ["airframe"])
     text = MUNICH.read_text()
     short = tmp_path / "short.yaml"
-    short.write_text(text[:text.index("  - {type: WaypointFollowing, name: Munich circuit")]
+    short.write_text(text[:text.index("  - {type: WaypointFollowing, fly_by: true, name: Munich circuit")]
                      .replace("waypoints: [WP1, WP2]", "waypoints: [WP1]"))
     mission = load_mission(short)
     assert [s.type for s in mission.sections] == ["Rolling", "TakeOff", "WaypointFollowing"]

@@ -21,7 +21,7 @@ import pytest
 from kinematic import Kinematic
 
 from openemss.models.fcs.errors import FcsError
-from openemss.models.fcs.geo import LatLon, destination, distance_m, initial_bearing_rad
+from openemss.models.fcs.geo import LatLon, along_track_m, cross_track_m, destination, distance_m, initial_bearing_rad
 from openemss.models.fcs.guidance import L1Guidance, OrbitTracker, WaypointSequencer
 
 DT = 0.05
@@ -59,6 +59,45 @@ def test_waypoint_sequence_followed(wind: tuple[float, float], fly_by: bool) -> 
     else:
         assert all(c < g.parameters.wp_accept_m for c in closest), closest
     assert max(xtk_late) < (40.0 if fly_by else 300.0)
+
+
+def _deviation_after_wp2(split: bool, anticipate: bool) -> float:
+    """Largest distance from the leg WP2 -> WP3 while flying it, on the kinematic model at 180 m/s: the
+    waypoints in one fly-by sequencer, or split into two sections after WP2 as the mission runner does."""
+    g = L1Guidance()
+    g.set_parameter("wp_fly_by", True)
+    ac = Kinematic(EDDM, math.radians(262.0), 180.0)
+    first = WaypointSequencer(g, WPS[:3] if split else WPS, EDDM, then=WPS[3] if anticipate else None)
+    second: WaypointSequencer | None = None
+    dev: list[float] = []
+    t = 0.0
+    while t < 3000.0:
+        seq = first if second is None else second
+        cmd = seq.step(ac.pos, ac.vn, ac.ve, ac.psi)
+        if split and second is None and first.done:  # the next section, started as the mission runner does
+            second = WaypointSequencer(g, WPS[3:], WPS[2] if anticipate else ac.pos)
+        on_leg = (second is not None and second.index == 0) if split else first.index == 3
+        if on_leg and along_track_m(WPS[2], WPS[3], ac.pos) > 0.0:
+            dev.append(abs(cross_track_m(WPS[2], WPS[3], ac.pos)))
+        if (second if split else first) is not None and (second if split else first).done:
+            break
+        ac.step(DT, cmd.phi_cmd_rad)
+        t += DT
+    return max(dev)
+
+
+def test_fly_by_turn_into_the_next_section() -> None:
+    """Split into two sections after WP2, with the next section's first waypoint given (``then``) and the
+    next section starting its first leg at WP2, the turn at WP2 is flown exactly as inside one section
+    (the same deviation from the leg WP2 -> WP3, to 1 m); without it the turn is flown over and overshoots
+    that leg by more."""
+    one = _deviation_after_wp2(split=False, anticipate=False)
+    split = _deviation_after_wp2(split=True, anticipate=True)
+    over = _deviation_after_wp2(split=True, anticipate=False)
+    print(f"deviation from the leg WP2-WP3: one section {one:.0f} m, two with anticipation {split:.0f} m, "
+          f"two without {over:.0f} m")
+    assert split == pytest.approx(one, abs=1.0)
+    assert over > 1.5 * one
 
 
 def test_straight_leg_capture_from_offset_is_damped() -> None:

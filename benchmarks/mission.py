@@ -41,6 +41,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--stop-time", type=float, help="stop time [s] (default: the SSD's, the whole mission)")
     ap.add_argument("--params", type=Path, nargs="+", default=[], help="parameter sets (.ssv) to apply")
     ap.add_argument("--record-every", type=int, default=1, help="record every N-th step (default 1)")
+    ap.add_argument("--until", default="fcs.mission_completed == 1",
+                    help="stop condition, as emss run --until (default: the mission completed; 'never' for none)")
     ap.add_argument("--profile", type=Path, help="write a cProfile of the run to this file")
     args = ap.parse_args(argv)
 
@@ -57,6 +59,8 @@ def main(argv: list[str] | None = None) -> int:
         bound = bind_system(load_system(ROOT / "ssp"), list(args.params))
         ex = Execution(bound, algorithm="jacobi")
         ex.add_observer(CsvRecorder(work / "timeseries.csv", every=args.record_every))
+        if args.until.strip().lower() != "never":
+            ex.stop_when(args.until)
         stop = args.stop_time if args.stop_time is not None else bound.definition.stop_time_s
         prof = cProfile.Profile() if args.profile else None
         error = ""

@@ -11,7 +11,6 @@ one dotted name, ``"<controller>.<parameter>"``, e.g. ``"tecs.k_TP"`` or
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -188,9 +187,9 @@ class FlightControlSystem:
         If ``x.Vdot_m_s2`` is NaN (an airframe that does not output it), the rate of the
         true airspeed is taken from its change since the previous step.
         """
-        if math.isnan(x.Vdot_m_s2):
+        vdot = x.Vdot_m_s2
+        if math.isnan(vdot):  # (not a dataclasses.replace of the state: a third of this step's cost)
             vdot = 0.0 if self._tas_prev is None or dt_s <= 0.0 else (x.tas_m_s - self._tas_prev) / dt_s
-            x = dataclasses.replace(x, Vdot_m_s2=vdot)
         self._tas_prev = x.tas_m_s
         tg = self.runner.step(t_s, dt_s, x)
         tas_cmd = math.nan
@@ -207,7 +206,7 @@ class FlightControlSystem:
                 self.tecs.reset(lever0 * self.tecs.available_thrust_N(x.alt_m, x.dT_isa_K), W, x.theta_rad)
                 self._tecs_engaged = True
             alt_cmd = tg.alt_cmd_m if tg.gamma_cmd_rad is None else None
-            out = self.tecs.step(dt_s, TecsInput(x.alt_m, x.tas_m_s, x.Vdot_m_s2, x.gamma_rad, x.mass_kg, x.dT_isa_K),
+            out = self.tecs.step(dt_s, TecsInput(x.alt_m, x.tas_m_s, vdot, x.gamma_rad, x.mass_kg, x.dT_isa_K),
                                  tg.speed, alt_cmd if alt_cmd is not None else None,
                                  tg.gamma_cmd_rad if alt_cmd is None else None, lever_fixed=tg.lever)
             theta_c, lever, tas_cmd = out.theta_cmd_rad, out.lever, out.tas_cmd_m_s

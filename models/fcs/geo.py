@@ -142,6 +142,20 @@ def cross_track_m(start: LatLon, end: LatLon, p: LatLon, radius_m: float = R_EAR
     return radius_m * math.asin(max(-1.0, min(1.0, math.sin(d13) * math.sin(t13 - t12))))
 
 
+def track_position_m(start: LatLon, end: LatLon, p: LatLon, radius_m: float = R_EARTH_M) -> tuple[float, float]:
+    """(cross-track, along-track) of ``p`` on the great circle ``start`` -> ``end`` [m]: the values of
+    :func:`cross_track_m` and :func:`along_track_m`, sharing their distance and bearings (one call per
+    guidance step instead of two)."""
+    d13 = central_angle_rad(start, p)
+    if d13 == 0.0:
+        return 0.0, 0.0
+    dt = initial_bearing_rad(start, p) - initial_bearing_rad(start, end)
+    dxt = math.asin(max(-1.0, min(1.0, math.sin(d13) * math.sin(dt))))
+    c = math.cos(dxt)
+    dat = math.acos(max(-1.0, min(1.0, math.cos(d13) / c))) if c > 0 else 0.0
+    return radius_m * dxt, (radius_m * dat if math.cos(dt) >= 0 else -radius_m * dat)
+
+
 def along_track_m(start: LatLon, end: LatLon, p: LatLon, radius_m: float = R_EARTH_M) -> float:
     """Distance from ``start`` along the great circle towards ``end`` to the foot of ``p`` [m].
 

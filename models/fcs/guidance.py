@@ -36,13 +36,12 @@ from .atmosphere import G0_M_S2
 from .errors import FcsError
 from .geo import (
     LatLon,
-    along_track_m,
     central_angle_rad,
-    cross_track_m,
     destination,
     distance_m,
     final_bearing_rad,
     initial_bearing_rad,
+    track_position_m,
     wrap_pi,
 )
 from .tunable import Tunable, load_params
@@ -165,12 +164,11 @@ class L1Guidance(Tunable[GuidanceParams]):
             True heading [rad]; with it the command allows for the wind's crab angle
             (the acceleration normal to the track is cos(crab) of the air-relative one).
         """
-        if central_angle_rad(start, end) == 0.0:
+        leg_len = distance_m(start, end)
+        if leg_len == 0.0:
             raise FcsError(f"guidance: leg from ({start.lat_deg:.6f}, {start.lon_deg:.6f}) deg to itself; "
                            "a leg needs two distinct points")
-        xtk = cross_track_m(start, end, pos)
-        atk = along_track_m(start, end, pos)
-        leg_len = distance_m(start, end)
+        xtk, atk = track_position_m(start, end, pos)
         foot = destination(start, initial_bearing_rad(start, end), atk)
         path_brg = (initial_bearing_rad(foot, end) if leg_len - atk > 1.0 else final_bearing_rad(start, end))
         return self._command(path_brg, xtk, vn_m_s, ve_m_s, 0.0, leg_len - atk, psi_rad=psi_rad)
@@ -228,6 +226,7 @@ class WaypointSequencer:
         self._g = guidance
         self._wps = list(waypoints)
         self._then = then
+        self._dpsi: tuple[int, float | None] = (-1, None)  # course change at the active waypoint, by index
         self._prev = start
         self.index = 0
         if central_angle_rad(start, self._wps[0]) == 0.0:  # starting on the first waypoint
@@ -244,15 +243,23 @@ class WaypointSequencer:
         i = min(self.index, len(self._wps) - 1)
         return self._prev, self._wps[i]
 
+    def _course_change(self, a: LatLon, b: LatLon) -> float | None:
+        """Course change at the active waypoint ``b`` (leg a -> b, then on) [rad]; None after the last
+        waypoint with nothing to turn to. Computed once per waypoint."""
+        if self._dpsi[0] != self.index:
+            nxt = self._wps[self.index + 1] if self.index + 1 < len(self._wps) else \
+                (self._then if self.index + 1 == len(self._wps) else None)
+            dpsi = None if nxt is None else wrap_pi(initial_bearing_rad(b, nxt) - final_bearing_rad(a, b))
+            self._dpsi = (self.index, dpsi)
+        return self._dpsi[1]
+
     def step(self, pos: LatLon, vn_m_s: float, ve_m_s: float, psi_rad: float | None = None) -> PathCommand:
         """Guidance along the current leg; advances to the next waypoint when this one is passed."""
         a, b = self.leg
         cmd = self._g.leg(pos, vn_m_s, ve_m_s, a, b, psi_rad)
         lead = 0.0
-        nxt = self._wps[self.index + 1] if self.index + 1 < len(self._wps) else \
-            (self._then if self.index + 1 == len(self._wps) else None)
-        if self._g.parameters.wp_fly_by and nxt is not None:
-            dpsi = wrap_pi(initial_bearing_rad(b, nxt) - final_bearing_rad(a, b))
+        dpsi = self._course_change(a, b) if self._g.parameters.wp_fly_by else None
+        if dpsi is not None:
             vg = math.hypot(vn_m_s, ve_m_s)
             gp = self._g.parameters
             r = vg * vg / (G0_M_S2 * math.tan(gp.fly_by_bank_frac * max(gp.phi_max_rad, 1e-3)))

@@ -122,3 +122,20 @@ def test_local_plane_agrees_with_sphere_near_origin_and_inverts() -> None:
 def test_coincident_points_have_no_bearing() -> None:
     with pytest.raises(GeometryError, match="coincide"):
         initial_bearing_rad(LAX, LAX)
+
+
+def test_track_position_equals_cross_and_along_track() -> None:
+    """The combined form used by the guidance gives the two separate functions' values (which the tests
+    above check against published geometry), to round-off, on both sides and behind the start."""
+    import random
+
+    from openemss.models.fcs.geo import LatLon, along_track_m, cross_track_m, track_position_m
+
+    rng = random.Random(1)
+    for _ in range(200):
+        a = LatLon.from_deg(rng.uniform(40, 55), rng.uniform(0, 20))
+        b = LatLon.from_deg(rng.uniform(40, 55), rng.uniform(0, 20))
+        p = LatLon.from_deg(rng.uniform(40, 55), rng.uniform(0, 20))
+        xtk, atk = track_position_m(a, b, p)
+        assert xtk == cross_track_m(a, b, p)
+        assert abs(atk - along_track_m(a, b, p)) <= 1e-9 * max(1.0, abs(atk))

@@ -161,12 +161,17 @@ def _status_variable(bound: BoundSystem, requested: str | None) -> str | None:
             raise ConfigurationError(f"--status '{requested}': no such variable (write component.variable "
                                      "with a component of this system)") from None
         return requested
+    return _proposed(bound, "status_variable")
+
+
+def _proposed(bound: BoundSystem, hook: str) -> str | None:
+    """The first non-empty answer of the plugins' ``hook(variables)`` for this system, or None."""
     every = [f"{c.name}.{v}" for c in bound.components for v in c.variables]
     for module in plugins():
-        propose = getattr(module, "status_variable", None)
-        path = propose(every) if propose is not None else None
-        if path:
-            return str(path)
+        propose = getattr(module, hook, None)
+        answer = propose(every) if propose is not None else None
+        if answer:
+            return str(answer)
     return None
 
 
@@ -342,13 +347,7 @@ def _stop_condition(bound: BoundSystem, requested: str | None) -> str | None:
     """``--until``, else the first stop condition a plugin proposes for this system; None for none."""
     if requested is not None:
         return None if requested.strip().lower() == "never" else requested
-    every = [f"{c.name}.{v}" for c in bound.components for v in c.variables]
-    for module in plugins():
-        propose = getattr(module, "stop_condition", None)
-        cond = propose(every) if propose is not None else None
-        if cond:
-            return str(cond)
-    return None
+    return _proposed(bound, "stop_condition")
 
 
 def _stats_table(stats: dict[str, dict[str, float]]) -> str:

@@ -93,7 +93,7 @@ class Engine(Fmi2Slave):
         self.start_fuel_flow_kg_s = 0.0
         lim, valve = EngineLimits(), BleedValve()
         self.N1_max_pct, self.N2_max_pct, self.FAR_lean = lim.N1_max_pct, lim.N2_max_pct, lim.FAR_lean
-        self.Wf_Pt3_min_kg_s_Pa, self.Wf_decel_max_kg_s2 = lim.Wf_Pt3_min_kg_s_Pa, lim.Wf_decel_max_kg_s2
+        self.Wf_Pt3_min_frac, self.Wf_decel_max_frac_s = lim.Wf_Pt3_min_frac, lim.Wf_decel_max_frac_s
         self.bleed_threshold_N2_pct, self.bleed_band_pct = valve.threshold_N2_pct, valve.band_pct
         self.bleed_stroke_s, self.bleed_open_frac = valve.stroke_s, valve.open_frac
         self.critical_angle_deg = 60.0
@@ -106,10 +106,10 @@ class Engine(Fmi2Slave):
                            ("start_fuel_flow_kg_s", "Initial steady fuel flow, used if > 0 [kg/s]"),
                            ("N1_max_pct", "Overspeed limit of N1 [%]"), ("N2_max_pct", "Overspeed limit of N2 [%]"),
                            ("FAR_lean", "Lean flameout limit of the burner fuel-air ratio [-]"),
-                           ("Wf_Pt3_min_kg_s_Pa", "Fuel system minimum-flow stop: burned fuel flow at least this "
-                                                  "times Pt3, 0 = none [kg/(s Pa)]"),
-                           ("Wf_decel_max_kg_s2", "Fuel metering valve slew: fastest decrease of the burned fuel "
-                                                  "flow [kg/s2]"),
+                           ("Wf_Pt3_min_frac", "Fuel system minimum-flow stop: burned Wf/Pt3 at least this "
+                                               "fraction of the design point's, 0 = none [-]"),
+                           ("Wf_decel_max_frac_s", "Fuel system decel limit: fastest decrease of the burned fuel "
+                                                   "flow, fraction of the design fuel flow per second [1/s]"),
                            ("bleed_threshold_N2_pct", "Handling bleed switching speed, centre of the band [%]"),
                            ("bleed_band_pct", "Handling bleed hysteresis band width in N2 [%]"),
                            ("bleed_stroke_s", "Handling bleed valve full-stroke time [s]"),
@@ -179,8 +179,8 @@ class Engine(Fmi2Slave):
         m = EngineModel(self._params(), I_lp_kg_m2=self.I_lp_kg_m2 or None, I_hp_kg_m2=self.I_hp_kg_m2 or None,
                         dt_internal_s=self.dt_internal_s, method="heun" if self.integrator == 1 else "euler",
                         tol=self.tol, limits=EngineLimits(self.N1_max_pct, self.N2_max_pct, self.FAR_lean,
-                                            Wf_Pt3_min_kg_s_Pa=self.Wf_Pt3_min_kg_s_Pa,
-                                            Wf_decel_max_kg_s2=self.Wf_decel_max_kg_s2),
+                                            Wf_Pt3_min_frac=self.Wf_Pt3_min_frac,
+                                            Wf_decel_max_frac_s=self.Wf_decel_max_frac_s),
                         valve=BleedValve(self.bleed_threshold_N2_pct, self.bleed_band_pct, self.bleed_stroke_s,
                                          self.bleed_open_frac),
                         distortion_target=self.distortion_target, critical_angle_deg=self.critical_angle_deg,

@@ -148,8 +148,11 @@ class EngineModel:
         self.dp = design(p)
         # the maps extended to sub-idle (map_extension.py), so idle is where a real engine idles; a fast chop
         # on them would drive the fan to its surge line (N2 falling faster than N1) were it not for the fuel
-        # system's minimum-flow stop on Pt3 (EngineLimits.Wf_Pt3_min_kg_s_Pa), applied in _kwargs
+        # system's minimum-flow stop on Pt3 (EngineLimits.Wf_Pt3_min_frac), applied in _kwargs
         maps = _robust_maps(scaled_maps(self.dp, extended=True))
+        # the fuel system's stops in this design's units: minimum Wf/Pt3 [kg/(s Pa)], decel rate [kg/s^2]
+        self.Wf_Pt3_min_kg_s_Pa = limits.Wf_Pt3_min_frac * self.dp.Wf_kg_s / self.dp.stations["3"].Pt_Pa
+        self.Wf_decel_max_kg_s2 = limits.Wf_decel_max_frac_s * self.dp.Wf_kg_s
         self.od = TurbofanOffDesign(self.dp, maps, valve.open_frac, valve.threshold_N2_pct)
         self.tr = TurbofanTransient(self.od, I_lp_kg_m2, I_hp_kg_m2)
         self.p, self.dt_internal_s, self.method, self.tol = p, dt_internal_s, method, tol
@@ -186,7 +189,7 @@ class EngineModel:
         # the fuel system's stops: a fixed minimum flow and the minimum-flow stop scheduled on the compressor
         # delivery pressure of the last step (what the burner gets below a commanded chop; not logged)
         Wf_min = max(self.limits.Wf_min_frac * self.dp.Wf_kg_s,
-                     self.limits.Wf_Pt3_min_kg_s_Pa * self.values[_IDX["Pt3_Pa"]])
+                     self.Wf_Pt3_min_kg_s_Pa * self.values[_IDX["Pt3_Pa"]])
         Wf = u.Wf_kg_s if u.Wf_kg_s >= Wf_min else Wf_min          # fuel cut: flagged, not clipped-logged
         dist: tuple[Distortion | None, Distortion | None] = (None, None)
         if u.distortion_on:
@@ -322,7 +325,7 @@ class EngineModel:
         n = max(1, math.ceil(dt_s / self.dt_internal_s - 1e-9))
         h = dt_s / n
         Wf, kw = self._kwargs(u)
-        Wf_slew = self.state.Wf_kg_s - self.limits.Wf_decel_max_kg_s2 * dt_s   # the metering valve's slew
+        Wf_slew = self.state.Wf_kg_s - self.Wf_decel_max_kg_s2 * dt_s   # the fuel system's decel limit
         if Wf < Wf_slew:
             Wf = Wf_slew
         t0 = self.t_s

@@ -96,20 +96,24 @@ class EngineLimits:
     Wf_min_frac : float
         Smallest fuel flow the burner model takes, fraction of the design fuel flow [-]; lower
         inputs are clipped to it and flag a flameout.
-    Wf_Pt3_min_kg_s_Pa : float
+    Wf_Pt3_min_frac : float
         Minimum-flow stop of the fuel metering unit, scheduled on the compressor delivery
-        pressure: the burner gets at least this times Pt3 [kg/(s Pa)], whatever is commanded (the
-        hydromechanical deceleration/minimum-flow stop of real fuel systems, which keeps a chop
-        from blowing the burner out or stalling the fan while the HP spool runs down faster than
-        the LP spool). 8e-8 lets the Larzac 04 model run down from cruise to a steady sub-idle at
-        7500 m (Wf/Pt3 of its steady running line: 1.0e-7 to 1.9e-7). 0 disables it.
-    Wf_decel_max_kg_s2 : float
-        Fastest decrease of the burned fuel flow [kg/s^2], the fuel system's deceleration limit
-        (0.1: the Larzac 04's design fuel flow in 2.6 s, of the order of a small turbofan's
-        max-to-idle deceleration time). A chop commanded faster is followed at this rate: with an
-        instantaneous chop (or at 0.5) the HP spool of the model runs down so much faster than the
-        LP spool that the fan is driven past its surge line within 0.2 to 0.5 s; at 0.1 slam/chop
-        cycles between idle and maximum run without a failed match from sea level to 8000 m.
+        pressure, as a fraction of the design point's Wf/Pt3 [-]: the burner gets at least
+        ``Wf_Pt3_min_frac * (Wf/Pt3)_design * Pt3``, whatever is commanded (the hydromechanical
+        deceleration/minimum-flow stop of real fuel systems, which keeps a chop from blowing the
+        burner out or stalling the fan while the HP spool runs down faster than the LP spool).
+        As a fraction it fits any design: 0.32 is 8e-8 kg/(s Pa) on the Larzac 04, whose steady
+        running line lies at 0.4 to 0.8 of its design ratio, and lets it run down from cruise to
+        a steady sub-idle at 7500 m. 0 disables it.
+    Wf_decel_max_frac_s : float
+        Fastest decrease of the burned fuel flow, as a fraction of the design fuel flow per
+        second [1/s], the fuel system's deceleration limit (0.38: 0.1 kg/s^2 on the Larzac 04,
+        design fuel flow to zero in 2.6 s, of the order of a small turbofan's max-to-idle
+        deceleration time). A chop commanded faster is followed at this rate: with an
+        instantaneous chop (or at 2 per second) the HP spool of the model runs down so much faster
+        than the LP spool that the fan is driven past its surge line within 0.2 to 0.5 s; at 0.38
+        slam/chop cycles between idle and maximum run without a failed match from sea level to
+        8000 m.
 
     References
     ----------
@@ -121,8 +125,8 @@ class EngineLimits:
     N2_max_pct: float = 105.0
     FAR_lean: float = 0.003
     Wf_min_frac: float = 0.01
-    Wf_Pt3_min_kg_s_Pa: float = 8e-8
-    Wf_decel_max_kg_s2: float = 0.1
+    Wf_Pt3_min_frac: float = 0.32
+    Wf_decel_max_frac_s: float = 0.38
 
 
 @dataclass(frozen=True)

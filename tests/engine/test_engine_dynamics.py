@@ -301,15 +301,17 @@ def test_deep_chop_at_altitude_runs_down_on_the_fuel_system_stops() -> None:
     the minimum-flow stop on the previous step's Pt3, and the spools run down monotonically to a steady
     sub-idle on the extended maps, without a failed match."""
     m = EngineModel("larzac04_sls")
-    lim = m.limits
+    # the stops in this design's units (0.32 of its design Wf/Pt3, 0.38 of its design fuel flow per s)
+    assert m.Wf_Pt3_min_kg_s_Pa == pytest.approx(8e-8, rel=0.02)
+    assert m.Wf_decel_max_kg_s2 == pytest.approx(0.1, rel=0.02)
     pt = m.od.solve(7500.0, 0.75, N1_pct=85.0)
     m.start(EngineInputs(pt.Wf_kg_s, 7500.0, 0.75))
     wf_prev, pt3_prev, n1_prev = m.value("fuel_flow_kg_s"), m.value("Pt3_Pa"), m.value("N1_pct")
     for _ in range(1200):                                        # 60 s
         m.step(0.05, EngineInputs(0.012, 7500.0, 0.75))
         wf, n1 = m.value("fuel_flow_kg_s"), m.value("N1_pct")
-        assert wf >= wf_prev - lim.Wf_decel_max_kg_s2 * 0.05 - 1e-12
-        assert wf >= lim.Wf_Pt3_min_kg_s_Pa * pt3_prev - 1e-12
+        assert wf >= wf_prev - m.Wf_decel_max_kg_s2 * 0.05 - 1e-12
+        assert wf >= m.Wf_Pt3_min_kg_s_Pa * pt3_prev - 1e-12
         assert n1 <= n1_prev + 1e-9
         wf_prev, pt3_prev, n1_prev = wf, m.value("Pt3_Pa"), n1
     assert m.failures == 0 and not m.flags[3]

@@ -89,8 +89,8 @@ def cycle_redesign(study: StudyDef, cfg: RedesignConfig, out: Path) -> tuple[lis
     ``redesigned_engine.ssv`` (the redesigned engine as a parameter set for ``emss run``).
     """
     from openemss.models.engine.cycle_design import design
-    from openemss.models.engine.cycle_study import cycle_study, plot_carpet, write_csv
-    from openemss.models.engine.design_params import TurbofanParams, load_params, preset_path, replace
+    from openemss.models.engine.cycle_study import cycle_study, lowest_sfc_design, plot_carpet, write_csv
+    from openemss.models.engine.design_params import TurbofanParams, load_params, preset_path
     from openemss.models.engine.errors import ModelError
     from openemss.orchestrator.errors import EmssError
     from openemss.orchestrator.ssp import load_system
@@ -108,13 +108,10 @@ def cycle_redesign(study: StudyDef, cfg: RedesignConfig, out: Path) -> tuple[lis
         raise StudyError(f"{study.source}: field 'redesign': the cycle sweep failed: {exc}") from None
     write_csv(points, folder / "carpet.csv")
     plot_carpet(points, folder / "carpet.png", title=f"Cycle sweep from {cfg.preset}")
-    feasible = [p for p in points if math.isfinite(p.SFC_kg_N_s)]
-    if not feasible:
-        raise StudyError(f"{study.source}: field 'redesign': no feasible design in the sweep")
-    best = min(feasible, key=lambda p: p.SFC_kg_N_s)
-    chosen = replace(ref, BPR=float(best.BPR), PR_fan_outer=float(best.PR_fan_outer),
-                     PR_fan_inner=float(best.PR_fan_inner), PR_hpc=float(best.PR_hpc), W2_kg_s=float(best.W2_kg_s),
-                     Fn_target_N=None)
+    try:
+        chosen, _ = lowest_sfc_design(ref, points)
+    except ModelError:
+        raise StudyError(f"{study.source}: field 'redesign': no feasible design in the sweep") from None
     dp_new = design(chosen)  # the design the engine FMU will make of these parameters (given mass flow)
     try:
         bound = bind_system(load_system(study.system), list(study.params))
@@ -139,7 +136,8 @@ def cycle_redesign(study: StudyDef, cfg: RedesignConfig, out: Path) -> tuple[lis
         "redesigned": {"BPR": chosen.BPR, "OPR": dp_new.OPR, "W2_kg_s": dp_new.W2_kg_s, "Fn_N": dp_new.Fn_N,
                        "SFC_kg_N_s": dp_new.SFC_kg_N_s, "PR_fan_outer": chosen.PR_fan_outer,
                        "PR_fan_inner": chosen.PR_fan_inner, "PR_hpc": chosen.PR_hpc},
-        "sweep": {"bpr": list(cfg.bprs), "opr": list(cfg.oprs), "points": len(points), "feasible": len(feasible)},
+        "sweep": {"bpr": list(cfg.bprs), "opr": list(cfg.oprs), "points": len(points),
+                  "feasible": sum(math.isfinite(p.SFC_kg_N_s) for p in points)},
         "design_point_SFC_change_pct": 100.0 * (dp_new.SFC_kg_N_s / dp_ref.SFC_kg_N_s - 1.0),
     }
     (folder / "redesign.json").write_text(json.dumps(info, indent=2, default=float) + "\n", encoding="utf-8")

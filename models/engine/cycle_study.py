@@ -135,6 +135,24 @@ def cycle_study(ref: TurbofanParams, BPRs: Sequence[float], OPRs: Sequence[float
     return out
 
 
+def lowest_sfc_design(ref: TurbofanParams, points: Sequence[StudyPoint]) -> tuple[TurbofanParams, StudyPoint]:
+    """The carpet's design of lowest SFC, as design parameters of its own (its mass flow given, no thrust
+    target: the engine of that point, as the engine FMU's ``design_*`` parameters take it).
+
+    Raises
+    ------
+    ModelError
+        If no point of the carpet is feasible.
+    """
+    feasible = [p for p in points if math.isfinite(p.SFC_kg_N_s)]
+    if not feasible:
+        raise ModelError(f"{ref.name}: no feasible design in the cycle study")
+    best = min(feasible, key=lambda p: p.SFC_kg_N_s)
+    return replace(ref, BPR=float(best.BPR), PR_fan_outer=float(best.PR_fan_outer),
+                   PR_fan_inner=float(best.PR_fan_inner), PR_hpc=float(best.PR_hpc), W2_kg_s=float(best.W2_kg_s),
+                   Fn_target_N=None), best
+
+
 def write_csv(points: Sequence[StudyPoint], path: str | Path) -> Path:
     """Write the carpet as CSV (SI units in the column names); returns the path."""
     p = Path(path)

@@ -18,7 +18,12 @@ over a wider sector, and widening it beyond the critical angle adds little
 of a narrow sector and the rotor passes it before responding. Here the deficit
 the rotor sees is the nominal one scaled by min(1, theta / theta_crit)
 (``critical_angle_deg``, 60 deg by default); at and above theta_crit the model is
-the plain parallel compressor.
+the plain parallel compressor. The statement "widening adds little" holds at a
+constant deficit relative to the face-mean total pressure (Reid's DC(theta)), which
+the plain parallel compressor reproduces (its loss of surge pressure ratio then equals
+the deficit at any width); at a constant ``dPt_frac`` (relative to the clean flow) the
+face mean falls as the sector widens and the penalty falls beyond theta_crit. The rise
+below theta_crit is the scaling above, not a prediction (tests/engine/test_distortion.py).
 
 Here the sectors' exit flows are mixed (mass, air, fuel, enthalpy conserved)
 before the next component, i.e. the distortion is not carried downstream.
@@ -29,8 +34,8 @@ W. M. Pearson, A. McKenzie, "Wakes in axial compressors", J. R. Aeronaut. Soc.
 63 (1959) 415-416 (the parallel compressor idea); C. Reid, "The response of
 axial flow compressors to intake flow distortion", ASME 69-GT-29, 1969.
 N. A. Cumpsty, "Compressor Aerodynamics", 2nd ed., 2004, ch. 9 (inlet distortion:
-parallel compressor, critical sector angle of about 60 deg). SAE ARP1420C, "Gas Turbine Engine Inlet Flow Distortion Guidelines", 2017, and
-SAE AIR1419C (parallel compressor methodology, surge margin stack-up).
+parallel compressor, critical sector angle of about 60 deg). SAE ARP1420C, "Gas Turbine Engine
+Inlet Flow Distortion Guidelines", 2017, and SAE AIR1419C (parallel compressor methodology, surge margin stack-up).
 P. P. Walsh, P. Fletcher, "Gas Turbine Performance", 2nd ed., 2004, sec. 5.2.6.
 """
 

@@ -65,7 +65,7 @@ def test_surge_margin_monotonic_in_the_deficit(od: TurbofanOffDesign, dp: Design
     which grows with the deficit, so its surge margin must fall at every step and the clean
     sector's, which passes more of the flow at a lower pressure ratio, must rise. Strict
     monotonicity is asked of every step (smallest step change measured: 4e-3 in SM, clean sector),
-    far above the solver's 1e-9 residual). Mass and energy close to 1e-9 (the solver's tolerance)
+    far above the solver's 1e-9 residual. Mass and energy close to 1e-9 (the solver's tolerance)
     at every point.
     """
     clean = od.solve(alt_m, Mach, N1_pct=N1_pct)

@@ -4,10 +4,12 @@
 
 writes ``SystemStructure.ssd`` (engine, airframe and flight control wired
 together, every connector taken from its FMU's modelDescription.xml with the unit
-its description states) and the parameter sets ``engine_larzac04.ssv`` and
-``engine_reference_study.ssv`` (``emss run ssp --params ssp/engine_reference_study.ssv``
-flies the other engine). ``tests/test_system_files.py`` checks every connector of
-the result against the FMUs, so the files cannot drift from them.
+its description states) and the parameter sets ``engine_larzac04.ssv``,
+``engine_reference_study.ssv``, ``engine_redesigned.ssv`` (the lowest-SFC engine of the
+cycle study; ``emss run --params ssp/engine_redesigned.ssv`` flies it),
+``aircraft_mtow.ssv`` (2100 kg: full tank) and ``aircraft_half_fuel.ssv`` (1800 kg).
+``tests/test_system_files.py`` checks every connector of the result against the FMUs, so the
+files cannot drift from them.
 """
 from __future__ import annotations
 
@@ -118,11 +120,30 @@ _SI: dict[str, dict[str, float]] = {
 }
 
 
+def redesigned_engine() -> dict[str, bool | float | str]:
+    """The engine of lowest SFC in SPEC.md's cycle study from the reference study's model (BPR 0.5 to 2,
+    OPR 9 to 20, equal thrust, Tt4 and jet velocity ratio), as the engine FMU's design parameters."""
+    from openemss.fmus.engine import DESIGN
+    from openemss.models.engine.cycle_study import cycle_study, lowest_sfc_design
+    from openemss.models.engine.design_params import load_params, preset_path
+
+    ref = load_params(preset_path("reference_study"))
+    bprs = [0.5 + 0.25 * i for i in range(7)]
+    oprs = [9.0 + i for i in range(12)]
+    chosen, _ = lowest_sfc_design(ref, cycle_study(ref, bprs, oprs))
+    return {"engine.preset": "reference_study", "engine.design_override": True,
+            **{f"engine.design_{n}": float(getattr(chosen, n)) for n, _ in DESIGN}}
+
+
 def parameter_sets() -> dict[str, ParameterSet]:
-    """System-level parameter sets that select the engine."""
+    """System-level parameter sets: the engines (with their flight idle), the aircraft's loading."""
     return {"engine_larzac04.ssv": ParameterSet("engine_larzac04", {"engine.preset": "larzac04_sls", **IDLE}),
             "engine_reference_study.ssv": ParameterSet("engine_reference_study",
-                                                       {"engine.preset": "reference_study", **IDLE})}
+                                                       {"engine.preset": "reference_study", **IDLE}),
+            "engine_redesigned.ssv": ParameterSet("engine_redesigned", {**redesigned_engine(), **IDLE}),
+            # UPERA: operating empty mass 1500 kg, tank 600 kg (SPEC.md): take-off mass = 1500 kg + fuel
+            "aircraft_mtow.ssv": ParameterSet("aircraft_mtow", {"airframe.fuel0_kg": 600.0}),
+            "aircraft_half_fuel.ssv": ParameterSet("aircraft_half_fuel", {"airframe.fuel0_kg": 300.0})}
 
 
 def main() -> int:

@@ -384,6 +384,9 @@ class FastCycle:
         self.r, self.o = np.empty(9), np.empty(len(OUT))
         self._fs: tuple[tuple[float, float, float], np.ndarray] | None = None
         self._ctl = np.empty(6)
+        from .jit_solve import atm_array
+        self.atm = atm_array()                  # the ISA's constants, for the compiled free stream
+        self.fsc = np.full(9, math.nan)         # (alt, Mach, dT) and the free stream of jit_solve.chord_solve
 
     @classmethod
     def build(cls, od: Any) -> FastCycle | None:
@@ -421,13 +424,20 @@ class FastCycle:
         return cls(e, gc, gs, bl, maps, g)  # type: ignore[arg-type]
 
     def free_stream(self, cond: tuple[float, float, float]) -> np.ndarray:
-        """(Tt0, Pt0, V0, p_amb, Mach, ram recovery) of a flight condition, cached; raises as :func:`.free_stream`."""
+        """(Tt0, Pt0, V0, p_amb, Mach, ram recovery) of a flight condition, cached; raises as :func:`.free_stream`.
+
+        Compiled (:func:`.jit_solve.free_stream`); where that refuses, :func:`.atmosphere.free_stream` (which
+        raises, or gives the values)."""
         if self._fs is not None and self._fs[0] == cond:
             return self._fs[1]
-        from .atmosphere import free_stream
-        from .inlet import ram_recovery_mil_e_5008b
-        fr = free_stream(*cond, self.gas)
-        fs = np.array([fr.Tt0_K, fr.Pt0_Pa, fr.V0_m_s, fr.amb.P_Pa, cond[1], ram_recovery_mil_e_5008b(cond[1])])
+        from .jit_solve import free_stream as compiled
+        fs = np.empty(6)
+        if compiled(self.gc, self.gs, self.atm, float(cond[0]), float(cond[1]), float(cond[2]), fs) != 0:
+            from .atmosphere import free_stream
+            from .inlet import ram_recovery_mil_e_5008b
+            fr = free_stream(*cond, self.gas)              # raises with the full message
+            fs = np.array([fr.Tt0_K, fr.Pt0_Pa, fr.V0_m_s, fr.amb.P_Pa, cond[1],
+                           ram_recovery_mil_e_5008b(cond[1])])
         self._fs = (cond, fs)
         return fs
 

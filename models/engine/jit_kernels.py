@@ -55,7 +55,7 @@ def _cache_dir() -> str:
         os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "openemss", "numba")
     here = os.path.dirname(os.path.abspath(__file__))
     digest = hashlib.sha256(__name__.encode())            # compiled code refers to its module by name
-    for name in ("jit_kernels.py", "jit_cycle.py"):     # a kernel embeds the ones it calls: hash them together
+    for name in ("jit_kernels.py", "jit_cycle.py", "jit_solve.py"):  # a kernel embeds the ones it calls: hash all
         with open(os.path.join(here, name), "rb") as fh:
             digest.update(fh.read())
     return os.path.join(root, digest.hexdigest()[:20])
@@ -67,7 +67,7 @@ def _install_locator(numba_caching: Any) -> None:
     numba keeps compiled functions beside their source (``__pycache__``), keyed by the
     file's path. An FMU is extracted to a new temporary folder by every importer, so
     that cache would never be found again and each process would compile the kernels
-    anew (10 to 20 s). This locator keeps them in one folder per content of the two
+    anew (10 to 20 s). This locator keeps them in one folder per content of the three
     kernel modules and the package's import name (:func:`_cache_dir`), wherever the
     modules were unpacked; numba checks the source's content hash as well.
     """

@@ -40,6 +40,9 @@ __all__ = ["TransientState", "TurbofanTransient"]
 
 _FREE = (0, 1, 2, 5, 6, 7)          # indices of the matched unknowns in the off-design vector
 _INPUTS = [3, 4, 8]                 # N1, N2, Wf: states and input
+_FREE_L, _ROWS9 = list(_FREE), list(range(6))
+_KEY_CLEAN = ((True, True), 9)      # the cache key without distortion or booster: the compiled iteration's case
+_CONVERGED, _STALLED, _REFUSED = 0, 1, 2  # statuses of jit_solve.chord_solve (that module needs numba)
 
 
 class TransientState:
@@ -167,6 +170,18 @@ class TurbofanTransient:
             If the gas path cannot be matched (e.g. speeds off the maps).
         """
         od, p = self.od, self.od.p
+        extras = (p.customer_bleed_frac if customer_bleed_frac is None else customer_bleed_frac,
+                  p.offtake_hp_W if offtake_hp_W is None else offtake_hp_W,
+                  p.offtake_lp_W if offtake_lp_W is None else offtake_lp_W)
+        hb = handling_bleed_frac
+        cond = (alt_m, Mach, dT_isa_K)
+        status = _REFUSED
+        if isinstance(guess, TransientState) and distortion[0] is None and distortion[1] is None and \
+                guess.distortion[0] is None and guess.distortion[1] is None:
+            out = self._compiled(t_s, N1_rpm, N2_rpm, Wf_kg_s, cond, extras, hb, guess, tol)
+            if isinstance(out, TransientState):
+                return out
+            status = out
         if isinstance(guess, TransientState) and \
                 tuple(d is None for d in guess.distortion) == tuple(d is None for d in distortion):
             x_full, J_full = np.array(guess.x, dtype=float), guess          # Jacobian read only if needed
@@ -180,11 +195,6 @@ class TurbofanTransient:
         inputs = np.array([N1_rpm / p.N1_rpm, N2_rpm / p.N2_rpm, Wf_kg_s / od.ref["Wf"]])
         d_in = inputs - x_full[_INPUTS]
         x_full[_INPUTS] = inputs
-        cond = (alt_m, Mach, dT_isa_K)
-        extras = (p.customer_bleed_frac if customer_bleed_frac is None else customer_bleed_frac,
-                  p.offtake_hp_W if offtake_hp_W is None else offtake_hp_W,
-                  p.offtake_lp_W if offtake_lp_W is None else offtake_lp_W)
-        hb = handling_bleed_frac
         demand = ("Wf_kg_s", Wf_kg_s)
         last: dict[str, Any] = {}
 
@@ -199,7 +209,12 @@ class TurbofanTransient:
             return r[rows]
 
         key = (tuple(d is None for d in distortion), n)
-        res = self._chord(resid, x_full[free], d_in, key, tol) if isinstance(guess, TransientState) else None
+        res = None
+        if isinstance(guess, TransientState):
+            if status == _STALLED:                      # the Python iteration would stall too: rebuild
+                self._cache = None
+            else:                                       # not compiled, or refused: the Python iteration
+                res = self._chord(resid, x_full[free], d_in, key, tol)
         if res is None:
             if isinstance(J_full, TransientState):
                 J_full = J_full.jacobian
@@ -223,24 +238,60 @@ class TurbofanTransient:
 
         if isinstance(J_full, np.ndarray):              # a Newton solve here: its Jacobian is the new base
             J_base = J_full
+        return self._make_state(t_s, N1_rpm, N2_rpm, x_full.copy(), r, fast, res, J_base, cond, demand, extras,
+                                distortion, hb, rows, free)
 
-        def jacobian(src: np.ndarray | None = J_base, res: NewtonResult = res) -> np.ndarray:
+    def _make_state(self, t_s: float, N1_rpm: float, N2_rpm: float, x_match: np.ndarray, r: np.ndarray,
+                    fast: np.ndarray | None, res: NewtonResult | _LazyResult, J_base: np.ndarray | None,
+                    cond: tuple[float, float, float], demand: tuple[str, float], extras: tuple[float, float, float],
+                    distortion: tuple[Distortion | None, Distortion | None], hb: float | None, rows: list[int],
+                    free: list[int]) -> TransientState:
+        """The state at a match x_match (all unknowns) with residuals r (all); its point and full Jacobian
+        are formed only when read."""
+        od, p = self.od, self.od.p
+        n = x_match.size
+
+        def jacobian(src: np.ndarray | None = J_base, res: NewtonResult | _LazyResult = res) -> np.ndarray:
             J = np.eye(n) if src is None else np.array(src, dtype=float)
             J[np.ix_(rows, free)] = res.jacobian
             return J
-
-        x_match = x_full.copy()
 
         def point(x: np.ndarray = x_match) -> OffDesignPoint:
             info = od._cycle(x, cond, demand, extras, distortion, hb)[1]
             return od._result(NewtonResult(x, r, jacobian(), res.iterations, res.evaluations), info, cond,
                               distortion)
 
-        net_hp, net_lp = r[6] * od.ref["P_hp"], r[7] * od.ref["P_lp"]
+        net_hp, net_lp = float(r[6]) * od.ref["P_hp"], float(r[7]) * od.ref["P_lp"]
         return TransientState(t_s, point, spool_acceleration(net_lp, N1_rpm, self.I_lp),
                               spool_acceleration(net_hp, N2_rpm, self.I_hp), net_lp, net_hp,
-                              tuple(float(v) for v in x_full), distortion, fast,
+                              tuple(x_match.tolist()), distortion, fast,
                               (p.N1_rpm, p.N2_rpm, od.ref["Wf"]), jacobian, J_base)
+
+    def _compiled(self, t_s: float, N1_rpm: float, N2_rpm: float, Wf_kg_s: float, cond: tuple[float, float, float],
+                  extras: tuple[float, float, float], hb: float | None, guess: TransientState,
+                  tol: float) -> TransientState | int:
+        """:meth:`_chord` as one call of the compiled :func:`.jit_solve.chord_solve` (no distortion, no booster):
+        the state if it converged, else its status (:data:`.jit_solve.STALLED`: Python's iteration would stall
+        as well; :data:`.jit_solve.REFUSED`: not compiled here, or an input the kernel leaves to Python)."""
+        fc, c = self.od.fast, self._cache
+        if fc is None or c is None or c[0] != _KEY_CLEAN:
+            return _REFUSED
+        from .jit_solve import chord_solve
+        od, p = self.od, self.od.p
+        xf = np.array(guess.x)
+        xin = np.array((N1_rpm / p.N1_rpm, N2_rpm / p.N2_rpm, Wf_kg_s / od.ref["Wf"]))
+        ctl = np.array((0.0, Wf_kg_s, *extras, math.nan if hb is None else hb))
+        H, r, o, sens = np.empty((6, 6)), np.empty(9), np.empty(len(fc.o)), np.empty(2)
+        f, h, t, lp = fc.maps
+        J_in, Js_free, Js_in = (np.ascontiguousarray(a) for a in c[2:5])    # the same numbers, one layout
+        status, it = chord_solve(xf, xin, c[1], J_in, Js_free, Js_in, np.array(cond, dtype=float), fc.fsc, ctl,
+                                 fc.atm, fc.e, fc.gc, fc.gs, fc.bl, f, h, t, lp, tol, H, r, o, sens)
+        if status != _CONVERGED:
+            return int(status)
+        self._cache = (c[0], H, J_in, Js_free, Js_in, sens)
+        res = _LazyResult(xf[_FREE_L], r[:6], H, it, it + 1)
+        return self._make_state(t_s, N1_rpm, N2_rpm, xf, r, o, res, guess._jbase, cond, ("Wf_kg_s", Wf_kg_s),
+                                extras, (None, None), hb, _ROWS9, _FREE_L)
 
     def _fd_jacobian(self, od: TurbofanOffDesign, x: np.ndarray, cond: tuple[float, float, float],
                      demand: tuple[str, float], extras: tuple[float, float, float],
@@ -269,9 +320,12 @@ class TurbofanTransient:
         """
         if self._cache is None or len(self._cache) < 5:
             return None
-        _, H, J_in, Js_free, Js_in = self._cache[:5]
-        dx = -H @ J_in[:, 2]                         # re-matched free unknowns per unit of x_Wf
-        dr = Js_free @ dx + Js_in[:, 2]              # shaft residuals (HP, LP) per unit of x_Wf
+        if len(self._cache) > 5:                     # formed by the compiled iteration at its match
+            dr = self._cache[5].tolist()
+        else:
+            _, H, J_in, Js_free, Js_in = self._cache[:5]
+            dx = -H @ J_in[:, 2]                     # re-matched free unknowns per unit of x_Wf
+            dr = (Js_free @ dx + Js_in[:, 2]).tolist()   # shaft residuals (HP, LP) per unit of x_Wf
         od = self.od
         per = 1.0 / od.ref["Wf"]
         return (spool_acceleration(dr[1] * od.ref["P_lp"] * per, state.N1_rpm, self.I_lp),
@@ -284,7 +338,7 @@ class TurbofanTransient:
         cache for this condition or the iteration stalls (the caller then rebuilds it)."""
         if self._cache is None or self._cache[0] != key:
             return None
-        _, H, J_in, *shaft = self._cache
+        _, H, J_in, *shaft = self._cache[:5]         # (a compiled iteration's fuel sensitivity is left out)
         x = x - H @ (J_in @ d_in)
         try:
             r = resid(x)

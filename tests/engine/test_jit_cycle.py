@@ -9,7 +9,13 @@ Python) exactly where Python raises.
 
 from __future__ import annotations
 
+import json
 import math
+import os
+import subprocess
+import sys
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 import pytest
@@ -69,20 +75,189 @@ def test_residuals_and_outputs_equal_the_python_cycle(model: EngineModel) -> Non
     assert compared > 100 and refused > 5                  # both branches were exercised
 
 
-def test_engine_step_equals_the_python_path(model: EngineModel, monkeypatch: pytest.MonkeyPatch) -> None:
-    """A climbing, throttled engine stepped on the kernel and on Python alone: the same outputs to the
-    matching tolerance (the iterations see the same residuals)."""
-    def run(fast: bool) -> list[list[float]]:
-        m = EngineModel("larzac04_sls")
-        if not fast:
-            m.od._fast = False                              # the Python cycle only
-        m.start(EngineInputs(0.2, 1000.0, 0.4), N1_pct=90.0)
-        Wf0 = m.state.Wf_kg_s                               # type: ignore[union-attr]
-        out = []
-        for k in range(60):
-            m.step(0.05, EngineInputs(Wf0 * (1.0 - 0.4 * (k > 20)), 1000.0 + 5.0 * k, 0.4 + 0.001 * k))
-            out.append(list(m.values))
-        return out
+def _stepped(fast: bool, eps: float = 0.0) -> np.ndarray:
+    """Outputs of a climbing engine whose fuel flow is cut by 40 % at step 21 (the decel slew acts), 60 steps of
+    50 ms; `fast` False: the Python cycle and iteration only; `eps`: relative change of the fuel flow."""
+    m = EngineModel("larzac04_sls")
+    if not fast:
+        m.od._fast = False                                  # the Python cycle only
+    m.start(EngineInputs(0.2, 1000.0, 0.4), N1_pct=90.0)
+    Wf0 = m.state.Wf_kg_s * (1.0 + eps)                     # type: ignore[union-attr]
+    out = []
+    for k in range(60):
+        m.step(0.05, EngineInputs(Wf0 * (1.0 - 0.4 * (k > 20)), 1000.0 + 5.0 * k, 0.4 + 0.001 * k))
+        out.append(list(m.values))
+    return np.array(out)
 
-    a, b = np.array(run(True)), np.array(run(False))
-    np.testing.assert_allclose(a, b, rtol=1e-9, atol=1e-9)
+
+def test_engine_step_equals_the_python_path() -> None:
+    """A climbing, throttled engine stepped on the compiled path and on Python alone.
+
+    The compiled iteration (:func:`.jit_solve.chord_solve`) makes the same BLAS calls as the Python one; with
+    NumPy and SciPy on the same BLAS kernels both paths are bit for bit equal (so here). With another BLAS they
+    differ by rounding, and the engine amplifies rounding: the spool accelerations at a step start are corrected
+    with the Broyden-updated inverse Jacobian, whose last updates are formed from residual differences near the
+    1e-8 tolerance, and whether an iterate passes the tolerance flips with the last bit. The yardstick is then
+    the Python path's own spread: the same run with the fuel flow changed by 1e-15 (relative). Every output of
+    the compiled run must lie within that spread of the Python run (measured with the products written as
+    loops: about a hundredth of it); thrust, speeds and temperatures also within 1e-6 (relative)."""
+    py, py_eps, fast = _stepped(False), _stepped(False, 1e-15), _stepped(True)
+    spread = np.abs(py_eps - py).max(axis=0)
+    diff = np.abs(fast - py).max(axis=0)
+    floor = 1e-12 * (1.0 + np.abs(py).max(axis=0))
+    assert np.all(diff <= spread + floor), (diff, spread)
+    np.testing.assert_allclose(fast[:, :14], py[:, :14], rtol=1e-6, atol=0.0)
+
+
+def test_free_stream_equals_the_atmosphere_module(model: EngineModel) -> None:
+    """The compiled free stream against :func:`.atmosphere.free_stream` and the inlet's ram recovery on a grid
+    over the whole valid range and beyond it: the same numbers (the same operations on the same constants;
+    1e-15 relative allows a last-bit difference of a libm call), and refused exactly where Python raises."""
+    from openemss.models.engine.atmosphere import free_stream
+    from openemss.models.engine.errors import OutOfRangeError
+    from openemss.models.engine.inlet import ram_recovery_mil_e_5008b
+    from openemss.models.engine.jit_solve import free_stream as compiled
+    fc = model.od.fast
+    assert fc is not None
+    ok = refused = 0
+    for alt in np.linspace(-1500.0, 33000.0, 47):
+        for Mach in (-0.1, 0.0, 0.3, 0.75, 0.999, 1.0, 1.6, 3.0, 3.2):
+            for dT in (-80.0, -15.0, 0.0, 20.0, 70.0):
+                fs = np.empty(6)
+                status = compiled(fc.gc, fc.gs, fc.atm, alt, Mach, dT, fs)
+                try:
+                    fr = free_stream(alt, Mach, dT, fc.gas)
+                except OutOfRangeError:
+                    assert status == 1, (alt, Mach, dT)
+                    refused += 1
+                    continue
+                assert status == 0, (alt, Mach, dT)
+                ref = [fr.Tt0_K, fr.Pt0_Pa, fr.V0_m_s, fr.amb.P_Pa, Mach, ram_recovery_mil_e_5008b(Mach)]
+                np.testing.assert_allclose(fs, ref, rtol=1e-15, atol=0.0)
+                ok += 1
+    assert ok > 500 and refused > 500
+
+
+def _profile_model(steps: int, check: Callable[[Any, Any, Any, tuple[Any, ...], dict[str, Any]], None],
+                   monkeypatch: pytest.MonkeyPatch) -> EngineModel:
+    """An engine flown by a rate-limited fuel controller through a climb to 6000 m with a Mach change, a
+    throttle wave and a chop (decel slew, minimum-flow stop), every transient match passed to `check`."""
+    m = EngineModel("larzac04_sls")
+    tr = m.tr
+    orig = tr.state
+
+    def state(*args: Any, **kw: Any) -> Any:
+        c0 = tr._cache
+        s = orig(*args, **kw)
+        check(tr, c0, s, args, kw)
+        return s
+
+    monkeypatch.setattr(tr, "state", state)
+    m.start(EngineInputs(0.1, 0.0, 0.0), N1_pct=70.0)
+    Wf_d, wf = m.dp.Wf_kg_s, m.state.Wf_kg_s                   # type: ignore[union-attr]
+    for k in range(steps):
+        t = 0.05 * k
+        n1 = 100.0 if t < 5.0 else (88.0 + 4.0 * math.sin(0.8 * t) if t < 14.0 else 55.0)
+        err = n1 - m.values[6]
+        wf = max(0.15 * Wf_d, wf + max(-0.01 * Wf_d, min(0.02 * Wf_d, 0.004 * Wf_d * err)))
+        m.step(0.05, EngineInputs(wf, min(6000.0, 400.0 * t), min(0.7, 0.05 * t)))
+    return m
+
+
+def test_compiled_iteration_equals_the_python_iteration(monkeypatch: pytest.MonkeyPatch) -> None:
+    """On the same steps (the same previous match, cached Jacobian and inputs), the compiled chord/Broyden
+    iteration and the Python one (:meth:`.transient.TurbofanTransient._chord` on the Python cycle) give the same
+    match. They perform the same operations, the matrix products by the same BLAS calls, so with NumPy and
+    SciPy on the same BLAS kernels they agree bit for bit; the tolerances allow another BLAS (another summation
+    order): matched unknowns (scaled, order 1) to 1e-11, spool accelerations to 1e-6 rpm/s, kernel outputs to
+    1e-10 (relative) of the Python stations (measured with the iteration's products written as loops instead:
+    2e-14, 8e-10 rpm/s and 6e-14), all far inside what the 1e-8 matching tolerance leaves open."""
+    from openemss.models.engine.transient import TransientState
+    seen = {"compiled": 0, "other": 0}
+
+    def check(tr: Any, c0: Any, s: Any, args: tuple[Any, ...], kw: dict[str, Any]) -> None:
+        c1 = tr._cache
+        if not (isinstance(kw.get("guess"), TransientState) and c1 is not c0 and c1 is not None and len(c1) == 6):
+            seen["other"] += 1                                  # not the compiled iteration (start, rebuilds)
+            return
+        seen["compiled"] += 1
+        fc = tr.od._fast
+        tr._cache, tr.od._fast = c0, False
+        try:
+            p = tr.state(*args, **kw)
+        finally:
+            tr._cache, tr.od._fast = c1, fc
+        np.testing.assert_allclose(s.x, p.x, rtol=0.0, atol=1e-11)
+        assert s.dN1_dt_rpm_s == pytest.approx(p.dN1_dt_rpm_s, rel=0.0, abs=1e-6)
+        assert s.dN2_dt_rpm_s == pytest.approx(p.dN2_dt_rpm_s, rel=0.0, abs=1e-6)
+        pt = p.point
+        o = dict(zip(OUT, s.fast, strict=True))
+        for name, ref in (("Fn", pt.Fn_N), ("Tt4", pt.Tt4_K), ("Pt3", pt.Pt3_Pa), ("SM_fan", pt.SM_fan),
+                          ("SM_hpc", pt.SM_hpc), ("N1c", pt.N1c_rpm)):
+            assert o[name] == pytest.approx(ref, rel=1e-10, abs=1e-12), name
+
+    m = _profile_model(400, check, monkeypatch)
+    assert m.failures == 0
+    assert seen["compiled"] > 350, seen
+
+
+def test_compiled_iteration_falls_back_as_python(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Where the compiled iteration stalls, the step goes to the Newton solve and a rebuilt Jacobian as the Python
+    iteration does; where the kernel refuses, the Python iteration runs from the same start (the same numbers
+    as the Python path bit for bit)."""
+    from openemss.models.engine import jit_solve
+    m = EngineModel("larzac04_sls")
+    m.start(EngineInputs(0.2, 3000.0, 0.5), N1_pct=85.0)
+    for _ in range(3):
+        m.step(0.05, EngineInputs(0.19, 3000.0, 0.5))
+    tr, s0 = m.tr, m.state
+    cache = tr._cache
+    assert cache is not None and len(cache) == 6             # the compiled iteration ran
+    args = (1.0, s0.N1_rpm * 1.001, s0.N2_rpm * 1.0005, 0.185)  # type: ignore[union-attr]
+    kw = dict(alt_m=3010.0, Mach=0.501, guess=s0, tol=1e-8)
+
+    def python() -> Any:
+        tr._cache, fc = cache, tr.od._fast
+        tr.od._fast = False
+        try:
+            return tr.state(*args, **kw)                    # type: ignore[arg-type]
+        finally:
+            tr.od._fast = fc
+
+    ref = python()
+    for status in (jit_solve.REFUSED, jit_solve.STALLED):
+        monkeypatch.setattr(jit_solve, "chord_solve", lambda *a, st=status: (st, 0))
+        tr._cache = cache
+        s = tr.state(*args, **kw)                           # type: ignore[arg-type]
+        if status == jit_solve.REFUSED:                     # the Python iteration on the kernel's residuals
+            assert s.x == ref.x and s.dN1_dt_rpm_s == ref.dN1_dt_rpm_s
+            assert tr._cache is not None and len(tr._cache) == 5
+        else:                                               # Newton from the previous Jacobian, then rebuilt
+            assert tr._cache is not None and tr._cache[1] is not cache[1] and len(tr._cache) == 5
+            assert float(np.max(np.abs(np.array(s.point.x) - np.array(ref.x)))) < 1e-6
+            assert s.dN1_dt_rpm_s == pytest.approx(ref.dN1_dt_rpm_s, rel=1e-5, abs=1e-3)
+
+
+def test_python_path_without_numba() -> None:
+    """OPENEMSS_NO_JIT=1 (numba not used): the engine runs on the Python cycle and iteration, in a process of
+    its own, and gives the compiled run's outputs to 1e-6 (relative; see the rounding spread above)."""
+    code = (
+        "import json\n"
+        "from openemss.models.engine import jit_kernels\n"
+        "from openemss.models.engine.engine_model import EngineInputs, EngineModel\n"
+        "assert not jit_kernels.AVAILABLE\n"
+        "m = EngineModel('larzac04_sls')\n"
+        "m.start(EngineInputs(0.2, 2000.0, 0.5), N1_pct=88.0)\n"
+        "assert m.od.fast is None\n"
+        "for k in range(20):\n"
+        "    m.step(0.05, EngineInputs(0.2 - 0.002 * k, 2000.0 + 10.0 * k, 0.5))\n"
+        "print(json.dumps(m.values))\n")
+    env = dict(os.environ, OPENEMSS_NO_JIT="1")
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr
+    py = json.loads(out.stdout.strip().splitlines()[-1])
+    m = EngineModel("larzac04_sls")
+    m.start(EngineInputs(0.2, 2000.0, 0.5), N1_pct=88.0)
+    for k in range(20):
+        m.step(0.05, EngineInputs(0.2 - 0.002 * k, 2000.0 + 10.0 * k, 0.5))
+    np.testing.assert_allclose(m.values[:14], py[:14], rtol=1e-6, atol=0.0)

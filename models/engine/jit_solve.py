@@ -1,0 +1,193 @@
+"""The transient's per-step matching compiled: free stream and the chord/Broyden iteration in one kernel call.
+
+:meth:`.transient.TurbofanTransient._chord` matches the gas path at every step with a
+predictor (first order in the change of N1, N2, Wf) and quasi-Newton iterations on a cached
+inverse Jacobian kept current by Broyden's update. Driven from Python, each step paid for
+its small NumPy operations and for four to five calls into the compiled residuals
+(:func:`.jit_cycle.cycle`) more than for the residuals themselves. :func:`chord_solve` is
+that iteration compiled with the residuals: the same predictor, the same update, the same
+convergence test (max |r| < tol on the six matched residuals), the same stall test (max |r|
+not halved) and the same limit of eight iterations. Its matrix products are ``np.dot``, which
+numba hands to the same BLAS routines (gemv, dot) as NumPy's ``@`` in the Python iteration, so
+where NumPy and SciPy ship the same BLAS kernels (the project's environment) the iterates are
+the same numbers, bit for bit; elsewhere they differ by rounding.
+:func:`free_stream` is :func:`.atmosphere.free_stream` (ISA and real-gas totals) and the
+MIL-E-5008B ram recovery of :mod:`.inlet`, also compiled, evaluated only when the flight
+condition changes (the first entries of the ``fsc`` array remember the last one).
+
+Nothing here raises: a status tells the caller what Python would do. ``tests/engine/
+test_jit_cycle.py`` checks the free stream against :func:`.atmosphere.free_stream` and the
+solver against the Python iteration on the same steps. Needs SciPy (numba's ``np.dot``).
+
+References
+----------
+C. G. Broyden, "A class of methods for solving nonlinear simultaneous equations",
+Math. Comp. 19 (1965) 577-593 (the inverse update).
+ISO 2533:1975, "Standard Atmosphere" (the layers, as :mod:`.atmosphere`).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from . import jit_kernels as K
+from .jit_cycle import cycle
+from .jit_kernels import jit
+
+__all__ = ["CONVERGED", "STALLED", "REFUSED", "FREE", "INPUTS", "atm_array", "chord_solve", "free_stream"]
+
+#: :func:`chord_solve` statuses: converged; stalled (max |r| not halved, a step refused by
+#: Python's rules, or eight iterations), Python's chord would give up there too; refused: the
+#: residual kernel or the free stream met an input Python may raise on (rerun in Python).
+CONVERGED, STALLED, REFUSED = 0, 1, 2
+#: Indices of the six matched unknowns and of the three inputs (N1, N2, Wf) in the unknowns (9).
+FREE = (0, 1, 2, 5, 6, 7)
+INPUTS = (3, 4, 8)
+_MAX_IT = 8
+
+
+def atm_array() -> np.ndarray:
+    """The ISA's defining constants as :func:`free_stream` reads them, from :mod:`.atmosphere` (one source):
+    (H0, T0, L) of the three layers, their base pressures [Pa], g0 [m/s2], R [J/(kg K)], altitude range [m]."""
+    from . import atmosphere as a
+    vals = [v for layer in a._LAYERS for v in layer] + list(a._P_BASE) + [a._G0, a._R_AIR, a.ALT_MIN_M,
+                                                                          a.ALT_MAX_M]
+    return np.array(vals, dtype=float)
+
+
+@jit
+def _p_in_layer(p_base: float, dH: float, T_base: float, L: float, g0: float, R_air: float) -> float:
+    if L == 0.0:
+        return p_base * math.exp(-g0 * dH / (R_air * T_base))
+    return p_base * (1.0 + L * dH / T_base) ** (-g0 / (R_air * L))
+
+
+@jit
+def free_stream(gc: np.ndarray, gs: np.ndarray, atm: np.ndarray, alt: float, Mach: float, dT: float,
+                fs: np.ndarray) -> int:
+    """Fill fs with (Tt0 [K], Pt0 [Pa], V0 [m/s], p_amb [Pa], Mach, ram recovery [-]) at altitude alt [m],
+    Mach [-] and ISA deviation dT [K], as :func:`.atmosphere.free_stream` and
+    :func:`.inlet.ram_recovery_mil_e_5008b`; returns 1 (fs untouched) where they would raise."""
+    if not (0.0 <= Mach <= 3.0) or not (atm[14] <= alt <= atm[15]):
+        return 1
+    i = 0 if alt < atm[3] else (1 if alt < atm[6] else 2)
+    H0, T0, L = atm[3 * i], atm[3 * i + 1], atm[3 * i + 2]
+    T_std = T0 + L * (alt - H0)
+    P = _p_in_layer(atm[9 + i], alt - H0, T0, L, atm[12], atm[13])
+    T = T_std + dT
+    if not (150.0 <= T <= 350.0):
+        return 1
+    err = np.zeros(1, np.int64)
+    c = K.cp(gc, gs, T, 0.0, err)
+    R_ = gs[10]
+    V0 = Mach * math.sqrt(c / (c - R_) * R_ * T)
+    ht = K.h(gc, gs, T, 0.0, err) + 0.5 * V0 * V0
+    Tt = K.T_from_h(gc, gs, ht, 0.0, T, err)
+    Pt = P * math.exp((K.phi(gc, gs, Tt, 0.0, err) - K.phi(gc, gs, T, 0.0, err)) / R_)
+    if err[0]:
+        return 1
+    fs[0], fs[1], fs[2], fs[3], fs[4] = Tt, Pt, V0, P, Mach
+    fs[5] = 1.0 if Mach <= 1.0 else 1.0 - 0.075 * (Mach - 1.0) ** 1.35
+    return 0
+
+
+@jit
+def _resid(xf: np.ndarray, xr: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: np.ndarray,
+           gs: np.ndarray, bl: np.ndarray, fan: Any, hpc: Any, hpt: Any, lpt: Any, r: np.ndarray,
+           o: np.ndarray) -> float:
+    """Residuals at the matched unknowns xr (6) put into xf; max |r| of the six matched ones, or NaN where
+    the kernel refuses or a residual is not a number (the caller hands over to Python)."""
+    for k in range(6):
+        xf[FREE[k]] = xr[k]
+    if cycle(xf, fs, ctl, e, gc, gs, bl, fan, hpc, hpt, lpt, r, o, False) != 0:
+        return math.nan
+    m = 0.0
+    for k in range(6):
+        a = abs(r[k])
+        if not a == a:
+            return math.nan
+        if a > m:
+            m = a
+    return m
+
+
+@jit
+def chord_solve(xf: np.ndarray, xin: np.ndarray, H0: np.ndarray, J_in: np.ndarray, Js_free: np.ndarray,
+                Js_in: np.ndarray, cond: np.ndarray, fsc: np.ndarray, ctl: np.ndarray, atm: np.ndarray,
+                e: np.ndarray, gc: np.ndarray, gs: np.ndarray, bl: np.ndarray, fan: Any, hpc: Any, hpt: Any,
+                lpt: Any, tol: float, H: np.ndarray, r: np.ndarray, o: np.ndarray,
+                sens: np.ndarray) -> tuple[int, int]:
+    """One transient match: :meth:`.transient.TurbofanTransient._chord` on the compiled residuals.
+
+    Parameters
+    ----------
+    xf : the unknowns (9) of the previous match; on return the new match (inputs and matched unknowns).
+    xin : the new inputs (N1, N2, Wf), scaled as xf.
+    H0, J_in, Js_free, Js_in : the cached inverse Jacobian (6, 6) of the matched residuals, their derivatives
+        by the inputs (6, 3), the shaft residuals' (HP, LP) derivatives by the matched unknowns (2, 6) and by
+        the inputs (2, 3); H0 is not changed.
+    cond : (alt [m], Mach [-], dT_isa [K]); fsc: cache of the free stream, (alt, Mach, dT) then the six values
+        of :func:`free_stream` (recomputed when cond differs from its first three entries).
+    ctl : the residual kernel's control vector (demand kind 0 and the fuel flow, bleed, offtakes, handling).
+    tol : convergence when max |r| of the six matched residuals < tol.
+    H, r, o, sens : outputs: the updated inverse Jacobian, the residuals (9) and outputs (:data:`.jit_cycle.OUT`,
+        surge margins included) at the match, and the shaft residuals' (HP, LP) change per unit of scaled fuel
+        flow with the gas path re-matched (-Js_free H J_in[:, 2] + Js_in[:, 2], for
+        :meth:`.transient.TurbofanTransient.fuel_sensitivity`).
+
+    Returns
+    -------
+    (status, iterations) : status :data:`CONVERGED`, :data:`STALLED` or :data:`REFUSED`; the outputs are
+        set only when converged.
+    """
+    if not (fsc[0] == cond[0] and fsc[1] == cond[1] and fsc[2] == cond[2]):
+        fs_new = np.empty(6)
+        if free_stream(gc, gs, atm, cond[0], cond[1], cond[2], fs_new) != 0:
+            return REFUSED, 0
+        fsc[0], fsc[1], fsc[2] = cond[0], cond[1], cond[2]
+        for k in range(6):
+            fsc[3 + k] = fs_new[k]
+    fs = fsc[3:]
+    din = np.empty(3)
+    for k in range(3):
+        din[k] = xin[k] - xf[INPUTS[k]]
+        xf[INPUTS[k]] = xin[k]
+    x = np.empty(6)
+    for k in range(6):
+        x[k] = xf[FREE[k]]
+    # the operations of TurbofanTransient._chord, as NumPy forms them: np.dot is the same BLAS call as the
+    # operator @ there (gemv, dot), so the iterates are the same numbers where both use the same BLAS kernels
+    x = x - np.dot(H0, np.dot(J_in, din))                  # predictor
+    norm = _resid(xf, x, fs, ctl, e, gc, gs, bl, fan, hpc, hpt, lpt, r, o)
+    if not norm == norm:
+        return REFUSED, 0
+    Hc = H0.copy()
+    rr = r[:6].copy()
+    for it in range(_MAX_IT):
+        if norm < tol:
+            for k in range(6):
+                xf[FREE[k]] = x[k]
+            o[15] = K.surge_margin(fan[0], fan[1], fan[2], fan[3], fan[4], fan[5], fan[7], fan[8],
+                                   o[3] / fan[6][3], x[1], fan[6][1])
+            o[16] = K.surge_margin(hpc[0], hpc[1], hpc[2], hpc[3], hpc[4], hpc[5], hpc[7], hpc[8],
+                                   o[4] / hpc[6][3], x[2], hpc[6][1])
+            H[:, :] = Hc
+            dxw = np.dot(-Hc, np.ascontiguousarray(J_in[:, 2]))  # as TurbofanTransient.fuel_sensitivity
+            sens[:] = np.dot(Js_free, dxw) + Js_in[:, 2]
+            return CONVERGED, it
+        dx = np.dot(-Hc, rr)
+        norm_new = _resid(xf, x + dx, fs, ctl, e, gc, gs, bl, fan, hpc, hpt, lpt, r, o)
+        if not norm_new == norm_new:
+            return REFUSED, it
+        if norm_new > 0.5 * norm:
+            return STALLED, it
+        r_new = r[:6].copy()
+        y = r_new - rr
+        Hy = np.dot(Hc, y)
+        Hc = Hc + np.outer(dx - Hy, np.dot(dx, Hc)) / np.dot(dx, Hy)   # Broyden's good update of the inverse
+        x, rr = x + dx, r_new
+        norm = norm_new
+    return STALLED, _MAX_IT

@@ -152,6 +152,7 @@ class FlightControlSystem:
         self._tecs_engaged = False
         self._lever: float | None = None
         self._tas_prev: float | None = None
+        self._vdot_f = 0.0  # filtered acceleration estimate [m/s^2]
 
     # -- parameters -----------------------------------------------------------------------
     def parameter_names(self) -> tuple[str, ...]:
@@ -189,7 +190,10 @@ class FlightControlSystem:
         """
         vdot = x.Vdot_m_s2
         if math.isnan(vdot):  # (not a dataclasses.replace of the state: a third of this step's cost)
-            vdot = 0.0 if self._tas_prev is None or dt_s <= 0.0 else (x.tas_m_s - self._tas_prev) / dt_s
+            raw = 0.0 if self._tas_prev is None or dt_s <= 0.0 else (x.tas_m_s - self._tas_prev) / dt_s
+            tau = self.tecs.parameters.tau_Vdot_s   # first-order low-pass of the differenced airspeed
+            self._vdot_f = raw if self._tas_prev is None else self._vdot_f + (raw - self._vdot_f) * dt_s / (tau + dt_s)
+            vdot = self._vdot_f
         self._tas_prev = x.tas_m_s
         tg = self.runner.step(t_s, dt_s, x)
         tas_cmd = math.nan

@@ -114,6 +114,7 @@ class TecsParams:
     V_min_cas_m_s: float
     underspeed_margin: float
     mach_max: float
+    tau_Vdot_s: float
 
     @classmethod
     def from_file(cls, **overrides: float) -> TecsParams:

@@ -39,7 +39,7 @@ def fly_upera(af, s, fcs: FlightControlSystem, t_end: float, N1c0: float, dt: fl
     from openemss.models.fcs.tecs import SpeedKind
 
     N1c = N1c0
-    prev_V, prev_pos = s.tas_m_s, None
+    prev_pos = None
     run = Run()
     k = 0
     while not fcs.finished and k * dt < t_end:
@@ -51,8 +51,8 @@ def fly_upera(af, s, fcs: FlightControlSystem, t_end: float, N1c0: float, dt: fl
             n, e = local_ne_m(prev_pos, pos)
             vn, ve = n / dt, e / dt
         gamma = math.asin(max(-1.0, min(1.0, s.vs_m_s / max(s.tas_m_s, 1.0))))
-        Vdot = (s.tas_m_s - prev_V) / dt if k else 0.0
-        prev_V, prev_pos = s.tas_m_s, pos
+        Vdot = math.nan  # as the FCS FMU gets it: the FCS derives it from successive airspeeds (filtered)
+        prev_pos = pos
         qbar = 0.5 * s.rho_kg_m3 * s.tas_m_s**2
         x = AircraftState(pos, s.alt_msl_m, s.tas_m_s, Vdot, gamma, vn, ve, s.psi_rad, s.phi_rad, s.theta_rad,
                           s.p_rad_s, s.q_rad_s, s.r_rad_s, s.beta_rad, qbar, s.mass_kg, s.on_ground)

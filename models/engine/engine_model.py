@@ -390,24 +390,26 @@ class EngineModel:
         s = self.state
         assert s is not None
         o = s.fast
+        v = self.values
+        Wf = float(Wf)
         if o is not None:                       # the compiled kernel's outputs, as OffDesignPoint forms them
-            p, x = self.p, s.x
-            N1, N2, Fn, sm_f, sm_h = s.N1_rpm, s.N2_rpm, o[0], o[15], o[16]
-            out = (Fn, o[1], o[2], Wf, N1, N2, 100.0 * N1 / p.N1_rpm, 100.0 * N2 / p.N2_rpm,
-                   100.0 * o[3] / self._Nc1_d, o[5], o[6], o[7], o[8], o[9], o[10], o[10] / o[11], x[7] * p.BPR,
-                   sm_f, sm_h, sm_f, sm_h)
-            hb, FAR4, W2 = o[12], o[13], o[14]
+            p = self.p                          # (Python floats: the same operations as on numpy's)
+            Fn, Fg, ram, N1c, _, Tt4, T41, T21, T17, T7, Pt3, Pt2, hb, FAR4, W2, sm_f, sm_h = o.tolist()[:17]
+            N1, N2 = s.N1_rpm, s.N2_rpm
+            v[:] = (Fn, Fg, ram, Wf, N1, N2, 100.0 * N1 / p.N1_rpm, 100.0 * N2 / p.N2_rpm,
+                    100.0 * N1c / self._Nc1_d, Tt4, T41, T21, T17, T7, Pt3, Pt3 / Pt2, float(s.x[7] * p.BPR),
+                    sm_f, sm_h, sm_f, sm_h, Wf / Fn if Fn > 0.0 else math.inf, float(self.fuel_burned_kg),
+                    float(s.dN1_dt_rpm_s), float(s.dN2_dt_rpm_s), hb, FAR4, W2)
         else:
             pt = s.point
             out = (pt.Fn_N, pt.Fg_N, pt.ram_drag_N, Wf, pt.N1_rpm, pt.N2_rpm, pt.N1_pct, pt.N2_pct, pt.N1c_pct,
                    pt.Tt4_K, pt.T41_K, pt.Tt21_K, pt.Tt17_K, pt.Tt7_K, pt.Pt3_Pa, pt.OPR, pt.BPR, pt.SM_fan,
                    pt.SM_hpc, pt.SM_fan_clean, pt.SM_hpc_clean)
             Fn, hb, FAR4, W2 = pt.Fn_N, pt.handling_bleed_frac, pt.stations["4"].FAR, pt.stations["2"].W_kg_s
+            for i, x_ in enumerate(out + (Wf / Fn if Fn > 0.0 else math.inf, self.fuel_burned_kg, s.dN1_dt_rpm_s,
+                                          s.dN2_dt_rpm_s, hb, FAR4, W2)):
+                v[i] = float(x_)
         lim = self.limits
-        v = self.values
-        for i, x_ in enumerate(out + (Wf / Fn if Fn > 0.0 else math.inf, self.fuel_burned_kg, s.dN1_dt_rpm_s,
-                                      s.dN2_dt_rpm_s, hb, FAR4, W2)):
-            v[i] = float(x_)
         N1_pct, N2_pct, SM_fan, SM_hpc = v[6], v[7], v[17], v[18]
         new = [bool(SM_fan < 0.0 or SM_hpc < 0.0 or self.fuel_limited),
                bool(FAR4 < lim.FAR_lean or Wf_in < lim.Wf_min_frac * self.dp.Wf_kg_s),

@@ -115,23 +115,23 @@ def _resid(xf: np.ndarray, xr: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: n
 
 
 @jit
-def chord_solve(xf: np.ndarray, xin: np.ndarray, H0: np.ndarray, J_in: np.ndarray, Js_free: np.ndarray,
-                Js_in: np.ndarray, cond: np.ndarray, fsc: np.ndarray, ctl: np.ndarray, atm: np.ndarray,
-                e: np.ndarray, gc: np.ndarray, gs: np.ndarray, bl: np.ndarray, fan: Any, hpc: Any, hpt: Any,
-                lpt: Any, tol: float, H: np.ndarray, r: np.ndarray, o: np.ndarray,
-                sens: np.ndarray) -> tuple[int, int]:
+def chord_solve(xf: np.ndarray, u: np.ndarray, H0: np.ndarray, J_in: np.ndarray, Js_free: np.ndarray,
+                Js_in: np.ndarray, fsc: np.ndarray, atm: np.ndarray, e: np.ndarray, gc: np.ndarray,
+                gs: np.ndarray, bl: np.ndarray, fan: Any, hpc: Any, hpt: Any, lpt: Any, tol: float, H: np.ndarray,
+                r: np.ndarray, o: np.ndarray, sens: np.ndarray) -> tuple[int, int]:
     """One transient match: :meth:`.transient.TurbofanTransient._chord` on the compiled residuals.
 
     Parameters
     ----------
     xf : the unknowns (9) of the previous match; on return the new match (inputs and matched unknowns).
-    xin : the new inputs (N1, N2, Wf), scaled as xf.
+    u : the step's inputs, one array (fewer arguments to pass): the new inputs (N1, N2, Wf) scaled as xf, then
+        cond (alt [m], Mach [-], dT_isa [K]), then ctl, the residual kernel's control vector (demand kind 0 and
+        the fuel flow [kg/s], customer bleed [-], HP and LP offtakes [W], handling bleed [-] or NaN).
     H0, J_in, Js_free, Js_in : the cached inverse Jacobian (6, 6) of the matched residuals, their derivatives
         by the inputs (6, 3), the shaft residuals' (HP, LP) derivatives by the matched unknowns (2, 6) and by
         the inputs (2, 3); H0 is not changed.
-    cond : (alt [m], Mach [-], dT_isa [K]); fsc: cache of the free stream, (alt, Mach, dT) then the six values
-        of :func:`free_stream` (recomputed when cond differs from its first three entries).
-    ctl : the residual kernel's control vector (demand kind 0 and the fuel flow, bleed, offtakes, handling).
+    fsc : cache of the free stream, (alt, Mach, dT) then the six values of :func:`free_stream` (recomputed when
+        cond differs from its first three entries).
     tol : convergence when max |r| of the six matched residuals < tol.
     H, r, o, sens : outputs: the updated inverse Jacobian, the residuals (9) and outputs (:data:`.jit_cycle.OUT`,
         surge margins included) at the match, and the shaft residuals' (HP, LP) change per unit of scaled fuel
@@ -143,6 +143,7 @@ def chord_solve(xf: np.ndarray, xin: np.ndarray, H0: np.ndarray, J_in: np.ndarra
     (status, iterations) : status :data:`CONVERGED`, :data:`STALLED` or :data:`REFUSED`; the outputs are
         set only when converged.
     """
+    xin, cond, ctl = u[0:3], u[3:6], u[6:12]
     if not (fsc[0] == cond[0] and fsc[1] == cond[1] and fsc[2] == cond[2]):
         fs_new = np.empty(6)
         if free_stream(gc, gs, atm, cond[0], cond[1], cond[2], fs_new) != 0:
@@ -150,7 +151,7 @@ def chord_solve(xf: np.ndarray, xin: np.ndarray, H0: np.ndarray, J_in: np.ndarra
         fsc[0], fsc[1], fsc[2] = cond[0], cond[1], cond[2]
         for k in range(6):
             fsc[3 + k] = fs_new[k]
-    fs = fsc[3:]
+    fs = fsc[3:].copy()         # contiguous: cycle then has the signature it is compiled for elsewhere (reused)
     din = np.empty(3)
     for k in range(3):
         din[k] = xin[k] - xf[INPUTS[k]]

@@ -43,6 +43,7 @@ _INPUTS = [3, 4, 8]                 # N1, N2, Wf: states and input
 _FREE_L, _ROWS9 = list(_FREE), list(range(6))
 _KEY_CLEAN = ((True, True), 9)      # the cache key without distortion or booster: the compiled iteration's case
 _CONVERGED, _STALLED, _REFUSED = 0, 1, 2  # statuses of jit_solve.chord_solve (that module needs numba)
+_chord_solve: Callable[..., tuple[int, int]] | None = None     # jit_solve.chord_solve, imported on first use
 
 
 class TransientState:
@@ -72,13 +73,14 @@ class TransientState:
     """
 
     __slots__ = ("t_s", "dN1_dt_rpm_s", "dN2_dt_rpm_s", "net_lp_W", "net_hp_W", "x", "distortion", "fast",
-                 "N1_rpm", "N2_rpm", "Wf_kg_s", "beta_fan", "beta_hpc", "_point", "_jac", "_jbase")
+                 "N1_rpm", "N2_rpm", "Wf_kg_s", "beta_fan", "beta_hpc", "_point", "_jac", "_jbase", "_xa")
 
     def __init__(self, t_s: float, point: OffDesignPoint | Callable[[], OffDesignPoint], dN1_dt_rpm_s: float,
                  dN2_dt_rpm_s: float, net_lp_W: float, net_hp_W: float, x: tuple[float, ...] = (),
                  distortion: tuple[Distortion | None, Distortion | None] = (None, None),
                  fast: np.ndarray | None = None, scale: tuple[float, float, float] = (1.0, 1.0, 1.0),
-                 jacobian: Callable[[], np.ndarray] | None = None, jbase: np.ndarray | None = None) -> None:
+                 jacobian: Callable[[], np.ndarray] | None = None, jbase: np.ndarray | None = None,
+                 x_array: np.ndarray | None = None) -> None:
         self.t_s, self.dN1_dt_rpm_s, self.dN2_dt_rpm_s = t_s, dN1_dt_rpm_s, dN2_dt_rpm_s
         self.net_lp_W, self.net_hp_W = net_lp_W, net_hp_W
         self._point = point
@@ -86,6 +88,7 @@ class TransientState:
             x, distortion = point.x, point.distortion
         self.x, self.distortion, self.fast, self._jac = x, distortion, fast, jacobian
         self._jbase = jbase             # the Jacobian entries outside the matched block (shared, never changed)
+        self._xa = x_array              # x as an array (never changed; copied by the next step)
         self.N1_rpm, self.N2_rpm, self.Wf_kg_s = x[3] * scale[0], x[4] * scale[1], x[8] * scale[2]
         self.beta_fan, self.beta_hpc = x[1], x[2]
 
@@ -113,7 +116,8 @@ class _LazyResult:
 
     __slots__ = ("x", "r", "_H", "iterations", "evaluations", "_J")
 
-    def __init__(self, x: np.ndarray, r: np.ndarray, H: np.ndarray, iterations: int, evaluations: int) -> None:
+    def __init__(self, x: np.ndarray | None, r: np.ndarray | None, H: np.ndarray, iterations: int,
+                 evaluations: int) -> None:
         self.x, self.r, self._H, self.iterations, self.evaluations, self._J = x, r, H, iterations, evaluations, None
 
     @property
@@ -142,6 +146,7 @@ class TurbofanTransient:
         self.I_lp = p.I_lp_kg_m2 if I_lp_kg_m2 is None else I_lp_kg_m2
         self.I_hp = p.I_hp_kg_m2 if I_hp_kg_m2 is None else I_hp_kg_m2
         self._cache: tuple[Any, ...] | None = None
+        self._u = np.empty(12)                      # inputs of jit_solve.chord_solve, filled per call
         if not (self.I_lp > 0.0 and self.I_hp > 0.0):
             raise OutOfRangeError(f"{p.name}: spool inertias I_lp_kg_m2={self.I_lp!r}, I_hp_kg_m2={self.I_hp!r} "
                                   "must be > 0 (set them in the parameter file)")
@@ -265,7 +270,7 @@ class TurbofanTransient:
         return TransientState(t_s, point, spool_acceleration(net_lp, N1_rpm, self.I_lp),
                               spool_acceleration(net_hp, N2_rpm, self.I_hp), net_lp, net_hp,
                               tuple(x_match.tolist()), distortion, fast,
-                              (p.N1_rpm, p.N2_rpm, od.ref["Wf"]), jacobian, J_base)
+                              (p.N1_rpm, p.N2_rpm, od.ref["Wf"]), jacobian, J_base, x_match)
 
     def _compiled(self, t_s: float, N1_rpm: float, N2_rpm: float, Wf_kg_s: float, cond: tuple[float, float, float],
                   extras: tuple[float, float, float], hb: float | None, guess: TransientState,
@@ -276,20 +281,26 @@ class TurbofanTransient:
         fc, c = self.od.fast, self._cache
         if fc is None or c is None or c[0] != _KEY_CLEAN:
             return _REFUSED
-        from .jit_solve import chord_solve
-        od, p = self.od, self.od.p
-        xf = np.array(guess.x)
-        xin = np.array((N1_rpm / p.N1_rpm, N2_rpm / p.N2_rpm, Wf_kg_s / od.ref["Wf"]))
-        ctl = np.array((0.0, Wf_kg_s, *extras, math.nan if hb is None else hb))
+        global _chord_solve
+        if _chord_solve is None:
+            from .jit_solve import chord_solve
+            _chord_solve = chord_solve
+        od, p, u = self.od, self.od.p, self._u
+        xf = guess._xa.copy() if guess._xa is not None else np.array(guess.x)
+        u[:] = (N1_rpm / p.N1_rpm, N2_rpm / p.N2_rpm, Wf_kg_s / od.ref["Wf"], *cond, 0.0, Wf_kg_s, *extras,
+                math.nan if hb is None else hb)
         H, r, o, sens = np.empty((6, 6)), np.empty(9), np.empty(len(fc.o)), np.empty(2)
+        if len(c) > 5:                              # arrays of a compiled iteration: contiguous already
+            J_in, Js_free, Js_in = c[2], c[3], c[4]
+        else:                                       # the same numbers, the layout the kernel is compiled for
+            J_in, Js_free, Js_in = np.ascontiguousarray(c[2]), np.ascontiguousarray(c[3]), np.ascontiguousarray(c[4])
         f, h, t, lp = fc.maps
-        J_in, Js_free, Js_in = (np.ascontiguousarray(a) for a in c[2:5])    # the same numbers, one layout
-        status, it = chord_solve(xf, xin, c[1], J_in, Js_free, Js_in, np.array(cond, dtype=float), fc.fsc, ctl,
-                                 fc.atm, fc.e, fc.gc, fc.gs, fc.bl, f, h, t, lp, tol, H, r, o, sens)
+        status, it = _chord_solve(xf, u, c[1], J_in, Js_free, Js_in, fc.fsc, fc.atm, fc.e, fc.gc, fc.gs, fc.bl,
+                                  f, h, t, lp, tol, H, r, o, sens)
         if status != _CONVERGED:
             return int(status)
         self._cache = (c[0], H, J_in, Js_free, Js_in, sens)
-        res = _LazyResult(xf[_FREE_L], r[:6], H, it, it + 1)
+        res = _LazyResult(None, None, H, it, it + 1)     # x and r of the matched block are not read
         return self._make_state(t_s, N1_rpm, N2_rpm, xf, r, o, res, guess._jbase, cond, ("Wf_kg_s", Wf_kg_s),
                                 extras, (None, None), hb, _ROWS9, _FREE_L)
 

@@ -205,7 +205,7 @@ def test_compiled_iteration_falls_back_as_python(monkeypatch: pytest.MonkeyPatch
     """Where the compiled iteration stalls, the step goes to the Newton solve and a rebuilt Jacobian as the Python
     iteration does; where the kernel refuses, the Python iteration runs from the same start (the same numbers
     as the Python path bit for bit)."""
-    from openemss.models.engine import jit_solve
+    from openemss.models.engine import jit_solve, transient
     m = EngineModel("larzac04_sls")
     m.start(EngineInputs(0.2, 3000.0, 0.5), N1_pct=85.0)
     for _ in range(3):
@@ -226,7 +226,7 @@ def test_compiled_iteration_falls_back_as_python(monkeypatch: pytest.MonkeyPatch
 
     ref = python()
     for status in (jit_solve.REFUSED, jit_solve.STALLED):
-        monkeypatch.setattr(jit_solve, "chord_solve", lambda *a, st=status: (st, 0))
+        monkeypatch.setattr(transient, "_chord_solve", lambda *a, st=status: (st, 0))
         tr._cache = cache
         s = tr.state(*args, **kw)                           # type: ignore[arg-type]
         if status == jit_solve.REFUSED:                     # the Python iteration on the kernel's residuals

@@ -6,10 +6,12 @@ cProfile summary of where the time of a step goes; asserts nothing (DESIGN.md, r
 
 Cases (Larzac 04 preset, explicit Euler, one internal step):
 
-* ``mission, Python cycle`` / ``mission, compiled cycle``: the mission-like profile of
-  :func:`_mission_inputs` (take-off, climb to 7500 m and Mach 0.75, cruise, idle descent,
-  slam and chop) with a rate-limited fuel controller, on the Python gas path (the
-  baseline, measured in the same run) and on the compiled kernel (:mod:`.jit_cycle`);
+* ``mission, Python cycle`` / ``mission, compiled cycle`` / ``mission, compiled iteration``: the
+  mission-like profile of :func:`_mission_inputs` (take-off, climb to 7500 m and Mach 0.75,
+  cruise, idle descent, slam and chop) with a rate-limited fuel controller, on the Python gas
+  path (the baseline, measured in the same run), on the compiled residuals (:mod:`.jit_cycle`)
+  driven by the Python chord iteration, and with the iteration compiled as well
+  (:mod:`.jit_solve`, the default); the last two give the same outputs (printed);
 
 * ``model, inputs held``: at 5000 m, Mach 0.6, N1 90 %, constant inputs (steady cruise): one
   gas-path match per step (at the new spool speeds);
@@ -79,13 +81,15 @@ def _mission_inputs(t: float) -> tuple[float, float, float]:
     return (100.0 if t < 275.0 else 62.0), 1500.0, 0.5
 
 
-def _mission_runner(fast: bool, steps: int) -> tuple[EngineModel, object]:
+def _mission_runner(fast: bool, steps: int, compiled_iteration: bool = True) -> tuple[EngineModel, object]:
     """The engine flown through :func:`_mission_inputs` by a fuel controller as the FCS's: the fuel flow moves
     toward the N1 demand by at most 2 % (up) and 1 % (down) of design fuel flow per 50 ms step, not below
-    15 %; `fast` False: Python cycle only."""
+    15 %; `fast` False: Python cycle only; `compiled_iteration` False: the compiled cycle driven by the Python
+    chord iteration (as before the iteration was compiled)."""
     m = EngineModel("larzac04_sls")
     if not fast:
         m.od._fast = False
+    m.tr.compiled_iteration = compiled_iteration
     N1d, Wf_d = m.p.N1_rpm, m.dp.Wf_kg_s
     pt = m.od.solve(0.0, 0.0, N1_pct=60.0)
     m.start(EngineInputs(pt.Wf_kg_s, 0.0, 0.0))
@@ -155,11 +159,14 @@ def main() -> None:
     m, run = _mission_runner(True, 2)
     run()                                                       # type: ignore[operator]
     t_first = time.perf_counter() - t0
-    for name, fast in (("mission, Python cycle", False), ("mission, compiled cycle", True)):
+    finals = []
+    for name, fast, it in (("mission, Python cycle", False, False), ("mission, compiled cycle", True, False),
+                           ("mission, compiled iteration", True, True)):
         meds = []
         for _ in range(max(1, a.repeat // 2)):
-            m, run = _mission_runner(fast, n_mis)
+            m, run = _mission_runner(fast, n_mis, it)
             meds.append(_time(run, n_mis, 1)[0])
+        finals.append(list(m.values))
         rows.append((name, statistics.median(meds), min(meds)))
     for name, changing in (("model, inputs held", False), ("model, inputs changing", True)):
         m, run = _model_runner(changing, a.steps)
@@ -173,7 +180,13 @@ def main() -> None:
     print(f"{'case':<28} {'median us':>10} {'best us':>10} {'x real time':>12}")
     for name, med, best in rows:
         print(f"{name:<28} {med * 1e6:10.0f} {best * 1e6:10.0f} {H / med:12.0f}")
-    print(f"compiled / Python on the mission: {rows[1][1] / rows[0][1]:.3f} (speed-up {rows[0][1] / rows[1][1]:.1f} x)")
+    print(f"compiled / Python on the mission: {rows[2][1] / rows[0][1]:.3f} "
+          f"(speed-up {rows[0][1] / rows[2][1]:.1f} x); "
+          f"compiled iteration / Python iteration on the compiled cycle: {rows[2][1] / rows[1][1]:.3f} "
+          f"(speed-up {rows[1][1] / rows[2][1]:.1f} x)")
+    same = max(abs(x - y) for x, y in zip(finals[1], finals[2], strict=True))
+    print(f"outputs at the end of the mission-like profile, compiled iteration vs Python iteration: largest "
+          f"difference {same:.3g}")
     if isinstance(fmu, tuple):
         print(f"{'FMU in our orchestrator':<28} {fmu[0] * 1e6:10.0f} {fmu[1] * 1e6:10.0f} {H / fmu[0]:12.0f}")
     else:

@@ -147,6 +147,9 @@ class TurbofanTransient:
         self.I_hp = p.I_hp_kg_m2 if I_hp_kg_m2 is None else I_hp_kg_m2
         self._cache: tuple[Any, ...] | None = None
         self._u = np.empty(12)                      # inputs of jit_solve.chord_solve, filled per call
+        #: Match with the compiled iteration (:mod:`.jit_solve`) where it applies; False: the Python iteration on
+        #: the compiled residuals (the same numbers, slower; for benchmarks and tests).
+        self.compiled_iteration = True
         if not (self.I_lp > 0.0 and self.I_hp > 0.0):
             raise OutOfRangeError(f"{p.name}: spool inertias I_lp_kg_m2={self.I_lp!r}, I_hp_kg_m2={self.I_hp!r} "
                                   "must be > 0 (set them in the parameter file)")
@@ -181,8 +184,8 @@ class TurbofanTransient:
         hb = handling_bleed_frac
         cond = (alt_m, Mach, dT_isa_K)
         status = _REFUSED
-        if isinstance(guess, TransientState) and distortion[0] is None and distortion[1] is None and \
-                guess.distortion[0] is None and guess.distortion[1] is None:
+        if self.compiled_iteration and isinstance(guess, TransientState) and distortion[0] is None and \
+                distortion[1] is None and guess.distortion[0] is None and guess.distortion[1] is None:
             out = self._compiled(t_s, N1_rpm, N2_rpm, Wf_kg_s, cond, extras, hb, guess, tol)
             if isinstance(out, TransientState):
                 return out

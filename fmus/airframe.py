@@ -114,6 +114,7 @@ class Airframe(Fmi2Slave):
         self._vals = [0.0] * (len(OUTPUTS) + 4)
         self.trim_elevator_norm = 0.0
         self.trim_thrust_N = 0.0
+        self._out0 = len(self.vars) - 1  # value reference of output i (1-based in _vals) is _out0 + i
         for i, (name, desc) in enumerate(OUTPUTS, start=1):
             self.register_variable(Real(name, causality=out, description=desc, getter=lambda i=i: self._vals[i]))
         self.register_variable(Boolean("on_ground", causality=out, variability=discrete,
@@ -128,6 +129,12 @@ class Airframe(Fmi2Slave):
         self.register_variable(Real("trim_thrust_N", causality=out,
                                     description="Thrust of the trimmed air start [N]"))
         self._model: AirframeModel | None = None
+
+    def get_real(self, vrs: list[int]) -> list[float]:
+        """The state outputs straight from the cached list; pythonfmu's own calls one getter per variable
+        (about 1 us each, a third of this FMU's I/O cost)."""
+        vals, base, n = self._vals, self._out0, len(OUTPUTS)
+        return [vals[vr - base] if 0 < vr - base <= n else Fmi2Slave.get_real(self, [vr])[0] for vr in vrs]
 
     def exit_initialization_mode(self) -> None:
         m = AirframeModel(rate_hz=self.rate_hz, isa_dev_K=self.isa_dev_K,

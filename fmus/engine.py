@@ -45,7 +45,8 @@ DESIGN = (
     ("eta_hpc", "Design HPC isentropic efficiency [-]"), ("Tt4_K", "Design burner exit temperature [K]"),
     ("eta_burner", "Burner efficiency [-]"), ("dPqP_burner", "Burner relative pressure loss [-]"),
     ("eta_hpt", "Design HPT isentropic efficiency [-]"), ("eta_lpt", "Design LPT isentropic efficiency [-]"),
-    ("dPqP_21_24", "Fan-HPC duct relative pressure loss [-]"), ("dPqP_44_45", "HPT-LPT duct relative pressure loss [-]"),
+    ("dPqP_21_24", "Fan-HPC duct relative pressure loss [-]"),
+    ("dPqP_44_45", "HPT-LPT duct relative pressure loss [-]"),
     ("dPqP_5_7", "Jet pipe relative pressure loss [-]"), ("dPqP_13_17", "Bypass duct relative pressure loss [-]"),
     ("eta_mech_hp", "HP spool mechanical efficiency [-]"), ("eta_mech_lp", "LP spool mechanical efficiency [-]"),
     ("Cv_core", "Core nozzle velocity coefficient [-]"), ("Cd_core", "Core nozzle discharge coefficient [-]"),
@@ -150,6 +151,7 @@ class Engine(Fmi2Slave):
         self._model: EngineModel | None = None
         self._vals = [0.0] * len(OUTPUTS)
         self._flags = [False] * len(FLAGS)
+        self._out0 = len(self.vars)  # value reference of output i is _out0 + i
         for i, (name, desc) in enumerate(OUTPUTS):
             self.register_variable(Real(name, causality=out, description=desc, getter=lambda i=i: self._vals[i]))
         for i, (name, desc) in enumerate(FLAGS):
@@ -158,6 +160,11 @@ class Engine(Fmi2Slave):
         self.register_variable(Integer("events", causality=out, variability=discrete,
                                        description="Rising edges of surge, flameout, overspeed, fuel limiting [-]",
                                        getter=lambda: 0 if self._model is None else self._model.events))
+
+    def get_real(self, vrs: list[int]) -> list[float]:
+        """The outputs straight from the model's list; pythonfmu's own calls one getter per variable."""
+        vals, base, n = self._vals, self._out0, len(OUTPUTS)
+        return [vals[vr - base] if 0 <= vr - base < n else Fmi2Slave.get_real(self, [vr])[0] for vr in vrs]
 
     def _inputs(self) -> EngineInputs:
         alt, dT = condition_from_ambient(self.p_amb_Pa, self.T_amb_K) if self.use_ambient else \

@@ -64,6 +64,7 @@ def main(argv: list[str] | None = None) -> int:
         stop = args.stop_time if args.stop_time is not None else bound.definition.stop_time_s
         prof = cProfile.Profile() if args.profile else None
         error = ""
+        cal_before = calibration_ms()
         t_init = time.perf_counter()
         ex.initialize(stop)  # instantiation, the engine's start, compiled kernels: not part of the run
         t0 = time.perf_counter()
@@ -81,9 +82,24 @@ def main(argv: list[str] | None = None) -> int:
         wall = time.perf_counter() - t0
         sim = ex.time_s - ex.start_time_s
         _report(ex.stats(), sim, wall, setup_s, error)
+        print(f"machine speed: a fixed Python workload took {cal_before:.1f} ms before the run and "
+              f"{calibration_ms():.1f} ms after (compare runs at equal calibration)")
     finally:
         shutil.rmtree(work, ignore_errors=True)
     return 0
+
+
+def calibration_ms() -> float:
+    """Time of a fixed pure-Python workload [ms] (best of 3): this VM's speed varies by a factor of about 2
+    over minutes, so the real-time factor is printed with it, measured right before and after the run."""
+    best = float("inf")
+    for _ in range(3):
+        t0 = time.perf_counter()
+        x = 0.0
+        for i in range(300_000):
+            x = x * 0.999 + i * 1e-6
+        best = min(best, time.perf_counter() - t0)
+    return 1e3 * best
 
 
 def _report(stats: dict[str, dict[str, float]], sim_s: float, wall_s: float, setup_s: float, error: str) -> None:

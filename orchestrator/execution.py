@@ -10,12 +10,13 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Protocol
+from typing import Protocol
 
 import numpy as np
 
 from .algorithm import ALGORITHMS, Algorithm, GaussSeidel, Jacobi, StepOrder, gauss_seidel_order
 from .errors import ConfigurationError, EmssError, InitializationError
+from .manipulators import Condition, parse_condition, reader
 from .slave import FmuLog, Slave
 from .system import BoundSystem, VariableInfo
 from .transfer import Transfer
@@ -136,9 +137,8 @@ class Execution:
         self._record = record
         self._initialized = False
         self.manipulators: list[Manipulator] = []
+        self._until_cond: Condition | None = None
         self._until: Callable[[], bool] | None = None
-        self._until_text = ""
-        self._pending_until: Any = None
         self.stopped_by = ""  # the stop condition that ended the run early, if one did
         self._overrides: list[tuple[np.ndarray, int, float]] = []
         self._linked_inputs: dict[tuple[int, str, int], int] = {}  # (component, type, vr) -> index in inputs
@@ -168,15 +168,16 @@ class Execution:
         ConfigurationError
             If the condition cannot be read or names no variable of the system.
         """
-        from .manipulators import parse_condition, reader
+        self._until_cond = parse_condition(condition, "--until")
+        if self._initialized:
+            self._arm_until()
 
-        cond = parse_condition(condition, "--until")
-        if not self._initialized:
-            self._pending_until = cond
-            return
-        read = reader(self, cond.path, "--until")
-        self._until = lambda: cond.holds(read())
-        self._until_text = str(cond)
+    def _arm_until(self) -> None:
+        """Resolve the stop condition's variable (once the exchange vectors exist)."""
+        cond = self._until_cond
+        if cond is not None:
+            read = reader(self, cond.path, "--until")
+            self._until = lambda: cond.holds(read())
 
     def input_slot(self, path: str, where: str) -> tuple[str, int] | tuple[Slave, VariableInfo]:
         """Where a manipulator writes ``component.variable``: ``(type, index)`` in the input vectors
@@ -380,9 +381,7 @@ class Execution:
         self._initialized = True
         for m in self.manipulators:
             m.attach(self)
-        if self._pending_until is not None:
-            cond, self._pending_until = self._pending_until, None
-            self.stop_when(f"{cond.path} {cond.op} {cond.value!r}")
+        self._arm_until()
         self._manipulate(self.start_time_s)
         for o in self.observers:
             o.start(self)
@@ -438,7 +437,7 @@ class Execution:
                 for sample in observers:
                     sample(k + 1, t)
                 if until is not None and until():
-                    self.stopped_by = self._until_text
+                    self.stopped_by = str(self._until_cond)
                     break
         except BaseException as exc:
             error = exc

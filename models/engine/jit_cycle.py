@@ -152,6 +152,20 @@ def _turbine(gc: np.ndarray, gs: np.ndarray, W: float, T: float, P: float, f: fl
 
 
 @jit
+def _cooling(b: np.ndarray, bW: np.ndarray, bT: np.ndarray, bP: np.ndarray, bh: np.ndarray, where: float,
+             cw: np.ndarray, cT: np.ndarray, cP: np.ndarray, cf: np.ndarray, ch: np.ndarray,
+             cfp: np.ndarray) -> int:
+    """Copy the bleeds returned at turbine ``where`` (column 3 of ``b``: 2 HPT, 3 LPT) into the cooling
+    arrays; returns how many."""
+    nc = 0
+    for i in range(b.shape[0]):
+        if b[i, 3] == where:
+            cw[nc], cT[nc], cP[nc], cf[nc], ch[nc], cfp[nc] = bW[i], bT[i], bP[i], 0.0, bh[i], b[i, 4]
+            nc += 1
+    return nc
+
+
+@jit
 def cycle(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: np.ndarray, gs: np.ndarray,
           bl: np.ndarray, fan: Any, hpc: Any, hpt: Any, lpt: Any, r: np.ndarray, o: np.ndarray,
           with_sm: bool) -> int:
@@ -272,11 +286,7 @@ def cycle(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: np.
             v, gx, gy, err)
     Wc_t1, eff_t1 = v[0] * hpt[6][0], v[1] * hpt[6][2]
     cw, cT, cP, cf, ch, cfp = np.empty(nb), np.empty(nb), np.empty(nb), np.empty(nb), np.empty(nb), np.empty(nb)
-    nc = 0
-    for i in range(nb):
-        if b[i, 3] == 2.0:
-            cw[nc], cT[nc], cP[nc], cf[nc], ch[nc], cfp[nc] = bW[i], bT[i], bP[i], 0.0, bh[i], b[i, 4]
-            nc += 1
+    nc = _cooling(b, bW, bT, bP, bh, 2.0, cw, cT, cP, cf, ch, cfp)
     P_hpt, W44, T44, P44, f44, h44, T41 = _turbine(gc, gs, W4, Tt4, P4, f4, h4, PRh, eff_t1, cw, cT, cP, cf, ch,
                                                    cfp, nc, err)
     P45 = P44 * (1.0 - e[_D4445])
@@ -286,11 +296,7 @@ def cycle(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: np.
     K.table(lpt[0], lpt[1], lpt[2], lpt[3], lpt[4], lpt[5], Nl / lpt[6][3], (PRl - 1.0) / lpt[6][1] + 1.0,
             v, gx, gy, err)
     Wc_t2, eff_t2 = v[0] * lpt[6][0], v[1] * lpt[6][2]
-    nc = 0
-    for i in range(nb):
-        if b[i, 3] == 3.0:
-            cw[nc], cT[nc], cP[nc], cf[nc], ch[nc], cfp[nc] = bW[i], bT[i], bP[i], 0.0, bh[i], b[i, 4]
-            nc += 1
+    nc = _cooling(b, bW, bT, bP, bh, 3.0, cw, cT, cP, cf, ch, cfp)
     P_lpt, W5, T5, P5, f5, h5, _ = _turbine(gc, gs, W44, T44, P45, f44, h44, PRl, eff_t2, cw, cT, cP, cf, ch,
                                             cfp, nc, err)
     P7 = P5 * (1.0 - e[_D57])

@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from . import calibrate_cli
 from .aero import aero_model
 from .errors import AirframeError, TrimError
 from .trim import ALT_RANGE_M, MACH_RANGE, TrimResult, trim_level
@@ -58,6 +59,7 @@ def register(subparsers: argparse._SubParsersAction) -> tuple[type[Exception], .
     p.add_argument("--mass-kg", type=float, metavar="W", help="aircraft mass [kg] (default 2100, MTOM)")
     p.add_argument("--json", action="store_true", help="print the rows as JSON")
     p.set_defaults(handler=cmd_polar)
+    calibrate_cli.add_parser(sub)
     return (AirframeError,)
 
 

@@ -185,10 +185,11 @@ def load_points(path: Path | str, model: AeroModel | None = None, lift_column: s
             raise _fail(path, n, f"lift and drag must be positive (relative errors are fitted); got CL {cl:.4g}, "
                                  f"CD {cd:.4g}")
         alpha = math.radians(val["alpha_deg"])
-        stall = model.alpha_stall(val["mach"])
-        if alpha > 0.9 * stall:
-            raise _fail(path, n, f"alpha_deg = {val['alpha_deg']:g} is beyond the attached-flow range of the "
-                                 f"model at Mach {val['mach']:g} (below {math.degrees(0.9 * stall):.1f} deg)")
+        cl_lin = abs(float(model.cl_linear(alpha, val["mach"])))
+        if cl_lin > 0.8 * model.clmax_clean:
+            raise _fail(path, n, f"alpha_deg = {val['alpha_deg']:g} is beyond the model's linear lift range at "
+                                 f"Mach {val['mach']:g} (CL {cl_lin:.2f} above 0.8 CL_max = "
+                                 f"{0.8 * model.clmax_clean:.2f}), where the factors are not defined")
         label = rec.get("point") or str(len(points) + 1)
         points.append(CalibrationPoint(label, n, val["alt_m"], val["mach"], alpha, q,
                                        rho * val["mach"] * a_snd * model.geom.wing.mac_m / mu, cl, cd))
@@ -264,3 +265,20 @@ def fit(points: tuple[CalibrationPoint, ...], factors: tuple[str, ...] = (*LIFT_
     results = tuple(PointResult(p, b[0], b[1], *model_coefficients(after_model, p))
                     for p, b in zip(points, before, strict=True))
     return Calibration(corr, results)
+
+
+def jsbsim_coefficients(p: CalibrationPoint, airframe: object | None = None) -> tuple[float, float]:
+    """Lift and drag coefficients that JSBSim computes from the shipped aircraft file at the point's
+    condition (wings level, no rates, controls neutral, clean, gear up, far from the ground) [-].
+
+    This reads the forces of the file as flown (JSBSim's own table look-up and functions), not the
+    Python model the file was written from.
+    """
+    from .adapter import LBF, Airframe
+
+    af = airframe if isinstance(airframe, Airframe) else Airframe()
+    _, _, _, a_snd, _ = isa(p.alt_m)
+    af.start_air(p.alt_m, p.mach * a_snd, 0.0, alpha_rad=p.alpha_rad, elevator=0.0, gear_down=False)
+    fdm = af.fdm
+    qs = fdm["aero/qbar-psf"] * fdm["metrics/Sw-sqft"] * LBF
+    return fdm["forces/fwz-aero-lbs"] * LBF / qs, fdm["forces/fwx-aero-lbs"] * LBF / qs

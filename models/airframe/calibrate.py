@@ -58,6 +58,8 @@ class CalibrationPoint:
     re_mac: float
     cl: float
     cd: float
+    cl_reference: float | None = None
+    cd_reference: float | None = None
 
 
 @dataclass(frozen=True)
@@ -120,8 +122,12 @@ def _to_coefficient(col: str, value: float, qs_N: float) -> float:
 
 
 def load_points(path: Path | str, model: AeroModel | None = None, lift_column: str | None = None,
-                drag_column: str | None = None) -> tuple[tuple[CalibrationPoint, ...], str]:
+                drag_column: str | None = None,
+                reference_columns: tuple[str, str] | None = None) -> tuple[tuple[CalibrationPoint, ...], str]:
     """Read and check a points file; return the points and the source text (its ``#`` lines).
+
+    ``reference_columns`` (lift, drag) names another code's values in the same file (for example the
+    reference flight simulator's), carried along for comparison and not fitted.
 
     Raises
     ------
@@ -156,6 +162,11 @@ def load_points(path: Path | str, model: AeroModel | None = None, lift_column: s
                                             "and a drag column")
     lcol, dcol = _pick(path, header, "lift", lift_column), _pick(path, header, "drag", drag_column)
     pcol = next((h for h in ("p_Pa", "p_kPa") if h in header), None)
+    refs = tuple(reference_columns or ())
+    for col in refs:
+        if col not in header or not ((m := _FORCE.match(col)) or col in ("CL", "CD")):
+            raise _fail(path, header_line, f"reference column {col!r} is not a lift or drag column of the file "
+                                           f"(columns: {', '.join(header)})")
     points = []
     for n, raw in rows[1:]:
         cells = [c.strip() for c in next(csv.reader([raw]))]
@@ -163,7 +174,7 @@ def load_points(path: Path | str, model: AeroModel | None = None, lift_column: s
             raise _fail(path, n, f"{len(cells)} values for {len(header)} columns")
         rec = dict(zip(header, cells, strict=True))
         val: dict[str, float] = {}
-        for col in ("alt_m", "mach", "alpha_deg", lcol, dcol, *((pcol,) if pcol else ())):
+        for col in ("alt_m", "mach", "alpha_deg", lcol, dcol, *((pcol,) if pcol else ()), *refs):
             try:
                 v = float(rec[col])
             except ValueError:
@@ -191,8 +202,9 @@ def load_points(path: Path | str, model: AeroModel | None = None, lift_column: s
                                  f"Mach {val['mach']:g} (CL {cl_lin:.2f} above 0.8 CL_max = "
                                  f"{0.8 * model.clmax_clean:.2f}), where the factors are not defined")
         label = rec.get("point") or str(len(points) + 1)
+        ref = [_to_coefficient(c, val[c], q * s_ref) for c in refs] or [None, None]
         points.append(CalibrationPoint(label, n, val["alt_m"], val["mach"], alpha, q,
-                                       rho * val["mach"] * a_snd * model.geom.wing.mac_m / mu, cl, cd))
+                                       rho * val["mach"] * a_snd * model.geom.wing.mac_m / mu, cl, cd, *ref))
     if not points:
         raise _fail(path, header_line, "no data rows under the header")
     src = " ".join(source) if source else "no source given in the file"

@@ -48,6 +48,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
                    help=f"factors to fit (default {','.join(DEFAULT_FACTORS)}; also {','.join(DRAG_FACTORS)})")
     c.add_argument("--lift-column", metavar="COL", help="the lift column when there are several")
     c.add_argument("--drag-column", metavar="COL", help="the drag column when there are several")
+    c.add_argument("--reference-columns", metavar="LIFT,DRAG",
+                   help="another code's lift and drag columns in the same file, shown beside (not fitted), e.g. "
+                        "lift_flightsim_kN,drag_flightsim_kN")
     c.add_argument("--out", type=Path, default=Path("results/airframe-calibration"), metavar="DIR",
                    help="output folder (default: results/airframe-calibration)")
     c.add_argument("--apply", action="store_true",
@@ -64,6 +67,9 @@ def _table(cal: Calibration) -> list[dict[str, float | str]]:
                      "CL_data": p.cl, "CL_before": r.cl_before, "CL_after": r.cl_after,
                      "CD_data": p.cd, "CD_before": r.cd_before, "CD_after": r.cd_after,
                      **{f"err_{k}": v for k, v in r.errors().items()}})
+        if p.cl_reference is not None and p.cd_reference is not None:
+            rows[-1].update({"CL_reference": p.cl_reference, "CD_reference": p.cd_reference,
+                             "err_cl_reference": p.cl_reference / p.cl - 1, "err_cd_reference": p.cd_reference / p.cd - 1})
     return rows
 
 
@@ -78,8 +84,13 @@ def _plot(cal: Calibration, path: Path) -> None:
     x = np.arange(len(rows))
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
     for ax, q in zip(axes, ("cl", "cd"), strict=True):
-        ax.bar(x - 0.2, [100 * float(r[f"err_{q}_before"]) for r in rows], 0.4, label="geometric model")
-        ax.bar(x + 0.2, [100 * float(r[f"err_{q}_after"]) for r in rows], 0.4, label="calibrated")
+        sets = [("before", "geometric model"), ("after", "calibrated")]
+        if f"err_{q}_reference" in rows[0]:
+            sets.append(("reference", "reference"))
+        width = 0.8 / len(sets)
+        for i, (key, name) in enumerate(sets):
+            ax.bar(x + (i - (len(sets) - 1) / 2) * width, [100 * float(r[f"err_{q}_{key}"]) for r in rows], width,
+                   label=name)
         lim = 10.0 if q == "cl" else 5.0
         for s in (-lim, lim):
             ax.axhline(s, color="k", ls=":", lw=1)
@@ -118,12 +129,21 @@ def _write_outputs(cal: Calibration, out: Path, data: Path) -> None:
 def _print(cal: Calibration) -> None:
     c: AeroCorrections = cal.corrections
     print("fitted: " + ", ".join(f"{k} = {getattr(c, k):.4f}" for k in c.fitted))
-    print(f"  {'point':>5} {'alt_m':>6} {'mach':>5} {'alpha':>6} | {'CL data':>8} {'before':>7} {'after':>7} | "
-          f"{'CD data':>8} {'before':>7} {'after':>7}")
-    for r in _table(cal):
-        print(f"  {r['point']:>5} {r['alt_m']:6.0f} {r['mach']:5.2f} {r['alpha_deg']:6.2f} | {r['CL_data']:8.4f} "
-              f"{100 * float(r['err_cl_before']):+6.1f}% {100 * float(r['err_cl_after']):+6.1f}% | "
-              f"{r['CD_data']:8.5f} {100 * float(r['err_cd_before']):+6.1f}% {100 * float(r['err_cd_after']):+6.1f}%")
+    rows = _table(cal)
+    has_ref = "err_cl_reference" in rows[0]
+    ref_h = f" {'ref.':>7}" if has_ref else ""
+    print(f"  {'point':>5} {'alt_m':>6} {'mach':>5} {'alpha':>6} | {'CL data':>8} {'before':>7} {'after':>7}{ref_h} | "
+          f"{'CD data':>8} {'before':>7} {'after':>7}{ref_h}")
+
+    def pct(r: dict[str, float | str], k: str) -> str:
+        return f" {100 * float(r[k]):+6.1f}%"
+
+    for r in rows:
+        rl = pct(r, "err_cl_reference") if has_ref else ""
+        rd = pct(r, "err_cd_reference") if has_ref else ""
+        print(f"  {r['point']:>5} {r['alt_m']:6.0f} {r['mach']:5.2f} {r['alpha_deg']:6.2f} | {r['CL_data']:8.4f}"
+              f"{pct(r, 'err_cl_before')}{pct(r, 'err_cl_after')}{rl} | {r['CD_data']:8.5f}"
+              f"{pct(r, 'err_cd_before')}{pct(r, 'err_cd_after')}{rd}")
     w = cal.worst()
     print(f"  worst |error|: lift {100 * w['cl_before']:.1f} % -> {100 * w['cl_after']:.1f} %, "
           f"drag {100 * w['cd_before']:.1f} % -> {100 * w['cd_after']:.1f} %")
@@ -136,7 +156,13 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
     if bad or not factors:
         raise CalibrationError(f"--factors: unknown {', '.join(bad) or '(none given)'}; allowed: "
                                f"{', '.join(FACTOR_BOUNDS)}")
-    points, source = load_points(args.data, aero_model(None, AeroCorrections()), args.lift_column, args.drag_column)
+    refs = None
+    if args.reference_columns:
+        refs = tuple(c.strip() for c in str(args.reference_columns).split(","))
+        if len(refs) != 2:
+            raise CalibrationError(f"--reference-columns: give two columns, lift and drag, not {args.reference_columns!r}")
+    points, source = load_points(args.data, aero_model(None, AeroCorrections()), args.lift_column, args.drag_column,
+                                 refs)  # type: ignore[arg-type]
     cal = fit(points, factors, source=source)
     _write_outputs(cal, args.out, args.data)
     if args.apply:

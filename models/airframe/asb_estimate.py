@@ -76,7 +76,7 @@ ALT_RANGE_M = (0.0, 8000.0)
 MACH_RANGE = (0.0, 0.85)  # 0 excluded: AeroBuildup needs a speed
 ALPHA_RANGE_DEG = (-10.0, 20.0)
 N_FUSELAGE_STATIONS = 13  # per cone
-LATTICE_SPAN, LATTICE_CHORD = 12, 6  # panels per panel-half (spanwise) and chordwise; see the tests
+LATTICE_SPAN, LATTICE_CHORD = 16, 6  # spanwise panels per side, chordwise panels; convergence in the tests
 
 
 @dataclass(frozen=True)

@@ -74,6 +74,8 @@ def register(subparsers: argparse._SubParsersAction) -> tuple[type[Exception], .
                    help="points file (default: the CFD points, models/airframe/data/upera_cfd.csv)")
     c.add_argument("--out", type=Path, default=Path("results/airframe-compare"), metavar="DIR",
                    help="output folder (default: results/airframe-compare)")
+    c.add_argument("--sweep-alpha-deg", type=float, nargs=3, default=None, metavar=("START", "STOP", "STEP"),
+                   help="alpha sweep at each condition [deg] (default: -2 10 1)")
     c.add_argument("--json", action="store_true", help="print the rows as JSON")
     c.set_defaults(handler=cmd_compare)
     return (AirframeError,)
@@ -166,9 +168,11 @@ def cmd_compare(args: argparse.Namespace) -> int:
     """Handler of ``emss airframe compare``; returns the exit code."""
     from . import compare
 
+    alphas = compare.SWEEP_ALPHAS_DEG if args.sweep_alpha_deg is None else \
+        compare.sweep_alphas(*args.sweep_alpha_deg)
     points = compare.read_points(args.points or compare.DEFAULT_POINTS)
     conditions = compare.sweep_conditions(points)
-    total = len(points) + len(conditions) * (len(compare.SWEEP_ALPHAS_DEG) + 1)
+    total = len(points) + len(conditions) * (len(alphas) + 1)
     done = [0]
     tty = sys.stderr.isatty()
 
@@ -181,7 +185,7 @@ def cmd_compare(args: argparse.Namespace) -> int:
     for pt in points:
         rows.append(compare.compare_point(pt))
         tick()
-    sweeps = compare.sweep(conditions, tick=tick)
+    sweeps = compare.sweep(conditions, alphas, tick=tick)
     slopes = []
     for alt, mach in conditions:
         slopes.append(compare.lift_slopes(alt, mach))

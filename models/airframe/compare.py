@@ -27,7 +27,7 @@ from .errors import AirframeError, OutOfEnvelopeError
 
 __all__ = ["PointSpec", "CompareRow", "SlopeRow", "read_points", "compare_point", "sweep", "lift_slopes",
            "points_table", "drag_table", "slopes_table", "write_csv", "plot", "DEFAULT_POINTS",
-           "SWEEP_ALPHAS_DEG", "REQUIRED_COLUMNS"]
+           "SWEEP_ALPHAS_DEG", "REQUIRED_COLUMNS", "sweep_alphas", "sweep_conditions"]
 
 DEFAULT_POINTS = Path(__file__).resolve().parent / "data" / "upera_cfd.csv"
 REQUIRED_COLUMNS = ("alt_m", "mach", "alpha_deg")
@@ -206,6 +206,30 @@ def sweep_conditions(points: Sequence[PointSpec]) -> list[tuple[float, float]]:
         if (p.alt_m, p.mach) not in seen:
             seen.append((p.alt_m, p.mach))
     return seen[:MAX_SWEEPS]
+
+
+def sweep_alphas(start_deg: float, stop_deg: float, step_deg: float) -> tuple[float, ...]:
+    """Angles from ``start_deg`` to ``stop_deg`` (inclusive) by ``step_deg`` [deg], checked.
+
+    Raises
+    ------
+    AirframeError
+        If the step is not positive, the range is empty or beyond the valid alphas, or it holds
+        more than 200 angles.
+    """
+    from .asb_estimate import ALPHA_RANGE_DEG
+
+    lo, hi = ALPHA_RANGE_DEG
+    vals = (start_deg, stop_deg, step_deg)
+    if not all(math.isfinite(v) for v in vals) or step_deg <= 0 or stop_deg < start_deg:
+        raise AirframeError(f"--sweep-alpha-deg {start_deg:g} {stop_deg:g} {step_deg:g}: need START <= STOP "
+                            "and STEP > 0, all finite")
+    if start_deg < lo or stop_deg > hi:
+        raise AirframeError(f"--sweep-alpha-deg {start_deg:g} {stop_deg:g}: alpha must lie in {lo:g} to {hi:g} deg")
+    n = int(math.floor((stop_deg - start_deg) / step_deg + 1e-9)) + 1
+    if n > 200:
+        raise AirframeError(f"--sweep-alpha-deg: {n} angles; at most 200")
+    return tuple(start_deg + i * step_deg for i in range(n))
 
 
 def sweep(conditions: Iterable[tuple[float, float]], alphas_deg: Sequence[float] = SWEEP_ALPHAS_DEG,

@@ -21,6 +21,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import aerosandbox as asb
 import numpy as np
 import pytest
 from scipy.optimize import brentq
@@ -29,8 +30,6 @@ from openemss.models.airframe import asb_estimate as E
 from openemss.models.airframe.aero import aero_model, isa
 from openemss.models.airframe.vlm import vlm_downwash_gradient, vlm_wing
 from openemss.orchestrator.cli import main
-
-asb = pytest.importorskip("aerosandbox")
 
 G = aero_model().geom
 W = G.wing

@@ -55,7 +55,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from functools import lru_cache
 
 import aerosandbox as asb
@@ -111,9 +111,6 @@ class BuildupPoint:
     CD_vtail: float
     CD_fuselage: float
 
-    def as_dict(self) -> dict[str, float]:
-        return asdict(self)
-
 
 @dataclass(frozen=True)
 class LatticePoint:
@@ -127,9 +124,6 @@ class LatticePoint:
     CDi: float
     CL_wing: float
     CL_htail: float
-
-    def as_dict(self) -> dict[str, float]:
-        return asdict(self)
 
 
 def check_condition(alt_m: float, mach: float, alpha_rad: float) -> None:

@@ -19,6 +19,7 @@ import csv
 import json
 import math
 import sys
+from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
@@ -198,8 +199,8 @@ def cmd_compare(args: argparse.Namespace) -> int:
     compare.write_csv(out / "lift_slopes.csv", slopes)
     compare.plot(out / "compare.png", rows, sweeps)
     if args.json:
-        json.dump({"points": [r.as_dict() for r in rows], "sweep": [r.as_dict() for r in sweeps],
-                   "lift_slopes": [s.as_dict() for s in slopes]}, sys.stdout, indent=2)
+        json.dump({"points": [asdict(r) for r in rows], "sweep": [asdict(r) for r in sweeps],
+                   "lift_slopes": [asdict(s) for s in slopes]}, sys.stdout, indent=2)
         sys.stdout.write("\n")
         return 0
     print("UPERA lift and drag coefficients (S = 11.2 m^2, zero elevator, clean); d% against the CFD")

@@ -16,9 +16,11 @@ from __future__ import annotations
 
 import csv
 import math
+import re
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -85,9 +87,6 @@ class CompareRow:
     CL_cfd: float
     CD_cfd: float
 
-    def as_dict(self) -> dict[str, float | str]:
-        return asdict(self)
-
 
 @dataclass(frozen=True)
 class SlopeRow:
@@ -101,9 +100,6 @@ class SlopeRow:
     cla_wing_buildup: float
     cla_wing_vlm: float
     cla_wing_helmbold: float
-
-    def as_dict(self) -> dict[str, float]:
-        return asdict(self)
 
 
 def _problem_list(path: Path, problems: list[str]) -> AirframeError:
@@ -272,53 +268,94 @@ def lift_slopes(alt_m: float, mach: float, alpha_rad: float = math.radians(2.0))
         cla_wing_helmbold=_helmbold(w.aspect_ratio, w.tan_sweep(w.x_t_c), mach))
 
 
-def _pct(x: float, ref: float) -> str:
-    return "     -" if not (math.isfinite(x) and math.isfinite(ref)) or ref == 0 else f"{100 * (x / ref - 1):+6.1f}"
+Column = tuple[str, str, str | Callable[[Any], float | str]]  # header, format spec, attribute or getter
+SEP = "|"
 
 
-def _num(x: float, fmt: str) -> str:
-    return format(x, fmt) if math.isfinite(x) else "-".rjust(len(format(1.0, fmt)))
+def _cell(value: float | str, spec: str, width: int) -> str:
+    if isinstance(value, str):
+        return value.rjust(width)
+    return (format(value, spec) if math.isfinite(value) else "-").rjust(width)
+
+
+def _table(rows: Sequence[Any], columns: Sequence[Column | str]) -> str:
+    """Fixed-width text table; a column is (header, format spec, attribute name or getter), ``SEP`` a
+    separator."""
+    head, body = [], [[] for _ in rows]  # type: ignore[var-annotated]
+    for c in columns:
+        if c == SEP:
+            head.append(SEP)
+            for cells in body:
+                cells.append(SEP)
+            continue
+        title, spec, get = c  # type: ignore[misc]
+        m = re.match(r"[+ -]?(\d+)", spec)
+        width = max(len(title), int(m.group(1)) if m else 0)
+        head.append(title.rjust(width))
+        for cells, r in zip(body, rows, strict=True):
+            cells.append(_cell(getattr(r, get) if isinstance(get, str) else get(r), spec, width))
+    return "\n".join(" ".join(cells) for cells in [head, *body])
+
+
+def _pct(x: float, ref: float) -> float:
+    """100 (x/ref - 1) [%], NaN without a reference."""
+    return 100.0 * (x / ref - 1.0) if math.isfinite(ref) and ref != 0 else math.nan
+
+
+def _k(cdi: float, cl: float) -> float:
+    return cdi / cl ** 2 if cl else math.nan
+
+
+_SHORT = {"ours": "ours", "buildup": "bu.", "vlm": "VLM"}
+
+
+def _vs_cfd(quantity: str, methods: Sequence[str]) -> list[Column | str]:
+    """Columns of the differences of ``quantity`` (``"CL"``, ``"CD"``) by each method from the CFD [%]."""
+    return [(f"d{quantity}% {_SHORT[m]}" if i == 0 else _SHORT[m], "+6.1f",
+             lambda r, m=m: _pct(getattr(r, f"{quantity}_{m}"), getattr(r, f"{quantity}_cfd")))
+            for i, m in enumerate(methods)]
+
+
+_CONDITION: list[Column | str] = [("pt", "3", "label"), ("alt_m", "6.0f", "alt_m"),
+                                  ("mach", "5.2f", "mach"), ("a_deg", "5.2f", "alpha_deg")]
 
 
 def points_table(rows: Sequence[CompareRow]) -> str:
     """Lift and drag coefficients by each method, and their differences from the CFD [%]."""
-    out = [f"{'pt':>3} {'alt_m':>6} {'mach':>5} {'a_deg':>5} | {'CL ours':>7} {'buildup':>7} {'VLM':>7} "
-           f"{'CFD':>7} | {'CD ours':>7} {'buildup':>7} {'CFD':>7} | dCL% ours  bu.  VLM | dCD% ours  bu."]
-    for r in rows:
-        out.append(f"{r.label:>3} {r.alt_m:6.0f} {r.mach:5.2f} {r.alpha_deg:5.2f} | {r.CL_ours:7.4f} "
-                   f"{r.CL_buildup:7.4f} {r.CL_vlm:7.4f} {_num(r.CL_cfd, '7.4f')} | {r.CD_ours:7.5f} "
-                   f"{r.CD_buildup:7.5f} {_num(r.CD_cfd, '7.5f')} | {_pct(r.CL_ours, r.CL_cfd)}"
-                   f"{_pct(r.CL_buildup, r.CL_cfd)}{_pct(r.CL_vlm, r.CL_cfd)} | {_pct(r.CD_ours, r.CD_cfd)}"
-                   f"{_pct(r.CD_buildup, r.CD_cfd)}")
-    return "\n".join(out)
+    return _table(rows, [*_CONDITION, SEP,
+                         ("CL ours", "7.4f", "CL_ours"), ("buildup", "7.4f", "CL_buildup"),
+                         ("VLM", "7.4f", "CL_vlm"), ("CFD", "7.4f", "CL_cfd"), SEP,
+                         ("CD ours", "7.5f", "CD_ours"), ("buildup", "7.5f", "CD_buildup"),
+                         ("CFD", "7.5f", "CD_cfd"), SEP,
+                         *_vs_cfd("CL", ("ours", "buildup", "vlm")), SEP, *_vs_cfd("CD", ("ours", "buildup"))])
 
 
 def drag_table(rows: Sequence[CompareRow]) -> str:
     """Drag decomposed: zero-lift/profile, induced (k CL^2, AeroBuildup, lattice), tail lift and Cm."""
-    out = [f"{'pt':>3} | {'CD0 ours':>8} {'CDp bu.':>8} | {'CDi ours':>8} {'CDi bu.':>8} {'CDi VLM':>8} | "
-           f"{'k ours':>6} {'k bu.':>6} {'k VLM':>6} | {'CLh bu.':>7} {'CLh VLM':>7} | {'Cm ours':>7} {'Cm bu.':>7}"]
-    for r in rows:
-        ks = [cdi / cl ** 2 if cl else math.nan for cdi, cl in ((r.CDi_ours, r.CL_ours),
-                                                               (r.CDi_buildup, r.CL_buildup), (r.CDi_vlm, r.CL_vlm))]
-        out.append(f"{r.label:>3} | {r.CD0_ours:8.5f} {r.CDp_buildup:8.5f} | {r.CDi_ours:8.5f} {r.CDi_buildup:8.5f} "
-                   f"{r.CDi_vlm:8.5f} | {ks[0]:6.4f} {ks[1]:6.4f} {ks[2]:6.4f} | {r.CL_htail_buildup:7.4f} "
-                   f"{r.CL_htail_vlm:7.4f} | {r.Cm_ours:7.4f} {r.Cm_buildup:7.4f}")
-    return "\n".join(out)
+    return _table(rows, [("pt", "3", "label"), SEP,
+                         ("CD0 ours", "8.5f", "CD0_ours"), ("CDp bu.", "8.5f", "CDp_buildup"), SEP,
+                         ("CDi ours", "8.5f", "CDi_ours"), ("CDi bu.", "8.5f", "CDi_buildup"),
+                         ("CDi VLM", "8.5f", "CDi_vlm"), SEP,
+                         *[(f"k {_SHORT[m]}", "6.4f", lambda r, m=m: _k(getattr(r, f"CDi_{m}"), getattr(r, f"CL_{m}")))
+                           for m in ("ours", "buildup", "vlm")], SEP,
+                         ("CLh bu.", "7.4f", "CL_htail_buildup"),
+                         ("CLh VLM", "7.4f", "CL_htail_vlm"), SEP,
+                         ("Cm ours", "7.4f", "Cm_ours"), ("Cm bu.", "7.4f", "Cm_buildup")])
 
 
 def slopes_table(rows: Sequence[SlopeRow]) -> str:
     """Lift-curve slopes [1/rad]: aircraft by each method, wing alone by AeroBuildup, lattice, Helmbold."""
-    out = [f"{'alt_m':>6} {'mach':>5} | aircraft: {'ours':>5} {'buildup':>7} {'VLM':>5} | "
-           f"wing alone: {'buildup':>7} {'VLM':>5} {'Helmbold':>8}"]
-    for s in rows:
-        out.append(f"{s.alt_m:6.0f} {s.mach:5.2f} | {'':9} {s.cla_ours:5.3f} {s.cla_buildup:7.3f} {s.cla_vlm:5.3f} | "
-                   f"{'':11} {s.cla_wing_buildup:7.3f} {s.cla_wing_vlm:5.3f} {s.cla_wing_helmbold:8.3f}")
-    return "\n".join(out)
+    return _table(rows, [("alt_m", "6.0f", "alt_m"), ("mach", "5.2f", "mach"), SEP,
+                         ("aircraft: ours", "6.3f", "cla_ours"),
+                         ("buildup", "7.3f", "cla_buildup"), ("VLM", "6.3f", "cla_vlm"), SEP,
+                         ("wing alone: buildup", "7.3f", "cla_wing_buildup"),
+                         ("VLM", "6.3f", "cla_wing_vlm"),
+                         ("Helmbold", "8.3f", "cla_wing_helmbold")])
 
 
 def write_csv(path: Path, rows: Sequence[CompareRow] | Sequence[SlopeRow]) -> None:
     """Write dataclass rows as CSV (column names carry the units where they have one)."""
-    dicts = [r.as_dict() for r in rows]
+    dicts = [asdict(r) for r in rows]
     with path.open("w", newline="", encoding="utf-8") as f:
         w = csv.DictWriter(f, fieldnames=list(dicts[0]))
         w.writeheader()

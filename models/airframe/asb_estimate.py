@@ -206,7 +206,8 @@ def upera_airplane(geom: Geometry | None = None, incidence_tail_rad: float | Non
     parts : sequence of str
         Which of ``"wing"``, ``"htail"``, ``"vtail"``, ``"fuselage"`` to build.
     x_stretch : float
-        Factor on every x coordinate and chord [-] (1/beta for the Göthert rule).
+        Factor on every x coordinate and chord [-] (1/beta for the Göthert rule). A stretched
+        airplane is for the lattice only and is built without its fuselage.
     exposed_wing : bool
         Build the wing from the fuselage side outward only (no carry-through) [-].
     incidence : bool

@@ -34,9 +34,9 @@ import math
 from importlib import resources as _resources
 from pathlib import Path
 
-import yaml
 from pythonfmu import Boolean, Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real, String
 
+from openemss.models import safe_yaml
 from openemss.models.fcs.atmosphere import isa, mach_from_tas
 from openemss.models.fcs.errors import FcsError
 from openemss.models.fcs.fcs import OUTPUT_SIGNALS, FlightControlSystem
@@ -96,7 +96,7 @@ def _parameter_docs(package: str) -> dict[str, str]:
     for f in sorted(folder.iterdir(), key=lambda p: p.name):
         if not f.name.endswith(".yaml"):
             continue
-        for section, entries in (yaml.safe_load(f.read_text(encoding="utf-8")) or {}).items():
+        for section, entries in (safe_yaml.load(f.read_text(encoding="utf-8"), f.name) or {}).items():
             if not isinstance(entries, dict):
                 continue
             for key, e in entries.items():

@@ -38,6 +38,8 @@ from typing import TYPE_CHECKING, Any
 
 import yaml
 
+from openemss.models import safe_yaml
+
 from .errors import ConfigurationError, EmssError
 
 if TYPE_CHECKING:
@@ -182,16 +184,10 @@ def _condition(node: yaml.Node, where: str, index: int) -> Condition:
 def load_scenario(path: Path | str) -> list[Event]:
     """Read and check a scenario file; raises ScenarioError naming the file and line."""
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise ScenarioError(f"{path}: cannot read the scenario: {exc.strerror}") from None
-    try:
-        root = yaml.compose(text)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        line = mark.line + 1 if mark is not None else "?"
-        raise ScenarioError(f"{path}:{line}: not valid YAML: {getattr(exc, 'problem', exc)}") from None
+    try:  # the project's one YAML reader: duplicate keys, alias bombs, NaN refused with file:line
+        root = safe_yaml.compose(safe_yaml.read_text(path, "scenario"), str(path))
+    except safe_yaml.YamlError as exc:
+        raise ScenarioError(str(exc)) from None
     if root is None:
         return []
     if not isinstance(root, yaml.MappingNode):

@@ -31,6 +31,7 @@ from typing import Any
 
 import yaml
 
+from .. import safe_yaml
 from .errors import MissionError
 from .geo import LatLon, initial_bearing_rad
 
@@ -43,7 +44,7 @@ _FRAME_GLOBAL, _FRAME_RELATIVE = 0, 3
 def _defaults() -> dict[str, float]:
     pkg = __package__ or __name__.rpartition(".")[0]
     text = resources.files(pkg).joinpath("data", "qgc_defaults.yaml").read_text(encoding="utf-8")
-    return yaml.safe_load(text)["qgc_defaults"]
+    return safe_yaml.load(text, "qgc_defaults.yaml")["qgc_defaults"]
 
 
 def plan_to_yaml(text: str, source: str = "<plan>") -> str:

@@ -22,8 +22,7 @@ import math
 from importlib import resources
 from typing import Any, ClassVar, Generic, TypeVar
 
-import yaml
-
+from .. import safe_yaml
 from .errors import ParameterError
 
 __all__ = ["Tunable", "load_params", "param_bounds", "DATA_PACKAGE"]
@@ -75,7 +74,7 @@ def load_params(cls: type[P], filename: str, section: str, **overrides: float) -
         If the file lacks a field of ``cls``, has one ``cls`` does not know,
         or a value lies outside its stated ``min``/``max``.
     """
-    doc = yaml.safe_load(_data_text(filename))
+    doc = safe_yaml.load(_data_text(filename), filename)
     where = f"{filename}:{section}"
     if section not in doc:
         raise ParameterError(f"{filename}: no section '{section}' (sections: {', '.join(sorted(doc))})")

@@ -17,6 +17,7 @@ extreme inputs: it holds the last good state and says so.
 from __future__ import annotations
 
 import dataclasses
+import math
 from dataclasses import fields
 
 from pythonfmu import Boolean, Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real, String
@@ -34,6 +35,7 @@ from openemss.models.engine.engine_model import (
 )
 
 REQUIREMENTS = ["numpy>=1.24", "scipy>=1.10", "numba>=0.59"]
+SOLVER_FAILED = [name for name, _ in FLAGS].index("solver_failed")
 
 #: Design parameters exposed as ``design_<name>``: (field, description with unit).
 DESIGN = (
@@ -125,6 +127,11 @@ class Engine(Fmi2Slave):
                                        description="Integration method: 0 explicit Euler, 1 Heun [-]"))
         self.register_variable(Integer("distortion_target", causality=par, variability=fixed,
                                        description="Distorted compressor face: 1 fan, 2 HPC, 3 both [-]"))
+        self.accept_solver_failure = False
+        self.register_variable(Boolean("accept_solver_failure", causality=par, variability=fixed,
+                                       description="Fly on with the last good state held where the gas path "
+                                                   "cannot be matched (solver_failed set), instead of failing "
+                                                   "the step [-]"))
         # inputs
         self.fuel_flow_cmd_kg_s = 0.0
         self.alt_m = 0.0
@@ -205,5 +212,19 @@ class Engine(Fmi2Slave):
         self._vals, self._flags = m.values, m.flags
 
     def do_step(self, current_time: float, step_size: float) -> bool:
-        self._model.step(step_size, self._inputs())  # type: ignore[union-attr]
+        """One step; a step the engine cannot compute (an input not finite, or, unless
+        ``accept_solver_failure``, a gas path that cannot be matched) fails with the cause logged."""
+        u = self._inputs()
+        bad = [f"{f.name}={getattr(u, f.name)}" for f in fields(u)
+               if isinstance(getattr(u, f.name), float) and not math.isfinite(getattr(u, f.name))]
+        if bad:
+            self.log(f"engine: t={current_time:.6g} s: input(s) not finite: {', '.join(bad)}; the engine cannot "
+                     "compute its outputs", Fmi2Status.error, "logStatusError")
+            return False
+        m = self._model
+        m.step(step_size, u)  # type: ignore[union-attr]
+        if m.flags[SOLVER_FAILED] and not self.accept_solver_failure:  # type: ignore[union-attr]
+            self.log(f"{m.message} (outside the engine's envelope; set engine.accept_solver_failure=true "  # type: ignore[union-attr]
+                     "to fly on with the state held)", Fmi2Status.error, "logStatusError")
+            return False
         return True

@@ -9,8 +9,10 @@ import argparse
 import fnmatch
 import importlib
 import json
+import math
 import os
 import pkgutil
+import signal
 import sys
 import tempfile
 import time
@@ -20,10 +22,11 @@ from typing import Any, NoReturn
 
 from .build import PACKAGE_ROOT, ensure_built
 from .errors import ConfigurationError, EmssError, Problem, SystemStructureError
-from .execution import DEFAULT_RATE_HZ, MAX_RATE_HZ, MIN_RATE_HZ, Execution
+from .execution import DEFAULT_RATE_HZ, MAX_RATE_HZ, MAX_STEP_MULTIPLE, MIN_RATE_HZ, Execution
 from .manipulators import ScenarioManipulator, load_scenario
 from .observers import CsvRecorder, Progress, RealTimePacer, RunRecord
 from .plugins import load_problems, plugin_name, plugins
+from .results import ResultsError, ResultsFolder, RunInterrupted, atomic_write, os_reason, stop_on_signals
 from .ssp import load_system
 from .system import BoundSystem, bind_system
 
@@ -37,6 +40,24 @@ class _Parser(argparse.ArgumentParser):
 
     def error(self, message: str) -> NoReturn:
         self.exit(2, f"{self.prog}: error: {message} (see --help)\n")
+
+
+def _finite_float(text: str) -> float:
+    """A finite number (argparse type): NaN and infinities are refused where they enter."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"invalid number: {text!r}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a finite number")
+    return value
+
+
+def _folder(text: str) -> Path:
+    """A results folder (argparse type): not empty (an empty name would write into the working directory)."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("an empty folder name; give the results folder, e.g. --out results/run1")
+    return Path(text)
 
 
 def _add_system_args(p: argparse.ArgumentParser, optional: bool = False) -> None:
@@ -57,7 +78,7 @@ def build_parser() -> argparse.ArgumentParser:
     run = sub.add_parser("run", help="run a system and record its time histories",
                          description="Run a system with a fixed-step master; writes timeseries.csv and run.json.")
     _add_system_args(run, optional=True)
-    run.add_argument("--stop-time", type=float, metavar="S", help="stop time [s] (default: the SSD's)")
+    run.add_argument("--stop-time", type=_finite_float, metavar="S", help="stop time [s] (default: the SSD's)")
     run.add_argument("--rate", type=float, metavar="HZ",
                      help=f"communication rate [Hz], {MIN_RATE_HZ} to {MAX_RATE_HZ} "
                           f"(default: the SSD's OSP FixedStepAlgorithm annotation, else {DEFAULT_RATE_HZ})")
@@ -65,7 +86,9 @@ def build_parser() -> argparse.ArgumentParser:
                      help="master algorithm (default: jacobi)")
     run.add_argument("--step-multiple", nargs="+", action="extend", default=[], metavar="COMPONENT=N",
                      help="let a component step every N-th macro step")
-    run.add_argument("--out", type=Path, help="output folder (default: results/<system>-<time>)")
+    run.add_argument("--out", type=_folder, help="output folder (default: results/<system>-<time>); one run at a "
+                                                 "time: a folder another run is writing is refused, and an earlier "
+                                                 "run's files in it are removed first")
     run.add_argument("--record", nargs="+", action="extend", metavar="VARS",
                      help="variables to record, component.variable, wildcards and commas allowed "
                           "(default: every connector)")
@@ -76,7 +99,7 @@ def build_parser() -> argparse.ArgumentParser:
                      help="end the run after the first step where 'component.variable OP number' holds (OP one of "
                           "== != < <= > >=), e.g. 'fcs.mission_completed == 1'; default: the condition a plugin "
                           "proposes for the system (the report plugin: the mission completed), 'never' for none")
-    run.add_argument("--realtime", type=float, default=0.0, metavar="FACTOR",
+    run.add_argument("--realtime", type=_finite_float, default=0.0, metavar="FACTOR",
                      help="pace against the wall clock: 1.0 = real time, 2.0 = twice as fast; 0 = as fast as "
                           "possible (default)")
     run.add_argument("--stats", action="store_true",
@@ -220,8 +243,8 @@ def _load(system: Path, params: Sequence[Path], settings: Sequence[str] = (),
         values[path.strip()] = _typed(text.strip(), var.type_name, item)
     target = (folder or Path(tempfile.mkdtemp(prefix="emss-set-"))) / "cli_parameters.ssv"
     target.parent.mkdir(parents=True, exist_ok=True)
-    target.write_bytes(etree.tostring(ParameterSet("cli_parameters", values).element(), xml_declaration=True,
-                                      encoding="UTF-8", pretty_print=True))
+    atomic_write(target, etree.tostring(ParameterSet("cli_parameters", values).element(), xml_declaration=True,
+                                        encoding="UTF-8", pretty_print=True))
     return bind_system(load_system(system), [*params, target])
 
 
@@ -229,7 +252,10 @@ def _typed(text: str, type_name: str, item: str) -> bool | int | float | str:
     """``text`` as a value of an FMI type; a String that names an existing file becomes its absolute path."""
     try:
         if type_name == "Real":
-            return float(text)
+            value = float(text)
+            if not math.isfinite(value):
+                raise ValueError
+            return value
         if type_name in ("Integer", "Enumeration"):
             return int(text)
         if type_name == "Boolean":
@@ -237,7 +263,8 @@ def _typed(text: str, type_name: str, item: str) -> bool | int | float | str:
                 raise ValueError
             return text.lower() in ("true", "1")
     except ValueError:
-        raise ConfigurationError(f"--set {item!r}: not a valid {type_name} value") from None
+        raise ConfigurationError(f"--set {item!r}: not a valid {type_name} value"
+                                 + (" (a finite number)" if type_name == "Real" else "")) from None
     return str(Path(text).resolve()) if Path(text).is_file() else text
 
 
@@ -245,8 +272,9 @@ def _multiples(items: Sequence[str]) -> dict[str, int]:
     out: dict[str, int] = {}
     for item in items:
         name, sep, value = item.partition("=")
-        if not sep or not value.strip().isdigit():
-            raise ConfigurationError(f"--step-multiple '{item}': expected COMPONENT=N with an integer N >= 1")
+        if not sep or not value.strip().isdigit() or not 1 <= int(value) <= MAX_STEP_MULTIPLE:
+            raise ConfigurationError(f"--step-multiple '{item}': expected COMPONENT=N with an integer N from 1 "
+                                     f"to {MAX_STEP_MULTIPLE}")
         out[name.strip()] = int(value)
     return out
 
@@ -283,6 +311,11 @@ def cmd_run(args: argparse.Namespace) -> int:
     system = args.system if args.system is not None else _default_system()
     _ensure_project_fmus(system)
     out = args.out or Path("results") / f"{load_system(system).name}-{time.strftime('%Y%m%d-%H%M%S')}"
+    with ResultsFolder(out) as _:  # locked for this run, cleared of an earlier run's files
+        return _run(args, system, out)
+
+
+def _run(args: argparse.Namespace, system: Path, out: Path) -> int:
     bound = _load(system, args.params, args.set, out)
     sysdef = bound.definition
     stop = args.stop_time if args.stop_time is not None else sysdef.stop_time_s
@@ -297,28 +330,36 @@ def cmd_run(args: argparse.Namespace) -> int:
     until = _stop_condition(bound, args.until)
     if until:
         ex.stop_when(until)
-    if not (args.realtime >= 0 and args.realtime == args.realtime):
+    if not args.realtime >= 0:
         raise ConfigurationError(f"--realtime {args.realtime}: must be >= 0 (0 = as fast as possible)")
     pacer = RealTimePacer(args.realtime) if args.realtime > 0 else None
     csv = CsvRecorder(out / "timeseries.csv", every=args.record_every)
     record = RunRecord(out / "run.json", str(system), [str(p) for p in args.params],
                        {"stop_time_s": stop, "scenario": str(args.scenario) if args.scenario else None},
                        reporters=[pacer] if pacer else [])
+    record.add_files([csv.path.name] + (["cli_parameters.ssv"] if args.set else []))
     for o in (pacer, csv, record, Progress(stop, status=_status_variable(bound, args.status))):
         if o is not None:
             ex.add_observer(o)
     for line in load_problems:
         print(f"emss run: warning: {line}", file=sys.stderr)
     try:
-        ex.run(stop)
+        with stop_on_signals(ex.request_stop):
+            ex.run(stop)
     except (EmssError, KeyboardInterrupt) as exc:
-        if not args.no_post_run:  # what was recorded is on disk: summarize it
-            for line in _post_run(out, exc)[1]:
+        if not args.no_post_run and not isinstance(exc, ResultsError):  # what was recorded is on disk
+            written, failures = _post_run(out, exc)
+            _list_files(record, written)
+            for line in failures:
                 print(f"emss run: {line}", file=sys.stderr)
-        if isinstance(exc, KeyboardInterrupt):
-            raise
+        if isinstance(exc, KeyboardInterrupt):  # a second Ctrl-C, or one before the handlers were in place
+            exc = RunInterrupted(signal.SIGINT, ex.time_s)
+        if isinstance(exc, RunInterrupted):
+            print(f"emss run: {exc} (results so far in {out})", file=sys.stderr)
+            return exc.exit_code
         raise EmssError(f"{exc} (results so far in {out})") from None
     written, failures = ([], []) if args.no_post_run else _post_run(out, None)
+    _list_files(record, written)
     summary = {k: record.info.get(k) for k in ("status", "algorithm", "rate_hz", "stop_time_s", "steps",
                                                 "wall_time_s", "realtime_factor", "realtime")}
     summary.update(system=sysdef.name, out=str(out), rows=csv.rows_written, post_run=[str(f) for f in written])
@@ -341,6 +382,13 @@ def cmd_run(args: argparse.Namespace) -> int:
     if args.stats:
         print(_stats_table(ex.stats()))
     return 1 if failures else 0
+
+
+def _list_files(record: RunRecord, written: list[Path]) -> None:
+    """Add the post-run hooks' files to run.json's list of the run's files (the next run removes them)."""
+    if written:
+        record.add_files([f.name for f in written])
+        record.rewrite()
 
 
 def _stop_condition(bound: BoundSystem, requested: str | None) -> str | None:
@@ -457,12 +505,19 @@ def main(argv: Sequence[str] | None = None) -> int:
     handler = builtin.get(args.command) or args.handler
     try:
         return handler(args)
+    except RunInterrupted as exc:
+        print(f"emss {args.command}: {exc}", file=sys.stderr)
+        return exc.exit_code
     except (EmssError, *USER_ERRORS) as exc:
         print(f"emss {args.command}: error: {exc}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
         print(f"emss {args.command}: interrupted", file=sys.stderr)
         return 130
+    except OSError as exc:  # a file the command reads or writes: one line naming it and the cause
+        where = f"{exc.filename}: " if exc.filename else ""
+        print(f"emss {args.command}: error: {where}{os_reason(exc)}", file=sys.stderr)
+        return 1
     except Exception as exc:  # an internal error: one line, traceback only on request
         if os.environ.get("EMSS_DEBUG"):
             raise

@@ -17,6 +17,7 @@ import numpy as np
 from .algorithm import ALGORITHMS, Algorithm, GaussSeidel, Jacobi, StepOrder, gauss_seidel_order
 from .errors import ConfigurationError, EmssError, InitializationError
 from .manipulators import Condition, parse_condition, reader
+from .results import RunInterrupted
 from .slave import FmuLog, Slave
 from .system import BoundSystem, VariableInfo
 from .transfer import Transfer
@@ -24,6 +25,7 @@ from .transfer import Transfer
 MIN_RATE_HZ = 0.1
 MAX_RATE_HZ = 100.0
 DEFAULT_RATE_HZ = 20.0
+MAX_STEP_MULTIPLE = 1000  #: a component steps at least every 1000th macro step (10 s at 100 Hz, 10000 s at 0.1 Hz)
 IO_TYPES = ("Real", "Integer", "Boolean")
 _DTYPE = {"Real": np.float64, "Integer": np.int32, "Boolean": np.int32}
 
@@ -117,9 +119,9 @@ class Execution:
         if unknown:
             raise ConfigurationError(f"step multiple for unknown component(s) {', '.join(unknown)} "
                                      f"(components: {', '.join(names)})")
-        bad = {k: v for k, v in multiples.items() if not isinstance(v, int) or v < 1}
+        bad = {k: v for k, v in multiples.items() if not isinstance(v, int) or not 1 <= v <= MAX_STEP_MULTIPLE}
         if bad:
-            raise ConfigurationError(f"step multiples must be integers >= 1, got {bad}")
+            raise ConfigurationError(f"step multiples must be integers from 1 to {MAX_STEP_MULTIPLE}, got {bad}")
         self.multiples = [multiples.get(n, 1) for n in names]
         self.order: StepOrder = gauss_seidel_order(len(names), [(ln.source, ln.target) for ln in system.links])
         if algorithm == "jacobi":
@@ -140,6 +142,7 @@ class Execution:
         self._until_cond: Condition | None = None
         self._until: Callable[[], bool] | None = None
         self.stopped_by = ""  # the stop condition that ended the run early, if one did
+        self._signal = 0  # a signal that asked the run to stop (see request_stop)
         self._overrides: list[tuple[np.ndarray, int, float]] = []
         self._linked_inputs: dict[tuple[int, str, int], int] = {}  # (component, type, vr) -> index in inputs
 
@@ -151,6 +154,11 @@ class Execution:
     @property
     def time_s(self) -> float:
         return self.time_at(self.k)
+
+    def request_stop(self, signum: int) -> None:
+        """Ask :meth:`run` to end after the current step with :class:`RunInterrupted` (safe to call from a
+        signal handler: it only sets a flag, so no FMU call is cut in the middle)."""
+        self._signal = signum
 
     def add_observer(self, observer: Observer) -> None:
         self.observers.append(observer)
@@ -418,6 +426,8 @@ class Execution:
         """
         error: BaseException | None = None
         try:
+            if not (isinstance(stop_time_s, (int, float)) and math.isfinite(stop_time_s)):
+                raise ConfigurationError(f"stop time {stop_time_s} s is not a finite number")
             if stop_time_s < self.start_time_s:
                 raise ConfigurationError(f"stop time {stop_time_s} s is before the start time "
                                          f"{self.start_time_s} s")
@@ -429,6 +439,8 @@ class Execution:
             manipulate = self._manipulate if self.manipulators else None
             until = self._until
             for k in range(self.k, n_steps):
+                if self._signal:
+                    raise RunInterrupted(self._signal, self.time_s)
                 step(self, k)
                 self.k = k + 1
                 t = self.time_at(k + 1)
@@ -439,6 +451,9 @@ class Execution:
                 if until is not None and until():
                     self.stopped_by = str(self._until_cond)
                     break
+            else:
+                if self._signal:
+                    raise RunInterrupted(self._signal, self.time_s)
         except BaseException as exc:
             error = exc
             raise
@@ -454,12 +469,18 @@ class Execution:
                         s.terminate()
                     except EmssError as exc:
                         terminate_error = terminate_error or exc
-        for o in self.observers:
-            o.finish(self, error or terminate_error)
+        finish_error: EmssError | None = None
+        for o in self.observers:  # every observer closes its files, even when one of them cannot
+            try:
+                o.finish(self, error or terminate_error)
+            except EmssError as exc:
+                finish_error = finish_error or exc
         for s in self.slaves:
             s.free()
         if terminate_error is not None:
             raise terminate_error
+        if finish_error is not None and error is None:
+            raise finish_error
 
     def stats(self) -> dict[str, dict[str, float]]:
         """Per component: steps and wall time [s] in doStep, get and set."""

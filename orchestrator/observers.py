@@ -6,7 +6,9 @@ batched gets the slaves already make.
 """
 from __future__ import annotations
 
+import contextlib
 import json
+import os
 import platform
 import sys
 import time
@@ -17,9 +19,13 @@ from typing import IO, TYPE_CHECKING, Any
 
 import numpy as np
 
+from .results import ResultsError, RunInterrupted, os_reason, atomic_write, open_stream
+
 if TYPE_CHECKING:
     from .execution import Execution
 
+RESERVE_NAME = ".emss-reserve"
+RESERVE_BYTES = 256 * 1024  #: disk held back for the last write of run.json [bytes]
 CSV_FLOAT_FORMAT = "%.15g"  # 15 significant digits: every double prints back within 1 ulp of 1e-15
 
 
@@ -110,8 +116,11 @@ class MemoryRecorder:
 class CsvRecorder:
     """Streams samples to a CSV file, flushing at least every ``flush_interval_s`` of wall time.
 
-    A run that dies leaves a valid file up to its last flush (the execution also
-    flushes on any error it sees, so normally nothing recorded is lost).
+    Rows are written whole: each flush is one write of complete rows, and a write that fails
+    (a full disk) is cut back to the last complete row, so the file always ends with one, and the
+    error (:class:`~.results.ResultsError`) names the file, the time and the cause. A run that dies
+    leaves a valid file up to its last flush (the execution also flushes on any error it sees).
+    The file is created anew (an existing file or link in its place is removed, never followed).
     Columns: ``time_s`` then ``component.variable``; values in the FMUs' units.
     """
 
@@ -120,19 +129,39 @@ class CsvRecorder:
         self.every = every
         self.flush_interval_s = flush_interval_s
         self._sampler = _RowSampler(block_rows)
-        self._file: IO[str] | None = None
+        self._file: IO[bytes] | None = None
         self._last_flush = 0.0
         self._fmt = ""
+        self._good_bytes = 0  # length of the file up to its last complete row
+        self._last_time_s: float | None = None
         self.rows_written = 0
 
     def start(self, execution: Execution) -> None:
         self._sampler.attach(execution)
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        self._file = open(self.path, "w", encoding="utf-8", newline="\n")
-        self._file.write(",".join(self._sampler.columns) + "\n")
-        self._file.flush()
+        self._file = open_stream(self.path)
+        self._good_bytes = 0
+        self._write((",".join(self._sampler.columns) + "\n").encode("utf-8"), execution.time_s)
         self._fmt = ",".join([CSV_FLOAT_FORMAT] * len(self._sampler.columns)) + "\n"
         self._last_flush = time.perf_counter()
+
+    def _write(self, data: bytes, time_s: float | None) -> None:
+        f = self._file
+        assert f is not None
+        view = memoryview(data)
+        try:
+            while view:
+                n = f.write(view)
+                view = view[n:]
+        except OSError as exc:
+            with contextlib.suppress(OSError):
+                os.ftruncate(f.fileno(), self._good_bytes)
+            f.close()
+            self._file = None
+            at = f" at t = {time_s:.6g} s" if time_s is not None else ""
+            kept = (f"; rows up to t = {self._last_time_s:.6g} s kept" if self._last_time_s is not None else "")
+            raise ResultsError(f"cannot write {self.path}{at}: {os_reason(exc)}{kept}") from None
+        self._good_bytes += len(data)
 
     def sample(self, k: int, time_s: float) -> None:
         if k % self.every:
@@ -143,23 +172,28 @@ class CsvRecorder:
             self.flush()
 
     def flush(self) -> None:
-        """Write the buffered rows and flush the file to the operating system."""
+        """Write the buffered rows (whole) to the operating system."""
         s = self._sampler
         if self._file is None:
             return
         if s.rows:
             values = s.block[: s.rows]
-            self._file.write((self._fmt * s.rows) % tuple(values.ravel().tolist()))
-            self.rows_written += s.rows
+            last = float(values[-1, 0])
+            rows = s.rows
             s.rows = 0
-        self._file.flush()
+            self._write(((self._fmt * rows) % tuple(values.ravel().tolist())).encode("ascii"), last)
+            self.rows_written += rows
+            self._last_time_s = last
         self._last_flush = time.perf_counter()
 
     def finish(self, execution: Execution, error: BaseException | None) -> None:
         if self._file is not None:
-            self.flush()
-            self._file.close()
-            self._file = None
+            try:
+                self.flush()
+            finally:
+                if self._file is not None:
+                    self._file.close()
+                    self._file = None
 
 
 def versions() -> dict[str, str]:
@@ -192,9 +226,28 @@ class RunRecord:
 
     def _write(self) -> None:
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = self.path.with_suffix(".json.tmp")
-        tmp.write_text(json.dumps(self.info, indent=2, default=str) + "\n", encoding="utf-8")
-        tmp.replace(self.path)
+        atomic_write(self.path, json.dumps(self.info, indent=2, default=str) + "\n")
+
+    def _reserve(self, on: bool) -> None:
+        """Hold :data:`RESERVE_BYTES` of disk beside run.json while the run goes, freed just before the
+        last write, so that a run that fills the disk can still close its run.json as failed."""
+        reserve = self.path.parent / RESERVE_NAME
+        with contextlib.suppress(OSError):
+            if reserve.is_symlink() or reserve.exists():
+                reserve.unlink()
+            if on:
+                with open_stream(reserve) as f:
+                    f.write(bytes(RESERVE_BYTES))
+
+    def add_files(self, names: list[str]) -> None:
+        """Names (in the results folder) of files this run wrote, listed in run.json so that the next run
+        into the folder removes them."""
+        files = self.info.setdefault("files", [])
+        files.extend(n for n in names if n not in files)
+
+    def rewrite(self) -> None:
+        """Write run.json again (after post-run files were added)."""
+        self._write()
 
     def start(self, execution: Execution) -> None:
         ex = execution
@@ -211,8 +264,10 @@ class RunRecord:
                            for p in ex.system.parameters},
             "versions": versions(),
         })
+        self.add_files([self.path.name])
         self._wall0 = time.perf_counter()
         self._write()
+        self._reserve(True)
 
     def sample(self, k: int, time_s: float) -> None:
         return
@@ -220,8 +275,10 @@ class RunRecord:
     def finish(self, execution: Execution, error: BaseException | None) -> None:
         wall = time.perf_counter() - self._wall0
         sim = execution.time_s - execution.start_time_s
+        self._reserve(False)
+        interrupted = isinstance(error, (RunInterrupted, KeyboardInterrupt))
         self.info.update({
-            "status": "completed" if error is None else "failed",
+            "status": "completed" if error is None else "interrupted" if interrupted else "failed",
             "error": None if error is None else str(error) or type(error).__name__,
             "stop_time_s": execution.time_s,
             "steps": execution.k,

@@ -13,6 +13,7 @@ import collections
 import shutil
 import tempfile
 import time
+import zipfile
 from ctypes import Array, byref, c_double, c_int, c_size_t, c_uint, c_void_p
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -28,6 +29,7 @@ from fmpy.fmi2 import (
 )
 
 from .errors import SlaveError
+from .results import check_archive
 from .system import ComponentModel, VariableInfo
 
 _STATUS = ("ok", "warning", "discard", "error", "fatal", "pending")
@@ -48,6 +50,8 @@ def extracted(fmu_path: Path) -> str:
     key = (str(path), st.st_size, st.st_mtime_ns)
     folder = _EXTRACTED.get(key)
     if folder is None or not Path(folder).is_dir():
+        with zipfile.ZipFile(path) as zf:  # a zip bomb is refused before anything is written
+            check_archive(zf, path)
         folder = extract(str(path), unzipdir=tempfile.mkdtemp(prefix="emss_fmu_"))
         _EXTRACTED[key] = folder
     return folder

@@ -17,6 +17,7 @@ Modelica Association, "System Structure and Parameterization (SSP) 1.0", 2019.
 """
 from __future__ import annotations
 
+import math
 import os
 import tempfile
 import zipfile
@@ -25,7 +26,8 @@ from pathlib import Path, PurePosixPath
 
 from lxml import etree
 
-from .errors import Problem, SystemStructureError
+from .errors import ConfigurationError, Problem, SystemStructureError
+from .results import check_archive
 from .ssp_model import (
     ComponentDef,
     ConnectionDef,
@@ -61,6 +63,7 @@ NS = {
 #: SSP 1.0 has no place for the master's step size; we read the annotation libcosim (OSP) defines.
 OSP_ANNOTATION_TYPE = "com.opensimulationplatform"
 SSD_FILE_NAME = "SystemStructure.ssd"
+MAX_XML_BYTES = 64 * 1024 ** 2  #: largest SSP XML file read [bytes]
 FMU_MIME_TYPE = "application/x-fmu-sharedlibrary"
 SCALAR_TYPES = ("Real", "Integer", "Boolean", "String", "Enumeration")
 MAPPINGS = {"BooleanMappingTransformation": "Boolean", "IntegerMappingTransformation": "Integer",
@@ -91,10 +94,24 @@ def _parse_xml(path: Path, schema_file: str, problems: list[Problem]) -> etree._
         problems.append(Problem(str(path), "file not found"))
         return None
     try:
-        tree = etree.parse(str(path), etree.XMLParser(resolve_entities=False, no_network=True))
+        size = path.stat().st_size
+        if size > MAX_XML_BYTES:
+            problems.append(Problem(str(path), f"{size // 1024 ** 2} MiB, larger than {MAX_XML_BYTES // 1024 ** 2} "
+                                               "MiB; refused"))
+            return None
+        tree = etree.parse(str(path), etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False))
     except etree.XMLSyntaxError as exc:
         line = exc.lineno if exc.lineno is not None else "?"
         problems.append(Problem(f"{path}:{line}", f"malformed XML: {exc.msg}"))
+        return None
+    except OSError as exc:
+        problems.append(Problem(str(path), f"cannot read: {exc.strerror or exc}"))
+        return None
+    if tree.docinfo.doctype or tree.docinfo.internalDTD is not None:  # entities (XXE, billion laughs)
+        dtd = tree.docinfo.internalDTD
+        problems.append(Problem(f"{path}:1", "a DOCTYPE (DTD or entity declarations) is not allowed in SSP "
+                                             "files" + (f" (declares {', '.join(e.name for e in dtd.iterentities())})"
+                                                        if dtd is not None and list(dtd.iterentities()) else "")))
         return None
     schema = _schema(schema_file)
     if not schema.validate(tree):
@@ -102,6 +119,25 @@ def _parse_xml(path: Path, schema_file: str, problems: list[Problem]) -> etree._
             problems.append(Problem(f"{path}:{entry.line}", f"not valid against the SSP 1.0 schema: {entry.message}"))
         return None
     return tree.getroot()
+
+
+def _finite(element: etree._Element, name: str, default: float, path: Path, problems: list[Problem],
+            nonzero: bool = False) -> float:
+    """The attribute ``name`` of ``element`` as a finite number (``default`` when absent); a NaN, an
+    infinity (or, with ``nonzero``, a zero) is recorded as a problem naming the element's line."""
+    text = element.get(name)
+    if text is None:
+        return default
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value) or (nonzero and value == 0.0):
+        allowed = "a finite number other than 0" if nonzero else "a finite number"
+        problems.append(Problem(_where(path, element), f"{etree.QName(element).localname} {name}={text!r}: "
+                                                      f"allowed is {allowed}"))
+        return default
+    return value
 
 
 def _typed_value(type_name: str, text: str) -> float | int | bool | str:
@@ -114,22 +150,28 @@ def _typed_value(type_name: str, text: str) -> float | int | bool | str:
     return text
 
 
-def _units(element: etree._Element | None, prefix: str) -> dict[str, Unit]:
-    """``<prefix>:Units/ssc:Unit`` definitions below ``element``."""
+def _units(element: etree._Element | None, prefix: str, path: Path, problems: list[Problem]) -> dict[str, Unit]:
+    """``<prefix>:Units/ssc:Unit`` definitions below ``element`` (a factor of 0 or a non-finite
+    factor or offset is a problem)."""
     if element is None:
         return {}
     out: dict[str, Unit] = {}
     for u in element.iterfind(f"{prefix}:Units/ssc:Unit", NS):
         base = u.find("ssc:BaseUnit", NS)
-        out[u.get("name")] = from_attributes(u.get("name"), dict(base.attrib) if base is not None else {})
+        attrs = dict(base.attrib) if base is not None else {}
+        if base is not None:
+            attrs["factor"] = str(_finite(base, "factor", 1.0, path, problems, nonzero=True))
+            attrs["offset"] = str(_finite(base, "offset", 0.0, path, problems))
+        out[u.get("name")] = from_attributes(u.get("name"), attrs)
     return out
 
 
-def _transformation(element: etree._Element, path: Path) -> Transformation | None:
+def _transformation(element: etree._Element, path: Path, problems: list[Problem]) -> Transformation | None:
     """The transformation child (ssc namespace) of a connection or mapping entry, if any."""
     lin = element.find("ssc:LinearTransformation", NS)
     if lin is not None:
-        return LinearTransformationDef(float(lin.get("factor", 1.0)), float(lin.get("offset", 0.0)))
+        return LinearTransformationDef(_finite(lin, "factor", 1.0, path, problems),
+                                       _finite(lin, "offset", 0.0, path, problems))
     for local, kind in MAPPINGS.items():
         m = element.find(f"ssc:{local}", NS)
         if m is not None:
@@ -150,8 +192,11 @@ def _parameter_set(root: etree._Element, path: Path, problems: list[Problem]) ->
                 problems.append(Problem(where, f"parameter '{p.get('name')}': type {type_name} is not supported "
                                                "(allowed: Real, Integer, Boolean, String)"))
                 continue
-            values.append(ParameterValue(p.get("name"), type_name, _typed_value(type_name, child.get("value")),
-                                         child.get("unit"), where))
+            if type_name == "Real":
+                value: float | int | bool | str = _finite(child, "value", 0.0, path, problems)
+            else:
+                value = _typed_value(type_name, child.get("value"))
+            values.append(ParameterValue(p.get("name"), type_name, value, child.get("unit"), where))
     return tuple(values)
 
 
@@ -168,11 +213,14 @@ def read_ssv(path: Path) -> tuple[tuple[ParameterValue, ...], dict[str, Unit]]:
     values = _parameter_set(root, Path(path), problems) if root is not None else ()
     if problems:
         raise SystemStructureError(problems)
-    return values, _units(root, "ssv")
+    units = _units(root, "ssv", Path(path), problems) if root is not None else {}
+    if problems:
+        raise SystemStructureError(problems)
+    return values, units
 
 
-def _mapping_entries(root: etree._Element, path: Path) -> tuple[MappingEntryDef, ...]:
-    return tuple(MappingEntryDef(m.get("source"), m.get("target"), _transformation(m, path),
+def _mapping_entries(root: etree._Element, path: Path, problems: list[Problem]) -> tuple[MappingEntryDef, ...]:
+    return tuple(MappingEntryDef(m.get("source"), m.get("target"), _transformation(m, path, problems),
                                  m.get("suppressUnitConversion", "false") in ("true", "1"), _where(path, m))
                  for m in root.iterfind("ssm:MappingEntry", NS))
 
@@ -181,9 +229,10 @@ def read_ssm(path: Path) -> tuple[MappingEntryDef, ...]:
     """Read an .ssm parameter mapping file."""
     problems: list[Problem] = []
     root = _parse_xml(Path(path), "SystemStructureParameterMapping.xsd", problems)
+    entries = _mapping_entries(root, Path(path), problems) if root is not None else ()
     if problems:
         raise SystemStructureError(problems)
-    return _mapping_entries(root, Path(path))
+    return entries
 
 
 def _bindings(element: etree._Element, path: Path, base_dir: Path,
@@ -208,7 +257,7 @@ def _bindings(element: etree._Element, path: Path, base_dir: Path,
                 problems.extend(exc.problems)
         for s in b.iterfind("ssd:ParameterValues/ssv:ParameterSet", NS):
             values.extend(_parameter_set(s, path, problems))
-            units.update(_units(s, "ssv"))
+            units.update(_units(s, "ssv", path, problems))
         mapping: list[MappingEntryDef] = []
         for m in b.iterfind("ssd:ParameterMapping", NS):
             if m.get("source") is not None:
@@ -217,7 +266,7 @@ def _bindings(element: etree._Element, path: Path, base_dir: Path,
                 except SystemStructureError as exc:
                     problems.extend(exc.problems)
             for inline in m.iterfind("ssm:ParameterMapping", NS):
-                mapping.extend(_mapping_entries(inline, path))
+                mapping.extend(_mapping_entries(inline, path, problems))
         bindings.append(ParameterBindingDef(b.get("prefix", ""), tuple(values), where, tuple(mapping), units))
     return tuple(bindings)
 
@@ -254,7 +303,7 @@ def _dictionary(d: etree._Element, path: Path, base_dir: Path, problems: list[Pr
             if isinstance(child.tag, str) and etree.QName(child).localname in SCALAR_TYPES:
                 type_name, unit = etree.QName(child).localname, child.get("unit")
         entries[e.get("name")] = DictionaryEntryDef(e.get("name"), type_name, unit)
-    return SignalDictionaryDef(d.get("name"), entries, _units(root, "ssb"), _where(dpath, d))
+    return SignalDictionaryDef(d.get("name"), entries, _units(root, "ssb", dpath, problems), _where(dpath, d))
 
 
 def _system(s: etree._Element, path: Path, base_dir: Path, problems: list[Problem]) -> SystemNode:
@@ -277,7 +326,7 @@ def _system(s: etree._Element, path: Path, base_dir: Path, problems: list[Proble
                        for r in s.iterfind("ssd:Elements/ssd:SignalDictionaryReference", NS))
     connections = tuple(
         ConnectionDef(e.get("startElement", ""), e.get("startConnector"), e.get("endElement", ""),
-                      e.get("endConnector"), _where(path, e), _transformation(e, path),
+                      e.get("endConnector"), _where(path, e), _transformation(e, path, problems),
                       e.get("suppressUnitConversion", "false") in ("true", "1"))
         for e in s.iterfind("ssd:Connections/ssd:Connection", NS))
     dictionaries = tuple(d for d in (_dictionary(d, path, base_dir, problems)
@@ -300,17 +349,17 @@ def _osp_step_size(experiment: etree._Element | None, path: Path, problems: list
             except ValueError:
                 problems.append(Problem(_where(path, fixed), "FixedStepAlgorithm needs a numeric baseStepSize [s]"))
                 return None
-            if not step > 0:
+            if not (step > 0 and math.isfinite(step)):
                 problems.append(Problem(_where(path, fixed), f"baseStepSize {step} s must be positive"))
                 return None
             return step
     return None
 
 
-def _float_attr(element: etree._Element | None, name: str) -> float | None:
+def _float_attr(element: etree._Element | None, name: str, path: Path, problems: list[Problem]) -> float | None:
     if element is None or element.get(name) is None:
         return None
-    return float(element.get(name))
+    return _finite(element, name, math.nan, path, problems)
 
 
 def read_ssd(path: Path, archive_dir: tempfile.TemporaryDirectory[str] | None = None) -> SystemDef:
@@ -338,10 +387,12 @@ def read_ssd(path: Path, archive_dir: tempfile.TemporaryDirectory[str] | None = 
     tree = _system(root.find("ssd:System", NS), path, path.parent, problems)
     experiment = root.find("ssd:DefaultExperiment", NS)
     step_size_s = _osp_step_size(experiment, path, problems)
+    start_time_s = _float_attr(experiment, "startTime", path, problems)
+    stop_time_s = _float_attr(experiment, "stopTime", path, problems)
+    units = _units(root, "ssd", path, problems)
     if problems:
         raise SystemStructureError(problems)
     components, connections, bindings = flatten(tree, problems)
-    units = _units(root, "ssd")
     pending = [tree]
     while pending:  # units defined by signal dictionaries serve where the SSD defines none of that name
         node = pending.pop()
@@ -351,8 +402,8 @@ def read_ssd(path: Path, archive_dir: tempfile.TemporaryDirectory[str] | None = 
         pending.extend(node.systems)
     return SystemDef(
         name=tree.name, ssd_path=path, components=components, connections=connections, bindings=bindings,
-        units=units, enumerations=enumerations, start_time_s=_float_attr(experiment, "startTime"),
-        stop_time_s=_float_attr(experiment, "stopTime"), step_size_s=step_size_s, archive_dir=archive_dir,
+        units=units, enumerations=enumerations, start_time_s=start_time_s,
+        stop_time_s=stop_time_s, step_size_s=step_size_s, archive_dir=archive_dir,
         problems=tuple(problems))
 
 
@@ -369,6 +420,10 @@ def extract_archive(archive: Path) -> tempfile.TemporaryDirectory[str]:
     except (OSError, zipfile.BadZipFile) as exc:
         raise SystemStructureError([Problem(str(archive), f"not a readable .ssp (zip) archive: {exc}")]) from None
     with zf:
+        try:
+            check_archive(zf, archive)
+        except ConfigurationError as exc:
+            raise SystemStructureError([Problem(str(archive), str(exc).partition(": ")[2] or str(exc))]) from None
         problems: list[Problem] = []
         for info in zf.infolist():
             name = info.filename

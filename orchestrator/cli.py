@@ -42,7 +42,7 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message} (see --help)\n")
 
 
-def _finite_float(text: str) -> float:
+def finite_number(text: str) -> float:
     """A finite number (argparse type): NaN and infinities are refused where they enter."""
     try:
         value = float(text)
@@ -53,7 +53,7 @@ def _finite_float(text: str) -> float:
     return value
 
 
-def _folder(text: str) -> Path:
+def folder_name(text: str) -> Path:
     """A results folder (argparse type): not empty (an empty name would write into the working directory)."""
     if not text.strip():
         raise argparse.ArgumentTypeError("an empty folder name; give the results folder, e.g. --out results/run1")
@@ -78,7 +78,7 @@ def build_parser() -> argparse.ArgumentParser:
     run = sub.add_parser("run", help="run a system and record its time histories",
                          description="Run a system with a fixed-step master; writes timeseries.csv and run.json.")
     _add_system_args(run, optional=True)
-    run.add_argument("--stop-time", type=_finite_float, metavar="S", help="stop time [s] (default: the SSD's)")
+    run.add_argument("--stop-time", type=finite_number, metavar="S", help="stop time [s] (default: the SSD's)")
     run.add_argument("--rate", type=float, metavar="HZ",
                      help=f"communication rate [Hz], {MIN_RATE_HZ} to {MAX_RATE_HZ} "
                           f"(default: the SSD's OSP FixedStepAlgorithm annotation, else {DEFAULT_RATE_HZ})")
@@ -86,7 +86,7 @@ def build_parser() -> argparse.ArgumentParser:
                      help="master algorithm (default: jacobi)")
     run.add_argument("--step-multiple", nargs="+", action="extend", default=[], metavar="COMPONENT=N",
                      help="let a component step every N-th macro step")
-    run.add_argument("--out", type=_folder, help="output folder (default: results/<system>-<time>); one run at a "
+    run.add_argument("--out", type=folder_name, help="output folder (default: results/<system>-<time>); one run at a "
                                                  "time: a folder another run is writing is refused, and an earlier "
                                                  "run's files in it are removed first")
     run.add_argument("--record", nargs="+", action="extend", metavar="VARS",
@@ -99,7 +99,7 @@ def build_parser() -> argparse.ArgumentParser:
                      help="end the run after the first step where 'component.variable OP number' holds (OP one of "
                           "== != < <= > >=), e.g. 'fcs.mission_completed == 1'; default: the condition a plugin "
                           "proposes for the system (the report plugin: the mission completed), 'never' for none")
-    run.add_argument("--realtime", type=_finite_float, default=0.0, metavar="FACTOR",
+    run.add_argument("--realtime", type=finite_number, default=0.0, metavar="FACTOR",
                      help="pace against the wall clock: 1.0 = real time, 2.0 = twice as fast; 0 = as fast as "
                           "possible (default)")
     run.add_argument("--stats", action="store_true",

@@ -74,6 +74,7 @@ from fmpy.model_description import (
 
 from .algorithm import gauss_seidel_order
 from .errors import ConfigurationError
+from .results import ResultsError, os_reason
 from .system import BoundSystem, Link, VariableInfo
 
 #: Container format this writer produces; fmpy's runtime refuses any other.
@@ -437,7 +438,15 @@ def export_container(system: BoundSystem, out: Path, step_size_s: float, expose:
     )
 
     out = Path(out)
-    out.parent.mkdir(parents=True, exist_ok=True)
+    if out.is_dir() or not out.name:
+        raise ConfigurationError(f"--container {out}: is a folder; give the .fmu file to write (e.g. "
+                                 f"{out / (sysdef.name + '.fmu')})")
+    if out.exists() and not out.is_file() or out.is_symlink():
+        raise ConfigurationError(f"--container {out}: exists and is not a regular file; give a new .fmu path")
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ConfigurationError(f"--container {out}: cannot create its folder: {os_reason(exc)}") from None
     tmp = out.with_name(out.name + ".part")
     xml = out.with_name(out.name + ".modelDescription.xml.part")
     try:
@@ -459,6 +468,8 @@ def export_container(system: BoundSystem, out: Path, step_size_s: float, expose:
                         if not info.is_dir():
                             z.writestr(f"resources/{folder}/{info.filename}", src.read(info))
         os.replace(tmp, out)
+    except OSError as exc:
+        raise ResultsError(f"cannot write {out}: {os_reason(exc)}") from None
     finally:
         for f in (tmp, xml):
             if f.exists():

@@ -9,6 +9,7 @@ not drawn at all when no run has them.
 """
 from __future__ import annotations
 
+import io
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -20,6 +21,7 @@ from matplotlib.figure import Figure
 
 from openemss.models.fcs.geo import from_local_ne
 from openemss.models.fcs.mission import Mission
+from openemss.orchestrator.results import atomic_write
 
 from .errors import ReportError
 from .rundata import RunData
@@ -50,8 +52,9 @@ def _label(runs: Sequence[PlotRun], r: PlotRun, what: str = "") -> str:
 
 def _save(fig: Figure, path: Path) -> Path:
     fig.tight_layout()
-    fig.savefig(path, dpi=DPI)
-    return path
+    buffer = io.BytesIO()
+    fig.savefig(buffer, dpi=DPI, format=path.suffix.lstrip(".") or "png")
+    return atomic_write(path, buffer.getvalue())  # whole, and never through a link in its place
 
 
 def _sections(runs: Sequence[PlotRun]) -> PlotRun | None:

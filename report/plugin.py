@@ -15,6 +15,8 @@ import json
 from collections.abc import Sequence
 from pathlib import Path, PurePosixPath
 
+from openemss.orchestrator.results import atomic_write
+
 from .errors import ReportError
 from .plots import PlotRun, plot_runs
 from .rundata import MISSION_COPY, find_roles, load_mission, load_run, read_header
@@ -73,11 +75,11 @@ def write_report(run_dir: Path, plots: bool = True) -> list[Path]:
         source = mission.source.removesuffix(" (converted)")
         suffix = PurePosixPath(source.rpartition("!")[2]).suffix or ".yaml"
         copy = run_dir / f"{MISSION_COPY}{suffix}"
-        copy.write_text(text, encoding="utf-8")
+        atomic_write(copy, text)
         written.append(copy)
     summary = summarize(run, mission)
     path = run_dir / SUMMARY
-    path.write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
+    atomic_write(path, json.dumps(summary, indent=2) + "\n")
     written.insert(0, path)
     if plots:
         written.extend(plot_runs([PlotRun(run, mission, run.name)], run_dir))
@@ -140,6 +142,8 @@ def cmd_summary(args: argparse.Namespace) -> int:
         span = "" if s["start_time_s"] is None else f"{s['start_time_s']:8.1f} to {s['end_time_s']:8.1f} s"
         print(f"  {s['index']:>2} {str(s['name']):<36} {str(s['type']):<18} {s['status']:<11} {span:<24} "
               f"{s['fuel_burned_kg']:7.2f} kg")
+    if summary.get("timeseries_note"):
+        print(f"  note: {summary['timeseries_note']}")
     hit = [f"{k} x{v['count']} (first at {v['first_time_s']:g} s)" for k, v in summary["limits_hit"].items()
            if v["count"]]
     print(f"  limits hit: {', '.join(hit) or 'none'}")

@@ -62,24 +62,35 @@ def read_header(folder: Path) -> list[str]:
         return []
 
 
-def _read_table(path: Path) -> tuple[list[str], np.ndarray]:
+def _read_table(path: Path) -> tuple[list[str], np.ndarray, str]:
+    """Names, rows and a note on the file's end ('' or what was left out: a torn last row).
+
+    A run killed while writing may leave its last row incomplete: it is left out and the note says
+    so. An incomplete or unreadable row before the last is an error naming its line.
+    """
     try:
-        lines = path.read_text(encoding="utf-8").splitlines()
+        lines = path.read_bytes().decode("utf-8", "replace").split("\n")
     except OSError as exc:
         raise ReportError(f"{path}: cannot read: {exc.strerror}") from None
     if not lines or not lines[0].startswith("time_s"):
         raise ReportError(f"{path}: not a timeseries of emss run (the first column must be time_s)")
     names = lines[0].split(",")
-    body = lines[1:]
-    if body and body[-1].count(",") != len(names) - 1:
-        body = body[:-1]  # a run killed while writing leaves a partial last line
+    complete = lines[-1] == ""  # every row written whole ends with a newline
+    body = lines[1:-1] if complete else lines[1:]
+    note = ""
+    if not complete and body:
+        note = (f"{path}: the last row (line {len(lines)}) is torn, {len(body[-1].split(','))} of {len(names)} "
+                "values (the run stopped while writing it); it is left out")
+        body = body[:-1]
+    for i, line in enumerate(body, start=2):
+        if line.count(",") != len(names) - 1:
+            raise ReportError(f"{path}:{i}: {line.count(',') + 1} values for {len(names)} columns; the file is "
+                              "damaged")
     try:
         data = np.loadtxt(body, delimiter=",", ndmin=2) if body else np.empty((0, len(names)))
     except ValueError as exc:
         raise ReportError(f"{path}: unreadable row ({exc})") from None
-    if data.shape[1] != len(names):
-        raise ReportError(f"{path}: {data.shape[1]} values per row for {len(names)} columns")
-    return names, data
+    return names, data, note
 
 
 @dataclass(frozen=True)
@@ -102,6 +113,7 @@ class RunData:
     columns: dict[str, np.ndarray]
     info: dict[str, Any]
     roles: Roles
+    note: str = ""  # what reading left out (a torn last row), '' when the file was whole
 
     @property
     def name(self) -> str:
@@ -130,7 +142,7 @@ def load_run(folder: Path) -> RunData:
         raise ReportError(f"{folder}: no such results folder (give a folder written by emss run)")
     if not (folder / TIMESERIES).is_file():
         raise ReportError(f"{folder}: no {TIMESERIES} (give a folder written by emss run)")
-    names, data = _read_table(folder / TIMESERIES)
+    names, data, note = _read_table(folder / TIMESERIES)
     if len(data) == 0:
         raise ReportError(f"{folder / TIMESERIES}: no rows recorded")
     info: dict[str, Any] = {}
@@ -140,7 +152,7 @@ def load_run(folder: Path) -> RunData:
         except (OSError, ValueError) as exc:
             raise ReportError(f"{folder / RUN_RECORD}: unreadable ({exc})") from None
     columns = {n: data[:, j] for j, n in enumerate(names)}
-    return RunData(folder, columns, info, find_roles(names))
+    return RunData(folder, columns, info, find_roles(names), note)
 
 
 # -- the FCS's parameters and mission ---------------------------------------------------------

@@ -209,6 +209,7 @@ def summarize(run: RunData, mission: Mission | None) -> dict[str, Any]:
         "system": info.get("system"),
         "status": info.get("status", "unknown"),
         "error": info.get("error"),
+        "timeseries_note": run.note or None,
         "mission": None if mission is None else {"name": mission.name, "source": mission.source,
                                                  "sections": len(mission.sections)},
         "mission_completed": completed,

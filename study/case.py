@@ -27,11 +27,15 @@ from typing import Any
 
 from lxml import etree
 
+from openemss.orchestrator.results import atomic_write, check_name
+
 from .child import PARENT_ENV
 
 __all__ = ["CaseDef", "CaseResult", "command", "run_case", "read_done", "DONE_FILE", "CASE_SSV"]
 
 DONE_FILE = "done.json"
+#: Exit codes of a case ended by SIGINT or SIGTERM (emss run stops cleanly with 128 + the signal).
+INTERRUPTED_CODES = (128 + signal.SIGINT, 128 + signal.SIGTERM)
 CASE_SSV = "case.ssv"
 ValueT = float | int | bool | str
 
@@ -79,8 +83,8 @@ class CaseResult:
 
 
 def case_dir(out: Path | str, name: str) -> Path:
-    """The folder of case `name` in the study folder `out`."""
-    return Path(out) / "cases" / name
+    """The folder of case `name` in the study folder `out` (`name` must be one path component)."""
+    return Path(out) / "cases" / check_name(name, "case name")
 
 
 def write_case_ssv(path: Path, values: tuple[tuple[str, ValueT], ...]) -> Path:
@@ -170,7 +174,7 @@ def run_case(case: CaseDef, out: str, attempt: int = 1) -> CaseResult:
     if case.values:
         write_case_ssv(folder / CASE_SSV, case.values)
     cmd = command(case, folder)
-    (folder / "command.txt").write_text(" ".join(cmd) + "\n", encoding="utf-8")
+    atomic_write(folder / "command.txt", " ".join(cmd) + "\n")
     t0 = time.perf_counter()
     with open(folder / "stdout.log", "wb") as so, open(folder / "stderr.log", "wb") as se:
         proc = subprocess.run(cmd, stdout=so, stderr=se, stdin=subprocess.DEVNULL, env=_child_env(),
@@ -181,9 +185,10 @@ def run_case(case: CaseDef, out: str, attempt: int = 1) -> CaseResult:
     rc = proc.returncode
     if rc == 0:
         status, error = "completed", ""
-    elif rc < 0:
-        name = signal.Signals(-rc).name if -rc in signal.Signals._value2member_map_ else str(-rc)
-        status, error = "killed", f"the case's process was killed by signal {name}"
+    elif rc < 0 or rc in INTERRUPTED_CODES:  # died from a signal, or ended by one as emss run does (128 + N)
+        n = -rc if rc < 0 else rc - 128
+        name = signal.Signals(n).name if n in signal.Signals._value2member_map_ else str(n)
+        status, error = "killed", f"the case's process was {'killed' if rc < 0 else 'interrupted'} by signal {name}"
     else:
         status = "failed"
         error = _last_line(folder / "stderr.log") or str(run.get("error") or f"emss run exited with code {rc}")
@@ -200,9 +205,7 @@ def mark_done(out: Path | str, result: CaseResult) -> None:
     """Write the done marker of a case (atomically)."""
     folder = case_dir(out, result.name)
     folder.mkdir(parents=True, exist_ok=True)
-    tmp = folder / (DONE_FILE + ".tmp")
-    tmp.write_text(json.dumps(result.to_dict(), indent=2, default=str) + "\n", encoding="utf-8")
-    tmp.replace(folder / DONE_FILE)
+    atomic_write(folder / DONE_FILE, json.dumps(result.to_dict(), indent=2, default=str) + "\n")
 
 
 def _float(v: Any) -> float | None:

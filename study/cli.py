@@ -18,6 +18,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from openemss.orchestrator.cli import finite_number, folder_name
+
 from .spec import StudyDef, StudyError, load_study
 
 __all__ = ["register", "run_study", "cmd_run", "cmd_cases"]
@@ -38,9 +40,9 @@ def register(subparsers: argparse._SubParsersAction) -> tuple[type[Exception], .
                      help="a Dask scheduler (tcp://host:8786); default: a LocalCluster on this machine")
     run.add_argument("--workers", type=int, metavar="N",
                      help="worker processes of the LocalCluster (default: the number of cores)")
-    run.add_argument("--out", type=Path, metavar="DIR", help="study folder (default: results/study-<name>)")
+    run.add_argument("--out", type=folder_name, metavar="DIR", help="study folder (default: results/study-<name>)")
     run.add_argument("--retry-failed", action="store_true", help="run cases again that failed in an earlier run")
-    run.add_argument("--stop-time", type=float, metavar="S",
+    run.add_argument("--stop-time", type=finite_number, metavar="S",
                      help="stop time [s] of every case instead of the study file's (e.g. a short trial)")
     run.add_argument("--json", action="store_true", help="print the outcome as JSON")
     run.set_defaults(handler=cmd_run)

@@ -18,6 +18,8 @@ from typing import Any
 
 import numpy as np
 
+from openemss.orchestrator.results import atomic_write
+
 from .case import CaseResult, case_dir
 
 __all__ = ["read_series", "compare_engines"]
@@ -78,7 +80,7 @@ def compare_engines(out: Path, cases: dict[str, str], results: dict[str, CaseRes
                            "engines": {}, "files": {}}
     if len(series) < 2:
         res["note"] = "fewer than two engines have recorded results: nothing to compare"
-        (report / "report.json").write_text(json.dumps(res, indent=2) + "\n", encoding="utf-8")
+        atomic_write(report / "report.json", json.dumps(res, indent=2) + "\n")
         return res
     t_common = min(float(s["time_s"][-1]) for s in series.values())
     for label, s in series.items():
@@ -139,8 +141,8 @@ def compare_engines(out: Path, cases: dict[str, str], results: dict[str, CaseRes
     plt.close(fig)
     res["section"] = {"index": section, "name": name, "notes": notes}
     res["files"] = {"fuel_burned": str(report / "fuel_burned.png"), "section": str(report / "section.png")}
-    (report / "report.json").write_text(json.dumps(res, indent=2, default=float) + "\n", encoding="utf-8")
-    (report / "report.md").write_text(markdown(res), encoding="utf-8")
+    atomic_write(report / "report.json", json.dumps(res, indent=2, default=float) + "\n")
+    atomic_write(report / "report.md", markdown(res))
     return res
 
 

@@ -25,6 +25,8 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
+from openemss.orchestrator.results import atomic_write
+
 from .case import write_case_ssv
 from .spec import StudyDef, StudyError, Variant, _Ctx, _grid_values, _name
 
@@ -140,5 +142,5 @@ def cycle_redesign(study: StudyDef, cfg: RedesignConfig, out: Path) -> tuple[lis
                   "feasible": sum(math.isfinite(p.SFC_kg_N_s) for p in points)},
         "design_point_SFC_change_pct": 100.0 * (dp_new.SFC_kg_N_s / dp_ref.SFC_kg_N_s - 1.0),
     }
-    (folder / "redesign.json").write_text(json.dumps(info, indent=2, default=float) + "\n", encoding="utf-8")
+    atomic_write(folder / "redesign.json", json.dumps(info, indent=2, default=float) + "\n")
     return [Variant(BASELINE, values=base_values), Variant(REDESIGNED, values=new_values)], info

@@ -39,6 +39,8 @@ from typing import Any
 import yaml
 
 from openemss.models import safe_yaml
+from openemss.orchestrator.errors import ConfigurationError
+from openemss.orchestrator.results import check_name
 
 __all__ = ["StudyError", "Variant", "StudyDef", "load_study", "parse_study"]
 
@@ -131,9 +133,13 @@ def _path(ctx: _Ctx, base: Path, doc: Any, key: str, label: str, value: Any, mus
 
 
 def _name(ctx: _Ctx, doc: Any, label: str, value: Any) -> str:
+    """A name that becomes a folder of the study's results: one path component (not '.' or '..')."""
     if not isinstance(value, str | int) or isinstance(value, bool) or not NAME_RE.match(str(value)):
         raise ctx.fail(doc, label, f"{value!r}: a name of letters, digits and _ . = + - is expected")
-    return str(value)
+    try:
+        return check_name(str(value), "the name")
+    except ConfigurationError as exc:
+        raise ctx.fail(doc, label, str(exc)) from None
 
 
 def _number(ctx: _Ctx, doc: Any, label: str, value: Any, lo: float, hi: float) -> float:
@@ -196,8 +202,8 @@ def _grid_values(ctx: _Ctx, doc: Any, label: str, value: Any) -> tuple[ValueT, .
         a = _number(ctx, doc, label + ".from", value["from"], -math.inf, math.inf)
         b = _number(ctx, doc, label + ".to", value["to"], -math.inf, math.inf)
         n = value["num"]
-        if isinstance(n, bool) or not isinstance(n, int) or n < 1:
-            raise ctx.fail(doc, label + ".num", f"{n!r}: expected an integer >= 1")
+        if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_GRID_POINTS:
+            raise ctx.fail(doc, label + ".num", f"{n!r}: expected an integer from 1 to {MAX_GRID_POINTS}")
         return tuple(a + (b - a) * i / (n - 1) if n > 1 else a for i in range(n))
     if not isinstance(value, list) or not value:
         raise ctx.fail(doc, label, "expected a non-empty list of values or {from, to, num}")

@@ -2,9 +2,12 @@
 from __future__ import annotations
 
 import csv
+import io
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
+
+from openemss.orchestrator.results import atomic_write
 
 from .case import CaseDef, CaseResult
 
@@ -66,10 +69,8 @@ def rows(cases: Sequence[CaseDef], results: dict[str, CaseResult], ran: set[str]
 def write_table(path: Path, cases: Sequence[CaseDef], results: dict[str, CaseResult], ran: set[str]) -> Path:
     """Write (atomically) the study table ``path`` (CSV, header line first)."""
     columns, table = rows(cases, results, ran, path.parent)
-    tmp = path.with_suffix(".csv.tmp")
-    with open(tmp, "w", newline="", encoding="utf-8") as f:
-        w = csv.DictWriter(f, fieldnames=columns)
-        w.writeheader()
-        w.writerows(table)
-    tmp.replace(path)
-    return path
+    text = io.StringIO(newline="")
+    w = csv.DictWriter(text, fieldnames=columns)
+    w.writeheader()
+    w.writerows(table)
+    return atomic_write(path, text.getvalue())

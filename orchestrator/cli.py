@@ -357,7 +357,7 @@ def _run(args: argparse.Namespace, system: Path, out: Path) -> int:
         if isinstance(exc, RunInterrupted):
             print(f"emss run: {exc} (results so far in {out})", file=sys.stderr)
             return exc.exit_code
-        raise EmssError(f"{exc} (results so far in {out})") from None
+        raise EmssError(f"{exc}" + (f" (results so far in {out})" if csv.rows_written else "")) from None
     written, failures = ([], []) if args.no_post_run else _post_run(out, None)
     _list_files(record, written)
     summary = {k: record.info.get(k) for k in ("status", "algorithm", "rate_hz", "stop_time_s", "steps",

@@ -6,6 +6,8 @@ as one line and exits non-zero; it never shows a traceback for these.
 """
 from __future__ import annotations
 
+import ast
+import re
 from dataclasses import dataclass
 
 
@@ -67,10 +69,35 @@ class SlaveError(EmssError):
         self.component = component
         self.call = call
         self.time_s = time_s
+        detail = python_error(detail) or detail
         self.detail = detail
         at = f" at t = {time_s:.6g} s" if time_s is not None else ""
+        if _LOCATED.match(detail):  # the model's own error names its file and line: it leads
+            super().__init__(f"{detail} (component '{component}', in {call}{at})")
+            return
         tail = f": {detail}" if detail else ""
         super().__init__(f"component '{component}' failed in {call}{at}{tail}")
+
+
+#: A message that starts with its location, ``file:line: ...``.
+_LOCATED = re.compile(r"^[^\s:]+(?:\.[A-Za-z0-9]+)?(?: \(converted\))?:\d+: ")
+#: How a Python slave (pythonfmu) reports an exception it raised: its repr, ``NameError('message')``.
+_PY_REPR = re.compile(r"^\s*([A-Za-z_][\w.]*(?:Error|Exception))\((['\"].*['\"])\)\s*$", re.DOTALL)
+
+
+def python_error(detail: str) -> str | None:
+    """The message of a Python exception reported as its repr by a Python FMU (``MissionError('x.yaml:3:
+    ...')`` gives ``x.yaml:3: ...``); None when ``detail`` is not one."""
+    m = _PY_REPR.match(detail or "")
+    if m is None:
+        return None
+    try:
+        message = ast.literal_eval(m.group(2))
+    except (ValueError, SyntaxError):
+        return None
+    if not isinstance(message, str):
+        return None
+    return message if _LOCATED.match(message) else f"{m.group(1)}: {message}"
 
 
 class InitializationError(EmssError):

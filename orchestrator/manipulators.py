@@ -29,6 +29,7 @@ its last value. Bad files are refused with one message naming the file and line.
 """
 from __future__ import annotations
 
+import math
 import operator
 import re
 from collections.abc import Callable
@@ -172,8 +173,10 @@ def parse_condition(text: str, where: str) -> Condition:
                             f"{' '.join(OPERATORS)}, got {text!r}")
     try:
         value = float({"true": 1.0, "false": 0.0}.get(m.group(3).lower(), m.group(3)))
+        if not math.isfinite(value):
+            raise ValueError
     except ValueError:
-        raise ScenarioError(f"{where} compares with a number or true/false, got {m.group(3)!r}") from None
+        raise ScenarioError(f"{where} compares with a finite number or true/false, got {m.group(3)!r}") from None
     return Condition(m.group(1), m.group(2), value)
 
 

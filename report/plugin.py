@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 from collections.abc import Sequence
 from pathlib import Path, PurePosixPath
 
@@ -87,8 +88,13 @@ def write_report(run_dir: Path, plots: bool = True) -> list[Path]:
 
 
 def post_run(run_dir: Path, error: BaseException | None) -> list[Path]:
-    """Post-run hook: the report of a mission run (see :func:`write_report`); nothing for other systems."""
-    return write_report(run_dir)
+    """Post-run hook: the report of a mission run (see :func:`write_report`); nothing for other systems.
+    A degraded run (a model held its outputs, see :func:`.summary.degraded`) is said on stderr."""
+    written = write_report(run_dir)
+    if written and written[0].name == SUMMARY:
+        for line in json.loads(written[0].read_text(encoding="utf-8")).get("degraded") or []:
+            print(f"emss run: warning: degraded run: {line}", file=sys.stderr)
+    return written
 
 
 # -- commands ----------------------------------------------------------------------------------

@@ -170,6 +170,24 @@ def limits_hit(run: RunData) -> dict[str, dict[str, Any]]:
     return out
 
 
+#: Engine flags that mean the engine could not compute its outputs (the run went on with a held state).
+DEGRADED_FLAGS = ("solver_failed",)
+
+
+def degraded(run: RunData) -> list[str]:
+    """One line per condition under which a model held its outputs instead of computing them
+    (the engine's ``solver_failed``, when the run was let go on with it); empty for a sound run."""
+    t = run.time_s
+    out = []
+    for flag in DEGRADED_FLAGS:
+        col = run.get("engine", flag)
+        if col is not None and np.any(col > 0.5):
+            st = flag_stats(t, col)
+            out.append(f"{run.roles.engine}.{flag} set {st['count']} time(s), first at t = {st['first_time_s']:g} s: "
+                       "the engine held its last good state there")
+    return out
+
+
 def _finite(x: Any) -> Any:
     """JSON-safe: non-finite floats become None, recursively."""
     if isinstance(x, float):
@@ -224,5 +242,6 @@ def summarize(run: RunData, mission: Mission | None) -> dict[str, Any]:
         "max_Tt4_K": None if k4 is None else float(tt4[k4]),
         "max_Tt4_time_s": None if k4 is None else float(t[k4]),
         "limits_hit": limits_hit(run),
+        "degraded": degraded(run),
         "sections": sections_table(t, idx, wf, sections, completed),
     })

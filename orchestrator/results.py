@@ -99,20 +99,29 @@ def open_stream(path: Path | str) -> IO[bytes]:
     return os.fdopen(fd, "wb", buffering=0)
 
 
-def check_archive(zf: zipfile.ZipFile, archive: Path | str) -> None:
-    """Refuse a zip archive whose size, entry count or compression ratio is beyond the limits (a zip bomb),
-    from its directory alone, before extracting anything."""
+def archive_problems(zf: zipfile.ZipFile, archive: Path | str) -> list[tuple[str, str]]:
+    """(where, what) of every limit a zip archive (.ssp, .fmu) is beyond: entry count, total size,
+    compression ratio (a zip bomb), judged from its directory alone, before anything is extracted."""
     infos = zf.infolist()
     if len(infos) > MAX_ARCHIVE_ENTRIES:
-        raise ConfigurationError(f"{archive}: {len(infos)} entries, more than {MAX_ARCHIVE_ENTRIES}; refused")
+        return [(str(archive), f"{len(infos)} entries, more than {MAX_ARCHIVE_ENTRIES}; refused")]
+    out = []
     total = sum(i.file_size for i in infos)
     if total > MAX_ARCHIVE_BYTES:
-        raise ConfigurationError(f"{archive}: {total / 1024 ** 2:.0f} MiB uncompressed, more than "
-                                 f"{MAX_ARCHIVE_BYTES // 1024 ** 2} MiB; refused")
+        out.append((str(archive), f"{total / 1024 ** 2:.0f} MiB uncompressed, more than "
+                                  f"{MAX_ARCHIVE_BYTES // 1024 ** 2} MiB; refused"))
     for i in infos:
         if i.file_size > 1024 ** 2 and i.file_size > MAX_COMPRESSION_RATIO * max(i.compress_size, 1):
-            raise ConfigurationError(f"{archive}!{i.filename}: compressed {i.file_size // max(i.compress_size, 1)}"
-                                     f" to 1 (more than {MAX_COMPRESSION_RATIO} to 1 is refused as a zip bomb)")
+            out.append((f"{archive}!{i.filename}", f"compressed {i.file_size // max(i.compress_size, 1)} to 1 (more "
+                                                   f"than {MAX_COMPRESSION_RATIO} to 1 is refused as a zip bomb)"))
+    return out
+
+
+def check_archive(zf: zipfile.ZipFile, archive: Path | str) -> None:
+    """Raise ConfigurationError for the first of :func:`archive_problems`."""
+    problems = archive_problems(zf, archive)
+    if problems:
+        raise ConfigurationError(f"{problems[0][0]}: {problems[0][1]}")
 
 
 class ResultsFolder:

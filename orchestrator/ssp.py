@@ -26,8 +26,8 @@ from pathlib import Path, PurePosixPath
 
 from lxml import etree
 
-from .errors import ConfigurationError, Problem, SystemStructureError
-from .results import check_archive
+from .errors import Problem, SystemStructureError
+from .results import archive_problems
 from .ssp_model import (
     ComponentDef,
     ConnectionDef,
@@ -420,11 +420,9 @@ def extract_archive(archive: Path) -> tempfile.TemporaryDirectory[str]:
     except (OSError, zipfile.BadZipFile) as exc:
         raise SystemStructureError([Problem(str(archive), f"not a readable .ssp (zip) archive: {exc}")]) from None
     with zf:
-        try:
-            check_archive(zf, archive)
-        except ConfigurationError as exc:
-            raise SystemStructureError([Problem(str(archive), str(exc).partition(": ")[2] or str(exc))]) from None
-        problems: list[Problem] = []
+        problems = [Problem(where, what) for where, what in archive_problems(zf, archive)]
+        if problems:
+            raise SystemStructureError(problems)
         for info in zf.infolist():
             name = info.filename
             parts = PurePosixPath(name.replace("\\", "/")).parts

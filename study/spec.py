@@ -199,11 +199,11 @@ def _grid_values(ctx: _Ctx, doc: Any, label: str, value: Any) -> tuple[ValueT, .
         unknown = set(value) - {"from", "to", "num"}
         if unknown or not {"from", "to", "num"} <= set(value):
             raise ctx.fail(doc, label, "a range is {from: X, to: Y, num: N}")
-        a = _number(ctx, doc, label + ".from", value["from"], -math.inf, math.inf)
-        b = _number(ctx, doc, label + ".to", value["to"], -math.inf, math.inf)
+        a = _number(ctx, value, label + ".from", value["from"], -math.inf, math.inf)
+        b = _number(ctx, value, label + ".to", value["to"], -math.inf, math.inf)
         n = value["num"]
         if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_GRID_POINTS:
-            raise ctx.fail(doc, label + ".num", f"{n!r}: expected an integer from 1 to {MAX_GRID_POINTS}")
+            raise ctx.fail(value, label + ".num", f"{n!r}: expected an integer from 1 to {MAX_GRID_POINTS}")
         return tuple(a + (b - a) * i / (n - 1) if n > 1 else a for i in range(n))
     if not isinstance(value, list) or not value:
         raise ctx.fail(doc, label, "expected a non-empty list of values or {from, to, num}")

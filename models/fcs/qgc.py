@@ -47,6 +47,11 @@ def _defaults() -> dict[str, float]:
     return safe_yaml.load(text, "qgc_defaults.yaml")["qgc_defaults"]
 
 
+def _no_constant(name: str) -> float:
+    """JSON's NaN and Infinity are refused: a mission's numbers are finite."""
+    raise ValueError(f"{name} is not a finite number; a plan's numbers must be finite")
+
+
 def plan_to_yaml(text: str, source: str = "<plan>") -> str:
     """Convert the JSON text of a QGroundControl plan into mission YAML.
 
@@ -57,8 +62,10 @@ def plan_to_yaml(text: str, source: str = "<plan>") -> str:
     """
     d = _defaults()
     try:
-        plan = json.loads(text)
-    except json.JSONDecodeError as e:
+        plan = json.loads(text, parse_constant=_no_constant)
+    except ValueError as e:
+        if not isinstance(e, json.JSONDecodeError):
+            raise MissionError(f"{source}: {e}") from None
         raise MissionError(f"{source}:{e.lineno}: not valid JSON: {e.msg}") from None
     try:
         mission = plan["mission"]

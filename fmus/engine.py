@@ -214,13 +214,12 @@ class Engine(Fmi2Slave):
     def do_step(self, current_time: float, step_size: float) -> bool:
         """One step; a step the engine cannot compute (an input not finite, or, unless
         ``accept_solver_failure``, a gas path that cannot be matched) fails with the cause logged."""
-        u = self._inputs()
-        bad = [f"{f.name}={getattr(u, f.name)}" for f in fields(u)
-               if isinstance(getattr(u, f.name), float) and not math.isfinite(getattr(u, f.name))]
+        bad = [f"{name}={getattr(self, name)}" for name, _ in _INPUTS if not math.isfinite(getattr(self, name))]
         if bad:
             self.log(f"engine: t={current_time:.6g} s: input(s) not finite: {', '.join(bad)}; the engine cannot "
                      "compute its outputs", Fmi2Status.error, "logStatusError")
             return False
+        u = self._inputs()
         m = self._model
         m.step(step_size, u)  # type: ignore[union-attr]
         if m.flags[SOLVER_FAILED] and not self.accept_solver_failure:  # type: ignore[union-attr]

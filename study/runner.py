@@ -9,6 +9,7 @@ case, and the progress (done, running, failed, waiting, ETA) goes to stderr.
 """
 from __future__ import annotations
 
+import collections
 import os
 import sys
 import time
@@ -148,8 +149,10 @@ def run_cases(cases: Sequence[CaseDef], out: Path, scheduler: str | None = None,
                       f"(table: {table})")
         return outcome
     n_workers = max(1, min(workers or os.cpu_count() or 1, len(todo)))
-    # A LocalCluster fails a task at the first death of its worker, so that the retry is ours (one), and
-    # gives each worker only the case it runs: a case waiting on a worker that dies is not blamed for it.
+    # A LocalCluster fails a task at the first death of its worker, so that the retry is ours (one). Cases
+    # are handed to the scheduler only as worker threads are free (never more in flight than threads), so
+    # no case waits on a worker: a worker that dies takes only the case it was running, and a case that
+    # was still waiting is not charged an attempt for it.
     with dask.config.set({"distributed.scheduler.allowed-failures": 0, "distributed.scheduler.worker-saturation": 1.0}):
         client, cluster = _client(scheduler, n_workers)
         try:
@@ -160,15 +163,20 @@ def run_cases(cases: Sequence[CaseDef], out: Path, scheduler: str | None = None,
             progress.note(f"{len(todo)} case(s) to run on {where} ({len(skipped)} already done); results in {out}")
             by_key: dict[str, tuple[CaseDef, int]] = {}
             pending: set[Any] = set()
+            waiting: collections.deque[tuple[CaseDef, int]] = collections.deque((c, 1) for c in todo)
 
-            def submit(c: CaseDef, attempt: int) -> None:
-                f = client.submit(task, c, str(out), attempt, key=f"case-{c.name}-{c.digest}-{attempt}",
-                                  pure=False, retries=0)
-                by_key[f.key] = (c, attempt)
-                pending.add(f)
+            def fill() -> None:
+                """Submit waiting cases while fewer are in flight than the cluster has threads."""
+                free = max(sum(client.nthreads().values()), 1) - len(pending)
+                while waiting and free > 0:
+                    c, attempt = waiting.popleft()
+                    f = client.submit(task, c, str(out), attempt, key=f"case-{c.name}-{c.digest}-{attempt}",
+                                      pure=False, retries=0)
+                    by_key[f.key] = (c, attempt)
+                    pending.add(f)
+                    free -= 1
 
-            for c in todo:
-                submit(c, 1)
+            fill()
             while pending:
                 finished, _ = wait(list(pending), timeout=None, return_when="FIRST_COMPLETED")
                 for f in finished:
@@ -185,7 +193,7 @@ def run_cases(cases: Sequence[CaseDef], out: Path, scheduler: str | None = None,
                     r.attempts = attempt
                     if r.status == "killed" and attempt < MAX_ATTEMPTS:
                         progress.note(f"case {c.name}: {r.error}; retrying it once")
-                        submit(c, attempt + 1)
+                        waiting.appendleft((c, attempt + 1))
                         continue
                     if r.status == "killed":
                         r.status, r.error = "failed", f"{r.error} (attempt {attempt} of {MAX_ATTEMPTS})"
@@ -193,7 +201,8 @@ def run_cases(cases: Sequence[CaseDef], out: Path, scheduler: str | None = None,
                     ran.add(c.name)
                     outcome.ran.append(c.name)
                     write_table(table, cases, results, ran)
-                    progress.case(r, len(pending))
+                    progress.case(r, len(pending) + len(waiting))
+                fill()
         finally:
             client.close()
             if cluster is not None:

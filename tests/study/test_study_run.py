@@ -127,6 +127,24 @@ def test_killed_worker_case_is_retried_once_then_failed(tmp_path: Path, system: 
     assert table(out / "study.csv")["dead"]["status"] == "failed"
 
 
+def test_a_case_only_queued_on_a_killed_worker_is_not_charged_a_retry(tmp_path: Path, system: Path) -> None:
+    """One worker; 'flaky' kills it on its first attempt while three cases wait. The waiting cases were
+    never running on it: each completes at its first attempt (issue 15); only 'flaky' is retried."""
+    import cloudpickle
+
+    cloudpickle.register_pickle_by_value(sys.modules[__name__])
+    try:
+        path = write_study(tmp_path, system, "  - {name: flaky, values: {mass1.m1_kg: 1.0}}\n"
+                                             "  - {name: q1, values: {mass1.m1_kg: 2.0}}\n"
+                                             "  - {name: q2, values: {mass1.m1_kg: 3.0}}\n"
+                                             "  - {name: q3, values: {mass1.m1_kg: 4.0}}\n")
+        res = run_cases(expand_cases(load_study(path)), tmp_path / "out", workers=1, task=crashing_task)
+    finally:
+        cloudpickle.unregister_pickle_by_value(sys.modules[__name__])
+    assert {n: (r.status, r.attempts) for n, r in res.results.items()} == {
+        "flaky": ("completed", 2), "q1": ("completed", 1), "q2": ("completed", 1), "q3": ("completed", 1)}
+
+
 def _free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))

@@ -11,9 +11,8 @@ not halved) and the same limit of eight iterations. Its matrix products are ``np
 numba hands to the same BLAS routines (gemv, dot) as NumPy's ``@`` in the Python iteration, so
 where NumPy and SciPy ship the same BLAS kernels (the project's environment) the iterates are
 the same numbers, bit for bit; elsewhere they differ by rounding.
-:func:`free_stream` is :func:`.atmosphere.free_stream` (ISA and real-gas totals) and the
-MIL-E-5008B ram recovery of :mod:`.inlet`, also compiled, evaluated only when the flight
-condition changes (the first entries of the ``fsc`` array remember the last one).
+:func:`.jit_freestream.free_stream` is evaluated only when the flight condition changes (the
+first entries of the ``fsc`` array remember the last one).
 
 Nothing here raises: a status tells the caller what Python would do. ``tests/engine/
 test_jit_cycle.py`` checks the free stream against :func:`.atmosphere.free_stream` and the
@@ -23,7 +22,6 @@ References
 ----------
 C. G. Broyden, "A class of methods for solving nonlinear simultaneous equations",
 Math. Comp. 19 (1965) 577-593 (the inverse update).
-ISO 2533:1975, "Standard Atmosphere" (the layers, as :mod:`.atmosphere`).
 """
 
 from __future__ import annotations
@@ -35,9 +33,10 @@ import numpy as np
 
 from . import jit_kernels as K
 from .jit_cycle import cycle
+from .jit_freestream import free_stream
 from .jit_kernels import jit
 
-__all__ = ["CONVERGED", "STALLED", "REFUSED", "FREE", "INPUTS", "atm_array", "chord_solve", "free_stream"]
+__all__ = ["CONVERGED", "STALLED", "REFUSED", "FREE", "INPUTS", "chord_solve"]
 
 #: :func:`chord_solve` statuses: converged; stalled (max |r| not halved, a step refused by
 #: Python's rules, or eight iterations), Python's chord would give up there too; refused: the
@@ -47,51 +46,6 @@ CONVERGED, STALLED, REFUSED = 0, 1, 2
 FREE = (0, 1, 2, 5, 6, 7)
 INPUTS = (3, 4, 8)
 _MAX_IT = 8
-
-
-def atm_array() -> np.ndarray:
-    """The ISA's defining constants as :func:`free_stream` reads them, from :mod:`.atmosphere` (one source):
-    (H0, T0, L) of the three layers, their base pressures [Pa], g0 [m/s2], R [J/(kg K)], altitude range [m]."""
-    from . import atmosphere as a
-    vals = [v for layer in a._LAYERS for v in layer] + list(a._P_BASE) + [a._G0, a._R_AIR, a.ALT_MIN_M,
-                                                                          a.ALT_MAX_M]
-    return np.array(vals, dtype=float)
-
-
-@jit
-def _p_in_layer(p_base: float, dH: float, T_base: float, L: float, g0: float, R_air: float) -> float:
-    if L == 0.0:
-        return p_base * math.exp(-g0 * dH / (R_air * T_base))
-    return p_base * (1.0 + L * dH / T_base) ** (-g0 / (R_air * L))
-
-
-@jit
-def free_stream(gc: np.ndarray, gs: np.ndarray, atm: np.ndarray, alt: float, Mach: float, dT: float,
-                fs: np.ndarray) -> int:
-    """Fill fs with (Tt0 [K], Pt0 [Pa], V0 [m/s], p_amb [Pa], Mach, ram recovery [-]) at altitude alt [m],
-    Mach [-] and ISA deviation dT [K], as :func:`.atmosphere.free_stream` and
-    :func:`.inlet.ram_recovery_mil_e_5008b`; returns 1 (fs untouched) where they would raise."""
-    if not (0.0 <= Mach <= 3.0) or not (atm[14] <= alt <= atm[15]):
-        return 1
-    i = 0 if alt < atm[3] else (1 if alt < atm[6] else 2)
-    H0, T0, L = atm[3 * i], atm[3 * i + 1], atm[3 * i + 2]
-    T_std = T0 + L * (alt - H0)
-    P = _p_in_layer(atm[9 + i], alt - H0, T0, L, atm[12], atm[13])
-    T = T_std + dT
-    if not (150.0 <= T <= 350.0):
-        return 1
-    err = np.zeros(1, np.int64)
-    c = K.cp(gc, gs, T, 0.0, err)
-    R_ = gs[10]
-    V0 = Mach * math.sqrt(c / (c - R_) * R_ * T)
-    ht = K.h(gc, gs, T, 0.0, err) + 0.5 * V0 * V0
-    Tt = K.T_from_h(gc, gs, ht, 0.0, T, err)
-    Pt = P * math.exp((K.phi(gc, gs, Tt, 0.0, err) - K.phi(gc, gs, T, 0.0, err)) / R_)
-    if err[0]:
-        return 1
-    fs[0], fs[1], fs[2], fs[3], fs[4] = Tt, Pt, V0, P, Mach
-    fs[5] = 1.0 if Mach <= 1.0 else 1.0 - 0.075 * (Mach - 1.0) ** 1.35
-    return 0
 
 
 @jit

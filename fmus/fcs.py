@@ -36,7 +36,7 @@ from pathlib import Path
 
 from pythonfmu import Boolean, Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real, String
 
-from openemss.models import safe_yaml
+from openemss.models.common import safe_yaml
 from openemss.models.fcs.atmosphere import isa, mach_from_tas
 from openemss.models.fcs.errors import FcsError
 from openemss.models.fcs.fcs import OUTPUT_SIGNALS, FlightControlSystem

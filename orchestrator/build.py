@@ -164,17 +164,12 @@ def _package_files(pkg: str) -> list[Path]:
                   and p.suffix not in (".pyc", ".pyo"))
 
 
-def _shared_modules() -> list[Path]:
-    """The modules directly in models/ (``__init__.py``, ``safe_yaml.py``): vendored with any package."""
-    return sorted(MODELS_DIR.glob("*.py"))
-
-
 def source_hash(src: SlaveSource) -> str:
     """SHA-256 over every file that goes into the FMU (names and contents)."""
     h = hashlib.sha256()
     named = [(f.name, f) for f in (src.script, *src.siblings)]
     if src.model_packages:
-        named.extend((f"models/{f.name}", f) for f in _shared_modules())
+        named.append(("models/__init__.py", MODELS_DIR / "__init__.py"))
     for pkg in src.model_packages:
         named.extend((f"models/{f.relative_to(MODELS_DIR).as_posix()}", f) for f in _package_files(pkg))
     named.extend((f"data/{f}", PACKAGE_ROOT / f) for f in src.data_files)
@@ -242,8 +237,7 @@ def _stage(src: SlaveSource, digest: str, stage: Path) -> tuple[Path, list[Path]
         (lib_dir / s.name).write_text(_rewrite_imports(s.read_text(encoding="utf-8"), s, lib, sibling_names))
     if src.model_packages:
         (lib_dir / "models").mkdir()
-        for f in _shared_modules():  # models/__init__.py and the helpers every package may use (safe_yaml)
-            shutil.copy2(f, lib_dir / "models" / f.name)
+        shutil.copy2(MODELS_DIR / "__init__.py", lib_dir / "models" / "__init__.py")
         for pkg in src.model_packages:
             shutil.copytree(MODELS_DIR / pkg, lib_dir / "models" / pkg,
                             ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))

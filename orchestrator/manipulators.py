@@ -39,7 +39,7 @@ from typing import TYPE_CHECKING, Any
 
 import yaml
 
-from openemss.models import safe_yaml
+from openemss.models.common import safe_yaml
 
 from .errors import ConfigurationError, EmssError
 

@@ -19,7 +19,7 @@ from typing import IO, TYPE_CHECKING, Any
 
 import numpy as np
 
-from .results import ResultsError, RunInterrupted, os_reason, atomic_write, open_stream
+from .results import ResultsError, RunInterrupted, atomic_write, open_stream, os_reason
 
 if TYPE_CHECKING:
     from .execution import Execution

@@ -38,7 +38,7 @@ from typing import Any
 
 import yaml
 
-from openemss.models import safe_yaml
+from openemss.models.common import safe_yaml
 from openemss.orchestrator.errors import ConfigurationError
 from openemss.orchestrator.results import check_name
 

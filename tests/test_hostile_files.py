@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pytest
 
-from openemss.models import safe_yaml
+from openemss.models.common import safe_yaml
 from openemss.models.fcs.errors import MissionError
 from openemss.models.fcs.mission import load_mission
 from openemss.orchestrator.errors import EmssError, SystemStructureError
@@ -213,7 +213,8 @@ SSD_CASES: dict[str, tuple[str, str, list[str]]] = {
                    '<?xml version="1.0" encoding="UTF-8"?>\n<!DOCTYPE x [<!ENTITY xxe SYSTEM "file:///etc/passwd">]>\n',
                    ["DOCTYPE", "not allowed", "xxe"]),
     "billion_laughs": ('<?xml version="1.0" encoding="UTF-8"?>\n',
-                       '<?xml version="1.0" encoding="UTF-8"?>\n<!DOCTYPE x [<!ENTITY a "aaaa"><!ENTITY b "&a;&a;&a;">]>\n',
+                       '<?xml version="1.0" encoding="UTF-8"?>\n'
+                       '<!DOCTYPE x [<!ENTITY a "aaaa"><!ENTITY b "&a;&a;&a;">]>\n',
                        ["DOCTYPE", "not allowed"]),
     "start_time_nan": ('startTime="0"', 'startTime="NaN"', ["startTime='NaN'", "finite number"]),
     "stop_time_inf": ('stopTime="1.0"', 'stopTime="INF"', ["stopTime='INF'", "finite number"]),
@@ -286,7 +287,8 @@ def test_hostile_ssm_transformation(tmp_path: Path, fmu_dir: Path) -> None:
           '<ssd:Component name="a" source="resources/Gain.fmu"><!-- bound below -->')
     _edit(ssd, '</ssd:Connectors>\n      </ssd:Component>',
           '</ssd:Connectors>\n        <ssd:ParameterBindings><ssd:ParameterBinding source="p.ssv">'
-          '<ssd:ParameterMapping source="p.ssm"/></ssd:ParameterBinding></ssd:ParameterBindings>\n      </ssd:Component>')
+          '<ssd:ParameterMapping source="p.ssm"/></ssd:ParameterBinding></ssd:ParameterBindings>\n'
+          '      </ssd:Component>')
     with pytest.raises(SystemStructureError) as exc:
         load_system(folder)
     one_line(exc.value, f"{folder / 'p.ssm'}:4:", "factor='NaN'")

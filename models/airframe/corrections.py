@@ -27,6 +27,7 @@ from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
+from ..common import safe_yaml
 from .errors import CalibrationError
 
 __all__ = ["AeroCorrections", "FACTOR_BOUNDS", "FACTOR_UNITS", "CALIBRATION_FILE", "load_corrections",
@@ -102,7 +103,7 @@ def load_corrections(path: Path | str | None = None) -> AeroCorrections:
             return AeroCorrections()
         raise CalibrationError(f"{p}: no such calibration file")
     try:
-        raw: dict[str, Any] = json.loads(p.read_text(encoding="utf-8"))
+        raw: dict[str, Any] = safe_yaml.load_json(safe_yaml.read_text(p, "calibration file"), str(p))
     except (OSError, ValueError) as exc:
         raise CalibrationError(f"{p}: not a readable JSON calibration file ({exc})") from None
     if not isinstance(raw, dict) or not isinstance(raw.get("factors"), dict):

@@ -13,13 +13,13 @@ References
 """
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
+from ..common import safe_yaml
 from .errors import AirframeError
 
 __all__ = ["Planform", "Geometry", "load_geometry", "DATA_FILE", "G0"]
@@ -243,7 +243,7 @@ def load_geometry(path: str | None = None) -> Geometry:
     """
     p = Path(path) if path else DATA_FILE
     try:
-        raw = json.loads(p.read_text(encoding="utf-8"))
+        raw = safe_yaml.load_json(safe_yaml.read_text(p, "geometry file"), str(p))
         w, h, v = raw["wing"], raw["htail"], raw["vtail"]
         wing = _planform(w, float(w["span_m"]), 2)
         htail = _planform(h, math.sqrt(h["aspect_ratio"] * h["area_m2"]), 2)

@@ -11,11 +11,11 @@ not silently fall back to its default). Presets live in ``presets/``.
 from __future__ import annotations
 
 import dataclasses
-import json
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
+from ..common import safe_yaml
 from .bleed import BleedSpec
 from .errors import ModelError, OutOfRangeError
 from .gas import HC_RATIO_JET_A, LHV_JET_A_J_KG
@@ -246,12 +246,12 @@ def params_from_dict(data: dict[str, Any], where: str = "parameters") -> EngineP
 def load_params(path: str | Path) -> EngineParams:
     """Read a parameter file (JSON) into :class:`TurbofanParams` or :class:`TurbojetParams`."""
     p = Path(path)
-    try:
-        data = json.loads(p.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise ModelError(f"parameter file {p} does not exist") from None
-    except json.JSONDecodeError as exc:
-        raise ModelError(f"{p}:{exc.lineno}: invalid JSON: {exc.msg}") from None
+    if not p.is_file():
+        raise ModelError(f"parameter file {p} does not exist")
+    try:  # no key twice, no NaN or Infinity, UTF-8, bounded size
+        data = safe_yaml.load_json(safe_yaml.read_text(p, "parameter file"), str(p))
+    except safe_yaml.YamlError as exc:
+        raise ModelError(str(exc)) from None
     if not isinstance(data, dict):
         raise ModelError(f"{p}: a parameter file must hold a JSON object")
     data.setdefault("name", p.stem)

@@ -48,7 +48,7 @@ from typing import Any
 
 import yaml
 
-from .. import safe_yaml
+from ..common import safe_yaml
 from .errors import MissionError
 from .geo import LatLon
 from .tecs import SpeedCommand, SpeedKind

@@ -24,14 +24,13 @@ QGroundControl Developer Guide, "Plan File Format"; MAVLink common message set.
 
 from __future__ import annotations
 
-import json
 import math
 from importlib import resources
 from typing import Any
 
 import yaml
 
-from .. import safe_yaml
+from ..common import safe_yaml
 from .errors import MissionError
 from .geo import LatLon, initial_bearing_rad
 
@@ -47,11 +46,6 @@ def _defaults() -> dict[str, float]:
     return safe_yaml.load(text, "qgc_defaults.yaml")["qgc_defaults"]
 
 
-def _no_constant(name: str) -> float:
-    """JSON's NaN and Infinity are refused: a mission's numbers are finite."""
-    raise ValueError(f"{name} is not a finite number; a plan's numbers must be finite")
-
-
 def plan_to_yaml(text: str, source: str = "<plan>") -> str:
     """Convert the JSON text of a QGroundControl plan into mission YAML.
 
@@ -62,11 +56,9 @@ def plan_to_yaml(text: str, source: str = "<plan>") -> str:
     """
     d = _defaults()
     try:
-        plan = json.loads(text, parse_constant=_no_constant)
-    except ValueError as e:
-        if not isinstance(e, json.JSONDecodeError):
-            raise MissionError(f"{source}: {e}") from None
-        raise MissionError(f"{source}:{e.lineno}: not valid JSON: {e.msg}") from None
+        plan = safe_yaml.load_json(text, source)
+    except safe_yaml.YamlError as e:
+        raise MissionError(str(e)) from None
     try:
         mission = plan["mission"]
         items = mission["items"]

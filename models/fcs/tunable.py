@@ -22,7 +22,7 @@ import math
 from importlib import resources
 from typing import Any, ClassVar, Generic, TypeVar
 
-from .. import safe_yaml
+from ..common import safe_yaml
 from .errors import ParameterError
 
 __all__ = ["Tunable", "load_params", "param_bounds", "DATA_PACKAGE"]

@@ -12,17 +12,21 @@ nodes). On top of PyYAML's safe loader they refuse:
   and a NaN compares false with every bound, so a range check downstream would let it through.
 
 The error is :class:`YamlError` (a ``ValueError``) whose message starts with ``file:line:``;
-each reader wraps it in its own error type.
+each reader wraps it in its own error type. JSON files (engine parameters, airframe geometry,
+QGroundControl plans) are read by :func:`load_json` with the same rules: no key twice, no
+``NaN`` or ``Infinity``.
 """
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import yaml
+if TYPE_CHECKING:  # PyYAML is imported where YAML is read, so that JSON readers (the airframe FMU) need none
+    import yaml
 
-__all__ = ["MAX_BYTES", "MAX_NODES", "YamlError", "compose", "load", "read_text"]
+__all__ = ["MAX_BYTES", "MAX_NODES", "YamlError", "compose", "load", "load_json", "read_text"]
 
 MAX_BYTES = 4 * 1024 * 1024  #: largest YAML file read [bytes]
 MAX_NODES = 200_000  #: most nodes of a document with its aliases expanded
@@ -57,15 +61,15 @@ def read_text(path: str | Path, what: str = "file", max_bytes: int = MAX_BYTES) 
                         "(save it as UTF-8)") from None
 
 
-_FLOAT = yaml.SafeLoader("")
-
-
 def _where(source: str, node: yaml.Node) -> str:
     return f"{source}:{node.start_mark.line + 1}"
 
 
 def _check(root: yaml.Node, source: str, max_nodes: int) -> None:
     """Duplicate keys, non-finite numbers, recursive aliases and the expanded size, in one pass."""
+    import yaml
+
+    floats = yaml.SafeLoader("")
     size: dict[int, int] = {}  # id(node) -> expanded node count, once computed
     float_tag = "tag:yaml.org,2002:float"
     # iterative post-order walk: (node, children pushed?)
@@ -76,7 +80,7 @@ def _check(root: yaml.Node, source: str, max_nodes: int) -> None:
         nid = id(node)
         if isinstance(node, yaml.ScalarNode):
             if nid not in size:
-                if node.tag == float_tag and not math.isfinite(_FLOAT.construct_yaml_float(node)):
+                if node.tag == float_tag and not math.isfinite(floats.construct_yaml_float(node)):
                     raise YamlError(f"{_where(source, node)}: {node.value!r} is not a finite number")
                 size[nid] = 1
             continue
@@ -114,6 +118,8 @@ def compose(text: str, source: str, max_nodes: int = MAX_NODES) -> yaml.Node | N
     YamlError
         Not valid YAML, a key given twice, an alias bomb, a non-finite number.
     """
+    import yaml
+
     try:
         root = yaml.compose(text, Loader=yaml.SafeLoader)
     except yaml.YAMLError as exc:
@@ -125,10 +131,12 @@ def compose(text: str, source: str, max_nodes: int = MAX_NODES) -> yaml.Node | N
     return root
 
 
-def load(text: str, source: str, loader: type[yaml.SafeLoader] = yaml.SafeLoader,
-         max_nodes: int = MAX_NODES) -> Any:
+def load(text: str, source: str, loader: type[yaml.SafeLoader] | None = None, max_nodes: int = MAX_NODES) -> Any:
     """The Python value of one checked YAML document (see :func:`compose`); ``loader`` is a
-    ``yaml.SafeLoader`` subclass whose constructors build the value."""
+    ``yaml.SafeLoader`` subclass whose constructors build the value (default: ``yaml.SafeLoader``)."""
+    import yaml
+
+    loader = loader or yaml.SafeLoader
     root = compose(text, source, max_nodes)
     if root is None:
         return None
@@ -143,6 +151,28 @@ def load(text: str, source: str, loader: type[yaml.SafeLoader] = yaml.SafeLoader
         constructor.dispose()
 
 
-def load_file(path: str | Path, what: str = "file", loader: type[yaml.SafeLoader] = yaml.SafeLoader) -> Any:
-    """:func:`load` of :func:`read_text`."""
-    return load(read_text(path, what), str(path), loader)
+def load_json(text: str, source: str) -> Any:
+    """The value of a JSON document; a key given twice in one object, ``NaN`` and ``Infinity`` refused.
+
+    Raises
+    ------
+    YamlError
+        With ``source:line:`` (the line of the syntax error, or of the object holding the duplicate key).
+    """
+    def pairs(items: list[tuple[str, Any]]) -> dict[str, Any]:
+        out: dict[str, Any] = {}
+        for k, v in items:
+            if k in out:
+                raise ValueError(f"key '{k}' is given twice in one object; give each key once")
+            out[k] = v
+        return out
+
+    def constant(name: str) -> float:
+        raise ValueError(f"{name} is not a finite number")
+
+    try:
+        return json.loads(text, object_pairs_hook=pairs, parse_constant=constant)
+    except json.JSONDecodeError as exc:
+        raise YamlError(f"{source}:{exc.lineno}: invalid JSON: {exc.msg}") from None
+    except ValueError as exc:
+        raise YamlError(f"{source}: {exc}") from None

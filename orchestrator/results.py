@@ -19,11 +19,12 @@ import fcntl
 import json
 import os
 import signal
-import tempfile
 import zipfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import IO, Any
+
+from openemss.models.common import files
 
 from .errors import ConfigurationError, EmssError
 
@@ -63,28 +64,18 @@ def check_name(name: str, what: str) -> str:
 
 
 def atomic_write(path: Path | str, data: str | bytes) -> Path:
-    """Write ``data`` to ``path`` whole: a temporary file in the same folder, then a rename.
+    """Write ``data`` to ``path`` whole (:func:`openemss.models.common.files.atomic_write`: a temporary
+    file in the same folder, then a rename; a link in its place is replaced, not followed).
 
     Raises
     ------
     ResultsError
-        When the file cannot be written (the temporary file is removed).
+        When the file cannot be written.
     """
-    path = Path(path)
-    raw = data.encode("utf-8") if isinstance(data, str) else data
-    tmp = None
     try:
-        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-        with os.fdopen(fd, "wb") as f:
-            f.write(raw)
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, path)
+        return files.atomic_write(path, data)
     except OSError as exc:
-        if tmp is not None:
-            with contextlib.suppress(OSError):
-                os.unlink(tmp)
         raise ResultsError(f"cannot write {path}: {os_reason(exc)}") from None
-    return path
 
 
 def open_stream(path: Path | str) -> IO[bytes]:
@@ -157,25 +148,40 @@ class ResultsFolder:
             raise ConfigurationError(f"{what} {p}: cannot create the results folder: {os_reason(exc)}") from None
         if not os.access(p, os.W_OK | os.X_OK):
             raise ConfigurationError(f"{what} {p}: the folder is not writable; give a folder you may write to")
-        lock = p / LOCK_NAME
-        try:
-            if lock.is_symlink():
-                lock.unlink()
-            fd = os.open(lock, os.O_RDWR | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0), 0o644)
-        except OSError as exc:
-            raise ConfigurationError(f"{what} {p}: cannot create its lock file: {os_reason(exc)}") from None
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
-            holder = os.pread(fd, 64, 0).decode("ascii", "replace").strip() or "?"
-            os.close(fd)
-            raise ConfigurationError(f"{what} {p}: the results folder is in use by another run (pid {holder}); "
-                                     "wait for it to end or give another folder") from None
+        fd = self._lock(p / LOCK_NAME)
         os.ftruncate(fd, 0)
         os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
         self._fd = fd
         self._clear()
         return self
+
+    def _lock(self, lock: Path) -> int:
+        """The descriptor of ``lock``, exclusively locked (flock; released by the system if the run dies).
+        The lock file is removed when the run ends; a lock taken on a file removed meanwhile is taken again."""
+        for _ in range(5):
+            try:
+                if lock.is_symlink():
+                    lock.unlink()
+                fd = os.open(lock, os.O_RDWR | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0), 0o644)
+            except OSError as exc:
+                raise ConfigurationError(f"{self.what} {self.path}: cannot create its lock file: "
+                                         f"{os_reason(exc)}") from None
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except OSError:
+                holder = os.pread(fd, 64, 0).decode("ascii", "replace").strip() or "?"
+                os.close(fd)
+                raise ConfigurationError(f"{self.what} {self.path}: the results folder is in use by another run "
+                                         f"(pid {holder}); wait for it to end or give another folder") from None
+            held = os.fstat(fd)
+            try:
+                now = os.stat(lock, follow_symlinks=False)
+            except FileNotFoundError:
+                now = None
+            if now is not None and (now.st_ino, now.st_dev) == (held.st_ino, held.st_dev):
+                return fd
+            os.close(fd)  # the previous run removed the file between our open and our lock: again
+        raise ConfigurationError(f"{self.what} {self.path}: cannot take the folder's lock (it keeps changing)")
 
     def _clear(self) -> None:
         """Remove the files an earlier run wrote here (those its run.json lists, and the usual ones)."""
@@ -197,8 +203,10 @@ class ResultsFolder:
                                          f"{os_reason(exc)}") from None
 
     def close(self) -> None:
-        """Release the lock."""
+        """Remove the lock file and release the lock."""
         if self._fd is not None:
+            with contextlib.suppress(OSError):
+                os.unlink(self.path / LOCK_NAME)
             os.close(self._fd)
             self._fd = None
 

@@ -9,7 +9,6 @@ not drawn at all when no run has them.
 """
 from __future__ import annotations
 
-import io
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -19,6 +18,7 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
+from openemss.models.common.files import figure_bytes
 from openemss.models.fcs.geo import from_local_ne
 from openemss.models.fcs.mission import Mission
 from openemss.orchestrator.results import atomic_write
@@ -52,9 +52,7 @@ def _label(runs: Sequence[PlotRun], r: PlotRun, what: str = "") -> str:
 
 def _save(fig: Figure, path: Path) -> Path:
     fig.tight_layout()
-    buffer = io.BytesIO()
-    fig.savefig(buffer, dpi=DPI, format=path.suffix.lstrip(".") or "png")
-    return atomic_write(path, buffer.getvalue())  # whole, and never through a link in its place
+    return atomic_write(path, figure_bytes(fig, path.suffix.lstrip(".") or "png", dpi=DPI))  # whole, no link followed
 
 
 def _sections(runs: Sequence[PlotRun]) -> PlotRun | None:

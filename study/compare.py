@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from openemss.models.common.files import figure_bytes
 from openemss.orchestrator.results import atomic_write
 
 from .case import CaseResult, case_dir
@@ -113,7 +114,7 @@ def compare_engines(out: Path, cases: dict[str, str], results: dict[str, CaseRes
     ax.grid(True, alpha=0.3)
     ax.legend()
     fig.tight_layout()
-    fig.savefig(report / "fuel_burned.png", dpi=120)
+    atomic_write(report / "fuel_burned.png", figure_bytes(fig, dpi=120))
     plt.close(fig)
 
     name = section_names[section] if section_names and 0 <= section < len(section_names) else f"section {section}"
@@ -137,7 +138,7 @@ def compare_engines(out: Path, cases: dict[str, str], results: dict[str, CaseRes
         ax.grid(True, alpha=0.3)
         ax.legend()
     fig.tight_layout()
-    fig.savefig(report / "section.png", dpi=120)
+    atomic_write(report / "section.png", figure_bytes(fig, dpi=120))
     plt.close(fig)
     res["section"] = {"index": section, "name": name, "notes": notes}
     res["files"] = {"fuel_burned": str(report / "fuel_burned.png"), "section": str(report / "section.png")}

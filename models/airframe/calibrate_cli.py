@@ -11,7 +11,6 @@ are rebuilt by the next ``build-fmus`` or ``emss run``.
 from __future__ import annotations
 
 import argparse
-import csv
 import json
 import math
 import sys
@@ -19,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..common.files import atomic_write, csv_text, figure_bytes
 from .aero import aero_model
 from .calibrate import DRAG_FACTORS, LIFT_FACTORS, Calibration, fit, load_points
 from .corrections import CALIBRATION_FILE, FACTOR_BOUNDS, AeroCorrections, save_corrections
@@ -104,7 +104,7 @@ def _plot(cal: Calibration, path: Path) -> None:
     f = cal.corrections.factors()
     fig.suptitle("UPERA calibration: " + ", ".join(f"{k} {v:.3f}" for k, v in f.items()), fontsize=9)
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    atomic_write(path, figure_bytes(fig, dpi=120))
     plt.close(fig)
 
 
@@ -115,14 +115,9 @@ def _write_outputs(cal: Calibration, out: Path, data: Path) -> None:
     out.mkdir(parents=True, exist_ok=True)
     save_corrections(cal.corrections, out / "calibration.json",
                      {"data_file": str(data), "residuals": rows, "worst": cal.worst()})
-    with (out / "residuals.csv").open("w", newline="", encoding="utf-8") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        for r in rows:
-            w.writerow({k: (v if isinstance(v, str) else f"{v:.6g}") for k, v in r.items()})
-    tmp = out / "UPERA.xml.tmp"
-    tmp.write_text(aircraft_xml(aero_model(None, cal.corrections)), encoding="utf-8")
-    tmp.replace(out / "UPERA.xml")
+    atomic_write(out / "residuals.csv", csv_text(list(rows[0]), ([v if isinstance(v, str) else f"{v:.6g}"
+                                                                    for v in r.values()] for r in rows)))
+    atomic_write(out / "UPERA.xml", aircraft_xml(aero_model(None, cal.corrections)))
     _plot(cal, out / "residuals.png")
 
 

@@ -15,7 +15,6 @@ print as one line.
 from __future__ import annotations
 
 import argparse
-import csv
 import json
 import math
 import sys
@@ -24,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..common.files import atomic_write, csv_text, figure_bytes
 from . import calibrate_cli
 from .aero import aero_model
 from .errors import AirframeError, TrimError
@@ -127,12 +127,7 @@ def cmd_polar(args: argparse.Namespace) -> int:
     out.mkdir(parents=True, exist_ok=True)
     keys = ("alt_m", "mach", "tas_m_s", "mass_kg", "alpha_deg", "elevator", "CL", "CD", "lift_N", "drag_N",
             "thrust_N", "qbar_Pa", "re_mac")
-    with (out / "polar.csv").open("w", newline="", encoding="utf-8") as f:
-        w = csv.writer(f)
-        w.writerow(keys)
-        for r in rows:
-            d = r.as_dict()
-            w.writerow([f"{d[k]:.6g}" for k in keys])
+    atomic_write(out / "polar.csv", csv_text(keys, ([f"{r.as_dict()[k]:.6g}" for k in keys] for r in rows)))
     a = aero_model()
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 5))
     for alt in POLAR_ALTS_M:
@@ -153,7 +148,7 @@ def cmd_polar(args: argparse.Namespace) -> int:
     ax2.grid(True, alpha=0.3)
     ax2.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(out / "polar.png", dpi=120)
+    atomic_write(out / "polar.png", figure_bytes(fig, dpi=120))
     plt.close(fig)
     if args.json:
         json.dump([r.as_dict() for r in rows], sys.stdout, indent=2)

@@ -14,7 +14,6 @@ by each method, to show where the methods part.
 """
 from __future__ import annotations
 
-import csv
 import math
 import re
 from collections.abc import Callable, Iterable, Sequence
@@ -24,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from ..common.files import atomic_write, csv_text, figure_bytes
 from .aero import aero_model, geometric_model, isa
 from .errors import AirframeError, OutOfEnvelopeError
 
@@ -321,11 +321,8 @@ def slopes_table(rows: Sequence[SlopeRow]) -> str:
 def write_csv(path: Path, rows: Sequence[CompareRow] | Sequence[SlopeRow]) -> None:
     """Write dataclass rows as CSV (column names carry the units where they have one)."""
     dicts = [asdict(r) for r in rows]
-    with path.open("w", newline="", encoding="utf-8") as f:
-        w = csv.DictWriter(f, fieldnames=list(dicts[0]))
-        w.writeheader()
-        for d in dicts:
-            w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in d.items()})
+    atomic_write(path, csv_text(list(dicts[0]), ([f"{v:.6g}" if isinstance(v, float) else v for v in d.values()]
+                                                 for d in dicts)))
 
 
 def plot(path: Path, points: Sequence[CompareRow], sweeps: Sequence[CompareRow]) -> None:
@@ -366,5 +363,5 @@ def plot(path: Path, points: Sequence[CompareRow], sweeps: Sequence[CompareRow])
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=6.5, ncol=2)
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    atomic_write(path, figure_bytes(fig, dpi=120))
     plt.close(fig)

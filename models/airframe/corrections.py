@@ -28,6 +28,7 @@ from pathlib import Path
 from typing import Any
 
 from ..common import safe_yaml
+from ..common.files import atomic_write
 from .errors import CalibrationError
 
 __all__ = ["AeroCorrections", "FACTOR_BOUNDS", "FACTOR_UNITS", "CALIBRATION_FILE", "load_corrections",
@@ -124,7 +125,4 @@ def save_corrections(c: AeroCorrections, path: Path, extra: dict[str, Any] | Non
            "factors": {k: d[k] for k in FACTOR_BOUNDS}, "units": FACTOR_UNITS, "bounds": FACTOR_BOUNDS,
            "source": c.source, "fitted": list(c.fitted), **(extra or {})}
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_suffix(path.suffix + ".tmp")
-    tmp.write_text(json.dumps(out, indent=2) + "\n", encoding="utf-8")
-    tmp.replace(path)
-    return path
+    return atomic_write(path, json.dumps(out, indent=2) + "\n")

@@ -29,7 +29,6 @@ pressure ratio and the jet velocity ratio of the separate-flow turbofan).
 
 from __future__ import annotations
 
-import csv
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
@@ -37,6 +36,7 @@ from pathlib import Path
 
 from scipy.optimize import brentq
 
+from ..common.files import atomic_write, csv_text, figure_bytes
 from .cycle_design import DesignPoint, design
 from .design_params import TurbofanParams
 from .errors import ModelError
@@ -155,13 +155,7 @@ def lowest_sfc_design(ref: TurbofanParams, points: Sequence[StudyPoint]) -> tupl
 
 def write_csv(points: Sequence[StudyPoint], path: str | Path) -> Path:
     """Write the carpet as CSV (SI units in the column names); returns the path."""
-    p = Path(path)
-    with p.open("w", newline="", encoding="utf-8") as fh:
-        w = csv.writer(fh)
-        w.writerow(COLUMNS)
-        for s in points:
-            w.writerow([getattr(s, c) for c in COLUMNS])
-    return p
+    return atomic_write(path, csv_text(COLUMNS, ([getattr(s, c) for c in COLUMNS] for s in points)))
 
 
 def plot_carpet(points: Sequence[StudyPoint], path: str | Path, title: str = "") -> Path:
@@ -179,7 +173,6 @@ def plot_carpet(points: Sequence[StudyPoint], path: str | Path, title: str = "")
     ax.grid(True, alpha=0.3)
     ax.legend()
     fig.tight_layout()
-    p = Path(path)
-    fig.savefig(p, dpi=120)
+    p = atomic_write(path, figure_bytes(fig, dpi=120))
     plt.close(fig)
     return p

@@ -26,7 +26,15 @@ from .execution import DEFAULT_RATE_HZ, MAX_RATE_HZ, MAX_STEP_MULTIPLE, MIN_RATE
 from .manipulators import ScenarioManipulator, load_scenario
 from .observers import CsvRecorder, Progress, RealTimePacer, RunRecord
 from .plugins import load_problems, plugin_name, plugins
-from .results import ResultsError, ResultsFolder, RunInterrupted, atomic_write, os_reason, stop_on_signals
+from .results import (
+    ResultsError,
+    ResultsFolder,
+    RunInterrupted,
+    atomic_write,
+    check_name,
+    os_reason,
+    stop_on_signals,
+)
 from .ssp import load_system
 from .system import BoundSystem, bind_system
 
@@ -310,7 +318,11 @@ def _ensure_project_fmus(system: Path) -> None:
 def cmd_run(args: argparse.Namespace) -> int:
     system = args.system if args.system is not None else _default_system()
     _ensure_project_fmus(system)
-    out = args.out or Path("results") / f"{load_system(system).name}-{time.strftime('%Y%m%d-%H%M%S')}"
+    if args.out is None:  # the default folder is named after the system: that name must be one path component
+        name = check_name(str(load_system(system).name), "the system's name (the SSD's System name; or give --out)")
+        out = Path("results") / f"{name}-{time.strftime('%Y%m%d-%H%M%S')}"
+    else:
+        out = args.out
     with ResultsFolder(out) as _:  # locked for this run, cleared of an earlier run's files
         return _run(args, system, out)
 

@@ -158,6 +158,63 @@ def test_study_out_empty_and_stop_time_nan(tmp_path: Path, capsys: pytest.Captur
     assert_one_line(rc, err, "--stop-time", "not a finite number")
 
 
+def test_system_name_is_not_a_path(system: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """Without --out the folder is results/<system name>-<time>: a name '../../x' must not climb out."""
+    ssd = system / "SystemStructure.ssd"
+    ssd.write_text(ssd.read_text().replace('name="TestSystem"', 'name="../../escaped"'))
+    work = tmp_path / "work"
+    work.mkdir()
+    cwd = os.getcwd()
+    os.chdir(work)
+    try:
+        rc, err = run_cli(capsys, "run", str(system))
+    finally:
+        os.chdir(cwd)
+    assert_one_line(rc, err, "the system's name", "'../../escaped'", "one path component", "--out")
+    assert not list(tmp_path.glob("escaped*")) and not list(work.iterdir())
+
+
+@pytest.mark.parametrize("command", ["run", "info", "validate"])
+def test_doctype_in_a_parameter_file(system: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                     command: str) -> None:
+    secret = tmp_path / "secret.txt"
+    secret.write_text("SECRET-7f3a9c")
+    ssv = tmp_path / "xxe.ssv"
+    ssv.write_text(f'<?xml version="1.0"?>\n<!DOCTYPE p [<!ENTITY x SYSTEM "file://{secret}">]>\n'
+                   '<ssv:ParameterSet xmlns:ssv="http://ssp-standard.org/SSP1/SystemStructureParameterValues" '
+                   'version="1.0" name="&x;"><ssv:Parameters/></ssv:ParameterSet>\n')
+    try:
+        rc = main([command, str(system), "--params", str(ssv)])
+    except SystemExit as exc:
+        rc = int(exc.code or 0)
+    out, err = capsys.readouterr()
+    lines = [ln for ln in (out if command == "validate" else err).splitlines() if ln.strip()]
+    if command == "validate":  # the problems on stdout, their count on stderr and as the exit code
+        assert rc == len(lines) >= 1 and "problem(s)" in err
+    else:
+        assert rc == 1 and len(lines) == 1, lines
+    assert str(ssv) in lines[0] and ("DOCTYPE" in lines[0] or "external entity" in lines[0]), lines
+    assert "SECRET-7f3a9c" not in out + err  # the entity was never expanded
+
+
+@pytest.mark.parametrize("what", ["directory", "missing"])
+def test_scenario_that_is_not_a_file(system: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                     what: str) -> None:
+    scenario = tmp_path / "scenario.yaml"
+    if what == "directory":
+        scenario.mkdir()
+    rc, err = run_cli(capsys, "run", str(system), "--scenario", str(scenario), "--out", str(tmp_path / "out"))
+    assert_one_line(rc, err, str(scenario), "cannot read the scenario",
+                    "Is a directory" if what == "directory" else "No such file")
+
+
+def test_summary_of_a_folder_whose_timeseries_is_a_directory(tmp_path: Path,
+                                                               capsys: pytest.CaptureFixture[str]) -> None:
+    (tmp_path / "run" / "timeseries.csv").mkdir(parents=True)
+    rc, err = run_cli(capsys, "summary", str(tmp_path / "run"))
+    assert_one_line(rc, err, "timeseries.csv")
+
+
 # -- the results folder --------------------------------------------------------------------------
 def test_symlinks_in_the_results_folder_are_not_followed(system: Path, tmp_path: Path,
                                                          capsys: pytest.CaptureFixture[str]) -> None:

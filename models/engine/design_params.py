@@ -261,7 +261,7 @@ def load_params(path: str | Path) -> EngineParams:
 def preset_path(name: str) -> Path:
     """Path of the shipped preset `name` (file stem in ``presets/``)."""
     p = PRESETS_DIR / f"{name}.json"
-    if not p.is_file():
+    if not name or name.strip(".") == "" or "/" in name or "\\" in name or not p.is_file():
         known = sorted(q.stem for q in PRESETS_DIR.glob("*.json"))
         raise ModelError(f"no preset {name!r}; known: {', '.join(known)}")
     return p

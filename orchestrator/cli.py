@@ -23,7 +23,7 @@ from typing import Any, NoReturn
 from .build import PACKAGE_ROOT, ensure_built
 from .errors import ConfigurationError, EmssError, Problem, SystemStructureError
 from .execution import DEFAULT_RATE_HZ, MAX_RATE_HZ, MAX_STEP_MULTIPLE, MIN_RATE_HZ, Execution
-from .manipulators import ScenarioManipulator, load_scenario
+from .manipulators import INT32_RANGE, ScenarioManipulator, load_scenario
 from .observers import CsvRecorder, Progress, RealTimePacer, RunRecord
 from .plugins import load_problems, plugin_name, plugins
 from .results import (
@@ -265,7 +265,11 @@ def _typed(text: str, type_name: str, item: str) -> bool | int | float | str:
                 raise ValueError
             return value
         if type_name in ("Integer", "Enumeration"):
-            return int(text)
+            value = int(text)
+            if not INT32_RANGE[0] <= value <= INT32_RANGE[1]:
+                raise ConfigurationError(f"--set {item!r}: outside the range of an FMI Integer "
+                                         f"({INT32_RANGE[0]} to {INT32_RANGE[1]})")
+            return value
         if type_name == "Boolean":
             if text.lower() not in ("true", "false", "1", "0"):
                 raise ValueError

@@ -47,6 +47,7 @@ if TYPE_CHECKING:
     from .execution import Execution
 
 KINDS = ("set", "ramp", "hold", "release")
+INT32_RANGE = (-(2 ** 31), 2 ** 31 - 1)  #: values of an FMI 2.0 Integer (fmi2Integer is a C int)
 OPERATORS: dict[str, Callable[[float, float], bool]] = {
     "==": operator.eq, "!=": operator.ne, "<=": operator.le, ">=": operator.ge, "<": operator.lt, ">": operator.gt}
 _CONDITION = re.compile(r"^\s*([A-Za-z_][\w.\[\]]*)\s*(==|!=|<=|>=|<|>)\s*(\S+)\s*$")
@@ -298,6 +299,12 @@ class ScenarioManipulator:
                 tr = _Track(path, events, var.type_name != "Real", slave=slave, variable=var,
                             shown=execution.output_slot(path))
             self.tracks.append(tr)
+            if tr.is_int:  # an FMI Integer (or Boolean) is 32 bits: a larger value would wrap, silently
+                for e in all_events:
+                    for v in (e.value0, e.value1):
+                        if v is not None and not INT32_RANGE[0] <= v <= INT32_RANGE[1]:
+                            raise ScenarioError(f"{e.where}: value {v} for '{path}' is outside the range of an "
+                                                f"FMI Integer ({INT32_RANGE[0]} to {INT32_RANGE[1]})")
             for e in all_events:
                 if e.when is not None:
                     conditions.setdefault(e.when, []).append((tr, e))

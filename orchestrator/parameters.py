@@ -10,6 +10,7 @@ entry suppresses unit conversion), after the transformation, as on connections.
 """
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
@@ -37,6 +38,16 @@ def _coerce(value: float | int | bool | str, type_name: str, var: VariableInfo) 
     return None
 
 
+def _out_of_range(value: float | int | bool | str, type_name: str) -> str:
+    """What is wrong with a value for an FMI variable of ``type_name`` ('' if nothing): a Real that is
+    not finite (a transformation can overflow), an Integer beyond 32 bits (it would wrap silently)."""
+    if type_name == "Real" and not math.isfinite(float(value)):  # type: ignore[arg-type]
+        return f"value {value} is not a finite number"
+    if type_name in ("Integer", "Enumeration") and not -(2 ** 31) <= int(value) <= 2 ** 31 - 1:  # type: ignore[arg-type]
+        return f"value {value} is outside the range of an FMI Integer (-2147483648 to 2147483647)"
+    return ""
+
+
 def _transform(pv: ParameterValue, t: LinearTransformationDef | MappingTransformationDef | None) \
         -> tuple[float | int | bool | str, str]:
     """Apply a mapping entry's transformation to a parameter value; returns (value, type name)."""
@@ -54,7 +65,10 @@ def _transform(pv: ParameterValue, t: LinearTransformationDef | MappingTransform
     if t.kind == "Boolean":
         return text in ("true", "1"), "Boolean"
     if t.kind == "Integer":
-        return int(text), "Integer"
+        try:
+            return int(text), "Integer"
+        except ValueError:
+            raise ConversionError(f"IntegerMappingTransformation gives {text!r}, not an integer") from None
     return text, "String"  # enumeration item name, resolved against the variable below
 
 
@@ -119,6 +133,10 @@ def resolve_parameters(bound: BoundSystem, bindings: list[tuple[ParameterBinding
                 if coerced is None:
                     problems.append(Problem(pv.where, f"parameter '{name}': {type_name} value for a "
                                                       f"{var.type_name} variable"))
+                    continue
+                out_of_range = _out_of_range(coerced, var.type_name)
+                if out_of_range:
+                    problems.append(Problem(pv.where, f"parameter '{name}': {out_of_range}"))
                     continue
                 resolved[(idx, var.type_name, var.vr)] = ParameterAssignment(idx, var, coerced, pv.where)
     return list(resolved.values())

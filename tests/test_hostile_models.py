@@ -93,30 +93,25 @@ def test_nan_parameter_set_refused_where_it_enters(engine_system: Path, tmp_path
     assert rc == 1 and len(err) == 1 and "Real value='NaN'" in err[0] and str(ssv) in err[0], err
 
 
+MISSION_ERRORS = {  # a mission file's bytes, and how the one line must start (after the file name)
+    "duplicate_waypoint": (b"mission: {name: bad}\nplaces:\n  waypoints:\n    A: {lat_deg: 48.0, lon_deg: 11.0}\n"
+                           b"    A: {lat_deg: 47.0, lon_deg: 9.0}\nsections:\n  - {type: Levelling, altitude_m: 500, "
+                           b"speed: {mach: 0.4}}\n", ":5: key 'A' is given twice"),
+    "not_utf8": ("mission: {name: Môle}\n".encode("latin-1"), ":1: the mission file is not UTF-8 text: byte 0xf4"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(MISSION_ERRORS))
 def test_mission_error_is_the_missions_own(tmp_path: Path, project_fmus: dict[str, Path],
-                                           capsys: pytest.CaptureFixture[str]) -> None:
+                                           capsys: pytest.CaptureFixture[str], case: str) -> None:
+    content, start = MISSION_ERRORS[case]
     bad = tmp_path / "bad.yaml"
-    bad.write_text("mission: {name: bad}\nplaces:\n  waypoints:\n    A: {lat_deg: 48.0, lon_deg: 11.0}\n"
-                   "    A: {lat_deg: 47.0, lon_deg: 9.0}\nsections:\n  - {type: Levelling, altitude_m: 500, "
-                   "speed: {mach: 0.4}}\n")
+    bad.write_bytes(content)
     shutil.copy2(project_fmus["fcs"], tmp_path / "Fcs.fmu")
     folder = tmp_path / "sys"
     write_system(folder, tmp_path, [Comp("fcs", "Fcs.fmu", [("section_index", "output", "Integer")])], [],
                  stop_time=1.0)
     rc, err = _run(capsys, "run", str(folder), "--set", f"fcs.mission_file={bad}", "--out", str(tmp_path / "out"))
     assert rc == 1 and len(err) == 1, err
-    assert err[0].startswith(f"emss run: error: {bad}:5: key 'A' is given twice"), err[0]
+    assert err[0].startswith(f"emss run: error: {bad}{start}"), err[0]
     assert "MissionError(" not in err[0] and "component 'fcs'" in err[0]
-
-
-def test_non_utf8_mission_names_file_and_encoding(tmp_path: Path, project_fmus: dict[str, Path],
-                                                  capsys: pytest.CaptureFixture[str]) -> None:
-    bad = tmp_path / "latin1.yaml"
-    bad.write_bytes("mission: {name: Môle}\n".encode("latin-1"))
-    shutil.copy2(project_fmus["fcs"], tmp_path / "Fcs.fmu")
-    folder = tmp_path / "sys"
-    write_system(folder, tmp_path, [Comp("fcs", "Fcs.fmu", [("section_index", "output", "Integer")])], [],
-                 stop_time=1.0)
-    rc, err = _run(capsys, "run", str(folder), "--set", f"fcs.mission_file={bad}", "--out", str(tmp_path / "out"))
-    assert rc == 1 and len(err) == 1, err
-    assert err[0].startswith(f"emss run: error: {bad}:1: the mission file is not UTF-8 text: byte 0xf4"), err[0]

@@ -78,6 +78,8 @@ CLI_CASES: dict[str, tuple[list[str], list[str]]] = {
     "set_inf": (["--set", "a.k=-inf"], ["--set 'a.k=-inf'", "finite number"]),
     "until_nan": (["--until", "a.y_real > nan"], ["--until", "finite number"]),
     "out_empty": (["--out", ""], ["--out", "empty folder name"]),
+    "set_integer_beyond_32_bits": (["--set", "a.u_int=99999999999"],
+                                   ["--set 'a.u_int=99999999999'", "outside the range of an FMI Integer"]),
 }
 
 
@@ -213,6 +215,13 @@ def test_summary_of_a_folder_whose_timeseries_is_a_directory(tmp_path: Path,
     (tmp_path / "run" / "timeseries.csv").mkdir(parents=True)
     rc, err = run_cli(capsys, "summary", str(tmp_path / "run"))
     assert_one_line(rc, err, "timeseries.csv")
+
+
+def test_scenario_integer_beyond_32_bits(system: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    scenario = tmp_path / "s.yaml"
+    scenario.write_text("events:\n  - at: 0.5\n    set: {a.u_int: 4294967296}\n")  # 2**32 would wrap to 0
+    rc, err = run_cli(capsys, "run", str(system), "--scenario", str(scenario), "--out", str(tmp_path / "out"))
+    assert_one_line(rc, err, f"{scenario}:3:", "a.u_int", "outside the range of an FMI Integer")
 
 
 # -- the results folder --------------------------------------------------------------------------

@@ -41,6 +41,7 @@ from .system import BoundSystem, bind_system
 #: The job ``emss run`` runs without a SYSTEM argument: the project's coupled system in ssp/, which
 #: flies the Munich demonstration mission.
 DEFAULT_SYSTEM = PACKAGE_ROOT / "ssp"
+MIN_REALTIME, MAX_REALTIME = 1e-3, 1e6  #: pacing factors allowed (a factor of 1e-300 would sleep for ever)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -346,8 +347,9 @@ def _run(args: argparse.Namespace, system: Path, out: Path) -> int:
     until = _stop_condition(bound, args.until)
     if until:
         ex.stop_when(until)
-    if not args.realtime >= 0:
-        raise ConfigurationError(f"--realtime {args.realtime}: must be >= 0 (0 = as fast as possible)")
+    if not (args.realtime == 0 or MIN_REALTIME <= args.realtime <= MAX_REALTIME):
+        raise ConfigurationError(f"--realtime {args.realtime}: must be >= 0 (0 = as fast as possible; else "
+                                 f"{MIN_REALTIME:g} to {MAX_REALTIME:g} simulated seconds per wall second)")
     pacer = RealTimePacer(args.realtime) if args.realtime > 0 else None
     csv = CsvRecorder(out / "timeseries.csv", every=args.record_every)
     record = RunRecord(out / "run.json", str(system), [str(p) for p in args.params],

@@ -25,6 +25,7 @@ from .transfer import Transfer
 MIN_RATE_HZ = 0.1
 MAX_RATE_HZ = 100.0
 DEFAULT_RATE_HZ = 20.0
+MAX_STEPS = 10 ** 9  #: macro steps of one run at the most (578 days simulated at 20 Hz)
 MAX_STEP_MULTIPLE = 1000  #: a component steps at least every 1000th macro step (10 s at 100 Hz, 10000 s at 0.1 Hz)
 IO_TYPES = ("Real", "Integer", "Boolean")
 _DTYPE = {"Real": np.float64, "Integer": np.int32, "Boolean": np.int32}
@@ -434,6 +435,10 @@ class Execution:
             if not self._initialized:
                 self.initialize(stop_time_s)
             n_steps = math.ceil((stop_time_s - self.start_time_s) / self.step_size_s - 1e-9)
+            if n_steps > MAX_STEPS:
+                raise ConfigurationError(f"stop time {stop_time_s:g} s is {n_steps:.3g} steps of "
+                                         f"{self.step_size_s:g} s, more than {MAX_STEPS:.0e}; allowed: up to "
+                                         f"{self.start_time_s + MAX_STEPS * self.step_size_s:.6g} s at this rate")
             step = self.algorithm.step
             observers = [o.sample for o in self.observers]
             manipulate = self._manipulate if self.manipulators else None

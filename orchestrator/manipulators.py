@@ -177,7 +177,7 @@ def parse_condition(text: str, where: str) -> Condition:
         if not math.isfinite(value):
             raise ValueError
     except ValueError:
-        raise ScenarioError(f"{where} compares with a finite number or true/false, got {m.group(3)!r}") from None
+        raise ScenarioError(f"{where} compares with a number (a finite number) or true/false, got {m.group(3)!r}") from None
     return Condition(m.group(1), m.group(2), value)
 
 

@@ -16,6 +16,7 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path, PurePosixPath
 
+from openemss.orchestrator.cli import finite_number, folder_name
 from openemss.orchestrator.results import atomic_write
 
 from .errors import ReportError
@@ -158,9 +159,9 @@ def cmd_summary(args: argparse.Namespace) -> int:
 
 def _window(text: str) -> float:
     try:
-        return float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"'{text}' is not a time [s]") from None
+        return finite_number(text)
+    except argparse.ArgumentTypeError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a time [s] (a finite number)") from None
 
 
 def register(sub: argparse._SubParsersAction) -> tuple[type[Exception], ...]:  # type: ignore[type-arg]
@@ -172,7 +173,7 @@ def register(sub: argparse._SubParsersAction) -> tuple[type[Exception], ...]:  #
                                    "speeds, attitude. Two runs (up to four) share each figure, told apart by line "
                                    "style.")
     p.add_argument("run_dirs", nargs="+", type=Path, metavar="RUN_DIR", help="results folder(s) of emss run")
-    p.add_argument("--out", type=Path, metavar="DIR",
+    p.add_argument("--out", type=folder_name, metavar="DIR",
                    help="folder for the PNGs (default: RUN_DIR; for several runs RUN_DIR/compare_<others>)")
     p.add_argument("--window", nargs=2, type=_window, metavar=("T0", "T1"),
                    help="time window [s] of the fuel flow and Tt4 plot (default: the whole run)")

@@ -78,6 +78,8 @@ CLI_CASES: dict[str, tuple[list[str], list[str]]] = {
     "set_inf": (["--set", "a.k=-inf"], ["--set 'a.k=-inf'", "finite number"]),
     "until_nan": (["--until", "a.y_real > nan"], ["--until", "finite number"]),
     "out_empty": (["--out", ""], ["--out", "empty folder name"]),
+    "stop_time_astronomical": (["--stop-time", "1e300"], ["stop time 1e+300 s", "more than 1e+09", "allowed: up to"]),
+    "realtime_tiny": (["--realtime", "1e-300"], ["--realtime", "0.001 to 1e+06"]),
     "set_integer_beyond_32_bits": (["--set", "a.u_int=99999999999"],
                                    ["--set 'a.u_int=99999999999'", "outside the range of an FMI Integer"]),
 }
@@ -149,6 +151,13 @@ def test_export_below_a_file(system: Path, tmp_path: Path, capsys: pytest.Captur
     f.write_text("x")
     rc, err = run_cli(capsys, "export", str(system), "--container", str(f / "sys.fmu"))
     assert_one_line(rc, err, "--container", "cannot create its folder")
+
+
+def test_plot_window_nan_and_out_empty(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    rc, err = run_cli(capsys, "plot", str(tmp_path), "--window", "nan", "10")
+    assert_one_line(rc, err, "--window", "'nan' is not a time [s] (a finite number)")
+    rc, err = run_cli(capsys, "plot", str(tmp_path), "--out", "")
+    assert_one_line(rc, err, "--out", "empty folder name")
 
 
 def test_study_out_empty_and_stop_time_nan(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -232,7 +232,7 @@ class RunRecord:
         """Hold :data:`RESERVE_BYTES` of disk beside run.json while the run goes, freed just before the
         last write, so that a run that fills the disk can still close its run.json as failed."""
         reserve = self.path.parent / RESERVE_NAME
-        with contextlib.suppress(OSError):
+        with contextlib.suppress(OSError, ResultsError):  # no reserve on a nearly full disk: run on without
             if reserve.is_symlink() or reserve.exists():
                 reserve.unlink()
             if on:

@@ -48,7 +48,7 @@ from typing import Any
 from .errors import MissionError
 
 __all__ = ["WindLayer", "WindProfile", "Turbulence", "Weather", "WEATHER_KEYS", "SEVERITIES", "KT_M_S",
-           "parse_weather", "load_weather"]
+           "parse_weather", "parse_weather_text", "load_weather"]
 
 KT_M_S = 1852.0 / 3600.0  # [m/s per kt], exact by definition of the knot
 #: Top-level keys of a mission file that this module reads.
@@ -279,21 +279,27 @@ def load_weather(path: str | Path) -> Weather:
     MissionError
         One line with the file and line of the problem and what is allowed.
     """
-    import yaml
-
-    from .mission import _Ctx, _Lines  # the mission reader's line marks (mission imports this module)
-
     p = Path(path)
     try:
         text = p.read_text(encoding="utf-8")
     except OSError as e:
         raise MissionError(f"{p}: cannot read the weather file: {e.strerror}") from None
-    ctx = _Ctx(str(p), _Lines(text))
+    return parse_weather_text(text, str(p))
+
+
+def parse_weather_text(text: str, source: str) -> Weather:
+    """The weather of the YAML ``text`` of a mission or weather file (``source`` names it in errors);
+    see :func:`load_weather`."""
+    import yaml
+
+    from .mission import _Ctx, _Lines  # the mission reader's line marks (mission imports this module)
+
+    ctx = _Ctx(source, _Lines(text))
     try:
         doc = yaml.safe_load(text)
     except yaml.YAMLError as e:
         mark = getattr(e, "problem_mark", None)
-        raise MissionError(f"{p}:{mark.line + 1 if mark is not None else 1}: not valid YAML: "
+        raise MissionError(f"{source}:{mark.line + 1 if mark is not None else 1}: not valid YAML: "
                            f"{getattr(e, 'problem', e)}") from None
     if doc is None:
         doc = {}
@@ -303,4 +309,4 @@ def load_weather(path: str | Path) -> Weather:
     if extra:
         raise ctx.fail((extra[0],), f"unknown top-level key '{extra[0]}'; allowed: {', '.join(WEATHER_KEYS)} "
                        f"(and a mission's {', '.join(_MISSION_KEYS)})")
-    return parse_weather(doc, ctx.fail, str(p)) or Weather(None, None, str(p))
+    return parse_weather(doc, ctx.fail, source) or Weather(None, None, source)

@@ -2,7 +2,7 @@
 
 Per section, the required climb or descent gradient and turns against what the aircraft and its
 engine can do there (:mod:`openemss.models.fcs.feasibility`, on the shipped models through
-:mod:`.performance`), each infeasible or marginal section named with its numbers; ``--json`` for
+:mod:`.model_performance`), each infeasible or marginal section named with its numbers; ``--json`` for
 machines. The same check runs before every ``emss run`` of a system that flies a mission (the
 report plugin's ``pre_run`` hook), which prints its findings as warnings.
 
@@ -38,7 +38,7 @@ from openemss.models.fcs.errors import FcsError
 from openemss.models.fcs.feasibility import MissionCheck, check_mission
 from openemss.models.fcs.geo import LatLon
 from openemss.models.fcs.mission import Mission, load_mission, parse_mission
-from openemss.models.fcs.performance import Limits
+from openemss.models.fcs.feasibility_perf import Limits
 from openemss.models.fcs.weather import KT_M_S, Turbulence, Weather, WindLayer, WindProfile, parse_weather_text
 
 from .errors import ReportError
@@ -212,7 +212,7 @@ def weather_warnings(mission: Mission, setup: CheckSetup) -> list[str]:
 
 def run_check(mission: Mission, setup: CheckSetup, margin: float = 0.2) -> MissionCheck:
     """The feasibility of ``mission`` on the system ``setup`` (performance from the shipped models)."""
-    from .performance import FuelControlLimits, ModelPerformance
+    from .model_performance import FuelControlLimits, ModelPerformance
 
     fuel = FuelControlLimits(**{k: setup.parameters[v] for k, v in FuelControlLimits.NAMES.items()})
     perf = ModelPerformance(setup.engine, fuel, setup.engine_limits, setup.isa_dev_K, setup.flaps)

@@ -3,9 +3,9 @@
 Before a mission is flown, each section's altitude change is compared with what the aircraft
 can do there, and its turns with the bank limit of the guidance:
 
-* **Climb and descent.** A section's altitude is reached by its constraint point: the first
-  waypoint of a WaypointFollowing section (all its waypoints are flown at that altitude), the
-  end of its turns for an Orbiting section (approach to the circle plus ``turns`` x 2 pi R),
+* **Climb and descent.** A section's altitude is reached by its constraint point: the waypoint
+  ``altitude_at`` of a WaypointFollowing section, by default its last (as the flight control's
+  vertical planner takes it; the distance runs along the legs), the end of its turns for an Orbiting section (approach to the circle plus ``turns`` x 2 pi R),
   the glide slope intercept for a Landing. The required gradient is the altitude change over
   the ground distance from the previous section's end. The achievable one follows from the
   specific excess power [1]_: the total energy height ``E = h + V^2 / 2g`` changes along the air
@@ -31,7 +31,7 @@ is within ``margin`` (default 20 %) of it. The mass falls along the mission by a
 the fuel burned (cruise at the engine's fuel flow for the drag, climbs at maximum thrust).
 
 The physics of the aircraft and engine come in through :class:`Performance` (in openEMSS:
-``openemss.report.performance``, the trimmed JSBSim airframe and the engine model of the
+``openemss.report.model_performance``, the trimmed JSBSim airframe and the engine model of the
 system's parameter set), so this module depends on neither.
 
 References
@@ -53,7 +53,7 @@ from .errors import FcsError
 from .geo import LatLon, destination, distance_m, final_bearing_rad, initial_bearing_rad, wrap_pi
 from .guidance import FLY_BY_MAX_TURN_RAD
 from .mission import Mission, Section
-from .performance import Limits, Performance, PerformanceError, PerfPoint
+from .feasibility_perf import Limits, Performance, PerformanceError, PerfPoint
 from .tecs import SpeedCommand
 from .weather import WindProfile
 
@@ -324,10 +324,15 @@ class _Checker:
         h1, spd, wps = sec["altitude_m"], sec["speed"], list(sec["waypoints"])
         tas, mach = self.speed(spd, h1)
         out.update(tas_m_s=tas, mach=mach)
-        d0 = distance_m(st.pos, wps[0])
-        course = initial_bearing_rad(st.pos, wps[0]) if d0 > 1.0 else st.course_rad
+        # the altitude is due at the section's altitude_at waypoint, by default its last (as the flight
+        # control plans it); the distance is the path's from the previous section's end
+        due = sec.get("altitude_at") or wps[-1]
+        k = wps.index(due) if due in wps else len(wps) - 1
+        path = [st.pos, *wps[:k + 1]]
+        d0 = sum(distance_m(a, b) for a, b in zip(path, path[1:], strict=False))
+        course = initial_bearing_rad(st.pos, wps[0]) if distance_m(st.pos, wps[0]) > 1.0 else st.course_rad
         req, can, needed = self.vertical(st.alt_m, h1, st.tas_m_s, spd, st.mass_kg, d0, course,
-                                         what=f"to {self.name(wps[0])}: ")
+                                         what=f"to {self.name(wps[k])}: ")
         out.update(distance_m=d0, required_gradient=req, achievable_gradient=can, needed_distance_m=needed)
         p = self.point(h1, spd, st.mass_kg)
         out["thrust_ratio"] = self.level(p, 1.0, "")

@@ -30,7 +30,7 @@ from openemss.models.engine.design_params import TurbofanParams
 from openemss.models.engine.engine_model import EngineLimits, EngineModel
 from openemss.models.engine.errors import ModelError
 from openemss.models.engine.offdesign import OffDesignPoint
-from openemss.models.fcs.feasibility import PerformanceError, PerfPoint
+from openemss.models.fcs.feasibility_perf import PerformanceError, PerfPoint
 
 __all__ = ["FuelControlLimits", "ModelPerformance"]
 

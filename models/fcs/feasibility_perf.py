@@ -4,7 +4,7 @@
 condition (drag, lift) and the engine's thrust range there, as a :class:`PerfPoint`; the
 gradients and turn drag derived from a point are written here once. :class:`Limits` are the
 flight control's own limits the check applies. openEMSS's implementation on the shipped models is
-``openemss.report.performance.ModelPerformance``; the tests use analytic ones.
+``openemss.report.model_performance.ModelPerformance``; the tests use analytic ones.
 
 References
 ----------

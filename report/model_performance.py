@@ -10,8 +10,9 @@
   thrust range the fuel controller gives: maximum = the lever's maximum times ``k_delta`` as the
   corrected fan speed demand, reduced until Tt41 and N1 are within ``Tt41_max_K`` and
   ``N1_max_pct`` (the limiters of :mod:`openemss.models.fcs.fuel_control`), the fuel flow within
-  ``Wf_max_kg_s``; idle = the larger of ``N1c_idle_pct`` and ``lever_min`` times ``k_delta``,
-  with the fuel flow at least ``Wf_min_kg_s`` and the engine's minimum-flow stop on Pt3.
+  ``Wf_max_kg_s``; idle = the larger of ``N1c_idle_pct`` and ``lever_min`` times ``k_delta`` as the
+  demand, or the fuel flow's stops if they give more: ``Wf_min_kg_s`` and the engine's minimum
+  flows (a fraction of the design flow, and the minimum-flow stop on Pt3).
 
 Every point is matched once and kept (a mission check needs a few dozen: about 3 ms for a trim,
 1 to 3 ms for an engine point once the engine's compiled kernels are cached; the first run
@@ -87,16 +88,21 @@ class ModelPerformance:
             raise PerformanceError(f"engine '{engine.name}': {e}") from None
         self._points: dict[tuple[float, ...], PerfPoint] = {}
         self._engine: dict[tuple[float, ...], OffDesignPoint] = {}
-        self._guess: OffDesignPoint | None = None
 
     # -- engine ---------------------------------------------------------------------------------
-    def _solve(self, alt_m: float, mach: float, **setting: float) -> OffDesignPoint:
+    def _solve(self, alt_m: float, mach: float, guess: OffDesignPoint | None = None, **setting: float) \
+            -> OffDesignPoint:
         key = _key(alt_m, mach, *setting.values()) + tuple(setting)  # type: ignore[operator]
         hit = self._engine.get(key)
         if hit is not None:
             return hit
         try:
-            pt = self._em.od.solve(alt_m, mach, self.dT, **setting)
+            try:
+                pt = self._em.od.solve(alt_m, mach, self.dT, guess=guess, **setting)
+            except ModelError:
+                if guess is None:
+                    raise
+                pt = self._em.od.solve(alt_m, mach, self.dT, **setting)  # from the design's point instead
         except ModelError as e:
             what = ", ".join(f"{k} = {v:.4g}" for k, v in setting.items())
             raise PerformanceError(f"engine: no steady state at {alt_m:.0f} m, M {mach:.2f} with {what}: {e}") from None
@@ -122,16 +128,36 @@ class ModelPerformance:
         return best
 
     def idle_point(self, alt_m: float, mach: float) -> OffDesignPoint:
-        """Steady flight idle: the idle N1c demand, or the fuel flow's lower stops if they give more."""
-        f = self.fuel
-        pt = self._solve(alt_m, mach, N1c_pct=max(f.N1c_idle_pct, f.k_delta_pct * f.lever_min))
-        em = self._em
-        for _ in range(4):  # the minimum-flow stop on Pt3 moves with the point: a few fixed-point steps
-            stop = max(f.Wf_min_kg_s, em.limits.Wf_min_frac * em.dp.Wf_kg_s,
-                       em.Wf_Pt3_min_kg_s_Pa * pt.stations["3"].Pt_Pa)
-            if pt.Wf_kg_s >= stop * (1.0 - 1e-6):
-                break
-            pt = self._solve(alt_m, mach, Wf_kg_s=stop)
+        """Steady flight idle: the idle N1c demand, or the fuel flow's lower stops if they give more (with no
+        idle demand, ``N1c_idle_pct`` 0 and ``lever_min`` 0, idle is the stops: the fuel controller's Wf_min).
+
+        Below the demand the stops are approached from it in steps of corrected fan speed, each matched
+        from the last; where the engine has no steady state that low (sub-idle near sea level) the lowest
+        one found is taken, which overstates the idle thrust: the descent gradient is then conservative."""
+        f, em = self.fuel, self._em
+        demand = max(f.N1c_idle_pct, f.k_delta_pct * f.lever_min)
+        pt = self._solve(alt_m, mach, N1c_pct=demand if demand > 0.0 else 40.0)  # 40 %: a point that converges
+
+        def stop(p: OffDesignPoint) -> float:
+            return max(f.Wf_min_kg_s, em.limits.Wf_min_frac * em.dp.Wf_kg_s, em.Wf_Pt3_min_kg_s_Pa * p.stations["3"].Pt_Pa)
+
+        if demand > 0.0 and pt.Wf_kg_s >= stop(pt) * (1.0 - 1e-6):
+            return pt
+        n1c = pt.N1c_pct
+        while pt.Wf_kg_s < stop(pt) * (1.0 - 1e-6) or (demand <= 0.0 and pt.Wf_kg_s > stop(pt) * (1.0 + 1e-6)):
+            going_up = pt.Wf_kg_s < stop(pt)
+            try:
+                nxt = self._solve(alt_m, mach, guess=pt, N1c_pct=n1c + (2.0 if going_up else -2.0))
+            except PerformanceError:
+                return pt
+            if (nxt.Wf_kg_s >= stop(nxt)) != (pt.Wf_kg_s >= stop(pt)):  # bracketed: finish on the stop
+                try:
+                    return self._solve(alt_m, mach, guess=nxt, Wf_kg_s=stop(nxt))
+                except PerformanceError:
+                    return nxt if going_up else pt
+            pt, n1c = nxt, nxt.N1c_pct
+            if not 5.0 < n1c < 110.0:
+                return pt
         return pt
 
     def thrust_max_N(self, alt_m: float, mach: float) -> float:

@@ -168,11 +168,12 @@ class Airframe(Fmi2Slave):
     def exit_initialization_mode(self) -> None:
         w = self._weather()
         turb = w.turbulence if w is not None else None
+        sev, w20, seed = (self.turbulence_severity, self.turbulence_wind_20ft_m_s, self.turbulence_seed)
+        if turb is not None:  # the file's turbulence replaces the parameters'
+            sev, w20, seed = turb.severity, turb.wind_20ft_m_s, turb.seed
         m = AirframeModel(rate_hz=self.rate_hz, isa_dev_K=self.isa_dev_K,
                           wind_ned_m_s=(self.wind_north_m_s, self.wind_east_m_s, self.wind_down_m_s),
-                          turbulence_severity=self.turbulence_severity if turb is None else turb.severity,
-                          turbulence_wind_20ft_m_s=self.turbulence_wind_20ft_m_s if turb is None else turb.wind_20ft_m_s,
-                          seed=self.turbulence_seed if turb is None else turb.seed,
+                          turbulence_severity=sev, turbulence_wind_20ft_m_s=w20, seed=seed,
                           wind_profile=w.wind.ned_m_s if w is not None and w.wind is not None else None)
         if self.start_on_runway:
             m.start_runway(self.lat0_deg, self.lon0_deg, self.heading0_deg, self.alt0_m, fuel_kg=self.fuel0_kg,

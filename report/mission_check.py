@@ -36,10 +36,10 @@ from xml.etree import ElementTree
 
 from openemss.models.fcs.errors import FcsError
 from openemss.models.fcs.feasibility import MissionCheck, check_mission
+from openemss.models.fcs.feasibility_perf import Limits
 from openemss.models.fcs.geo import LatLon
 from openemss.models.fcs.mission import Mission, load_mission, parse_mission
-from openemss.models.fcs.feasibility_perf import Limits
-from openemss.models.fcs.weather import KT_M_S, Turbulence, Weather, WindLayer, WindProfile, parse_weather_text
+from openemss.models.fcs.weather import Turbulence, Weather, WindLayer, WindProfile, parse_weather_text
 
 from .errors import ReportError
 from .rundata import find_roles, read_fmu_file
@@ -237,7 +237,8 @@ def format_check(check: MissionCheck, setup: CheckSetup, warnings: Sequence[str]
              f"  {'#':>2}  {'section':<34} {'type':<17} {'altitude m':<13} {'dist km':>7} {'need %':>7} "
              f"{'can %':>7} {'turn R km':>9} {'geom km':>7} {'T/D':>5} {'mass kg':>7}  verdict"]
     for s in check.sections:
-        alt = f"{s.alt_from_m:.0f}" if abs(s.alt_to_m - s.alt_from_m) < 1.0 else f"{s.alt_from_m:.0f} -> {s.alt_to_m:.0f}"
+        alt = (f"{s.alt_from_m:.0f}" if abs(s.alt_to_m - s.alt_from_m) < 1.0
+               else f"{s.alt_from_m:.0f} -> {s.alt_to_m:.0f}")
         lines.append(f"  {s.index:>2}  {s.name[:34]:<34} {s.type:<17} {alt:<13} {_f(s.distance_m, 1e-3):>7} "
                      f"{_f(s.required_gradient, 100):>7} {_f(s.achievable_gradient, 100):>7} "
                      f"{_f(s.turn_radius_m, 1e-3):>9} {_f(s.geometry_radius_m, 1e-3):>7} "

@@ -139,7 +139,8 @@ class ModelPerformance:
         pt = self._solve(alt_m, mach, N1c_pct=demand if demand > 0.0 else 40.0)  # 40 %: a point that converges
 
         def stop(p: OffDesignPoint) -> float:
-            return max(f.Wf_min_kg_s, em.limits.Wf_min_frac * em.dp.Wf_kg_s, em.Wf_Pt3_min_kg_s_Pa * p.stations["3"].Pt_Pa)
+            return max(f.Wf_min_kg_s, em.limits.Wf_min_frac * em.dp.Wf_kg_s,
+                       em.Wf_Pt3_min_kg_s_Pa * p.stations["3"].Pt_Pa)
 
         if demand > 0.0 and pt.Wf_kg_s >= stop(pt) * (1.0 - 1e-6):
             return pt

@@ -5,9 +5,10 @@ can do there, and its turns with the bank limit of the guidance:
 
 * **Climb and descent.** A section's altitude is reached by its constraint point: the waypoint
   ``altitude_at`` of a WaypointFollowing section, by default its last (as the flight control's
-  vertical planner takes it; the distance runs along the legs), the end of its turns for an Orbiting section (approach to the circle plus ``turns`` x 2 pi R),
-  the glide slope intercept for a Landing. The required gradient is the altitude change over
-  the ground distance from the previous section's end. The achievable one follows from the
+  vertical planner takes it; the distance runs along the legs), the end of its turns for an
+  Orbiting section (approach to the circle plus ``turns`` x 2 pi R), the glide slope intercept
+  for a Landing. The required gradient is the altitude change over the ground distance from the
+  previous section's end. The achievable one follows from the
   specific excess power [1]_: the total energy height ``E = h + V^2 / 2g`` changes along the air
   path at ``dE/ds = (T - D) / W``, with T the maximum thrust (climb) or the idle thrust (descent)
   and D the level-flight drag of the trimmed aircraft at the section's speed, altitude and
@@ -50,10 +51,10 @@ from dataclasses import dataclass
 
 from .atmosphere import G0_M_S2, cas_from_tas, isa, mach_from_tas, tas_from_cas
 from .errors import FcsError
+from .feasibility_perf import Limits, Performance, PerformanceError, PerfPoint
 from .geo import LatLon, destination, distance_m, final_bearing_rad, initial_bearing_rad, wrap_pi
 from .guidance import FLY_BY_MAX_TURN_RAD
 from .mission import Mission, Section
-from .feasibility_perf import Limits, Performance, PerformanceError, PerfPoint
 from .tecs import SpeedCommand
 from .weather import WindProfile
 
@@ -218,7 +219,8 @@ class _Checker:
             if g <= 0.0:
                 why = (f"drag {p.drag_in_turn_N(n) / 1e3:.2f} kN exceeds the maximum thrust "
                        f"{p.thrust_max_N / 1e3:.2f} kN" if climb else
-                       f"idle thrust {p.thrust_idle_N / 1e3:.2f} kN exceeds the drag {p.drag_in_turn_N(n) / 1e3:.2f} kN")
+                       f"idle thrust {p.thrust_idle_N / 1e3:.2f} kN exceeds the drag "
+                       f"{p.drag_in_turn_N(n) / 1e3:.2f} kN")
                 self.findings.append(Finding("infeasible", f"{what}{'climb' if climb else 'descent'} "
                                              f"{h0:.0f} -> {h1:.0f} m: at {h:.0f} m and M {p.mach:.2f} the {why}"))
                 return (None if dist is None else abs(dh) / dist), 0.0, math.inf
@@ -255,7 +257,8 @@ class _Checker:
         cas = cas_from_tas(p.tas_m_s, isa(p.alt_m, self.dT))
         if cas < self.lim.v_min_cas_m_s:
             self.findings.append(Finding("marginal", f"{what}{cas:.0f} m/s CAS is below the underspeed protection "
-                                         f"{self.lim.v_min_cas_m_s:.0f} m/s (tecs.V_min_cas_m_s): the TECS flies faster"))
+                                         f"{self.lim.v_min_cas_m_s:.0f} m/s (tecs.V_min_cas_m_s): the TECS flies "
+                                         "faster"))
         return ratio
 
     def turn_radius(self, gs: float, bank_frac: float = 1.0) -> float:

@@ -25,9 +25,8 @@ H = 0.05
 def test_air_path_direction_from_the_attitude() -> None:
     # wings level, climbing at 3 deg with 4 deg of angle of attack, heading 30 deg: along the heading, up 3 deg
     n, e, u = air_path_direction(0.0, math.radians(7.0), math.radians(30.0), 0.0, math.radians(3.0))
-    assert (n, e, u) == pytest.approx((math.cos(math.radians(3)) * math.cos(math.radians(30)),
-                                       math.cos(math.radians(3)) * math.sin(math.radians(30)), math.sin(math.radians(3))),
-                                      abs=1e-12)
+    c3, s3 = math.cos(math.radians(3)), math.sin(math.radians(3))
+    assert (n, e, u) == pytest.approx((c3 * math.cos(math.radians(30)), c3 * math.sin(math.radians(30)), s3), abs=1e-12)
     # level right turn, 60 deg bank, pitch 3 deg: alpha = atan(tan(3 deg)/cos(60 deg)); the path is horizontal
     # and, the nose pointing into the turn, lies to the left of the heading
     phi, theta = math.radians(60.0), math.radians(3.0)

@@ -39,8 +39,9 @@ class Analytic:
     rolling_friction: float = 0.02
 
     def point(self, alt_m: float, mach: float, mass_kg: float, gear_down: bool = False) -> PerfPoint:
-        return PerfPoint(alt_m, mach, mach * isa(alt_m).a_m_s, mass_kg, self.drag_gear if gear_down else self.drag, 0.3, 1.3,
-                         0.05, mass_kg * G0_M_S2 / 0.3, self.t_max, self.t_idle, 0.2, 0.02)
+        drag = self.drag_gear if gear_down else self.drag
+        return PerfPoint(alt_m, mach, mach * isa(alt_m).a_m_s, mass_kg, drag, 0.3, 1.3, 0.05, mass_kg * G0_M_S2 / 0.3,
+                         self.t_max, self.t_idle, 0.2, 0.02)
 
     def thrust_max_N(self, alt_m: float, mach: float) -> float:
         return self.t_max
@@ -60,7 +61,8 @@ def _east(lat: float, km: float) -> tuple[float, float]:
 
 def _mission(sections: str, waypoints: dict[str, tuple[float, float]], runways: str = "") -> object:
     wps = "\n".join(f"    {n}: {{lat_deg: {la!r}, lon_deg: {lo!r}}}" for n, (la, lo) in waypoints.items())
-    return parse_mission(f"mission: {{name: t}}\nplaces:\n{runways}  waypoints:\n{wps}\nsections:\n{sections}", "t.yaml")
+    text = f"mission: {{name: t}}\nplaces:\n{runways}  waypoints:\n{wps}\nsections:\n{sections}"
+    return parse_mission(text, "t.yaml")
 
 
 def _check(mission: object, alt0: float, tas0: float = 150.0, perf: Analytic | None = None,

@@ -23,7 +23,7 @@ from .geo import wrap_pi
 from .guidance import L1Guidance
 from .lateral import LateralController, LateralState
 from .mission import Mission
-from .pitch import PitchController
+from .pitch import PitchController, turn_pitch_rate
 from .state import AircraftState, EngineState, Targets
 from .state_machine import MissionRunner
 from .tecs import Tecs, TecsInput
@@ -68,6 +68,9 @@ class _ParamHolder(Tunable[ApproachParams]):
 
     def _on_parameters_changed(self) -> None:
         self._runner.approach_params = self._params
+
+
+_GROUND_PITCH_PHASES = frozenset({"ROLL", "ROTATE", "LIFTOFF"})
 
 
 @dataclass(frozen=True, slots=True)
@@ -215,7 +218,11 @@ class FlightControlSystem:
                                  tg.gamma_cmd_rad if alt_cmd is None else None, lever_fixed=tg.lever)
             theta_c, lever, tas_cmd = out.theta_cmd_rad, out.lever, out.tas_cmd_m_s
         self._lever = lever
-        elevator = self.pitch.step(dt_s, theta_c, x.theta_rad, x.q_rad_s, x.qbar_Pa)
+        q_turn = turn_pitch_rate(x.phi_rad, x.tas_m_s) if not x.on_ground else 0.0
+        # The ground gains act on the runway and until the climb law takes over after lift-off, so that
+        # the gains do not switch while the aircraft leaves the ground.
+        ground = x.on_ground or tg.phase in _GROUND_PITCH_PHASES
+        elevator = self.pitch.step(dt_s, theta_c, x.theta_rad, x.q_rad_s, x.qbar_Pa, q_turn, on_ground=ground)
         lat = self.lateral.step(dt_s, LateralState(x.phi_rad, x.theta_rad, x.psi_rad, x.chi_rad, x.p_rad_s, x.r_rad_s,
                                                    x.beta_rad, x.tas_m_s, x.qbar_Pa),
                                 phi_cmd_rad=tg.phi_cmd_rad, heading_cmd_rad=tg.heading_cmd_rad)

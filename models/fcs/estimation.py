@@ -27,7 +27,11 @@ is followed): with an estimate V_e of the airspeed,
     dV_e/dt = Vdot_i + (V - V_e) / tau,     Vdot = Vdot_i + (V - V_e) / tau,
 
 whose output is the measured airspeed's rate below 1/tau and the inertial one above
-(a first-order complementary filter).
+(a first-order complementary filter; tau is ``estimation.tau_cross_s``, data/estimation.yaml).
+The flight control low-passes the rate once more (``tecs.tau_Vdot_s``, 0.3 s) before the TECS:
+the inertial rate has no lag, and in speed priority (idle descent) the loop from pitch through
+the flight path's gravity component back to the rate, g per radian, then closed at 1 Hz into
+an elevator-saturating pitch oscillation on the calibrated airframe.
 
 References
 ----------
@@ -40,8 +44,23 @@ References
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
-__all__ = ["AirspeedRateEstimator", "air_path_direction"]
+from .tunable import Tunable, load_params
+
+__all__ = ["EstimationParams", "AirspeedRateEstimator", "air_path_direction"]
+
+
+@dataclass(frozen=True, slots=True)
+class EstimationParams:
+    """Parameters of the estimator (data/estimation.yaml, section ``estimation``)."""
+
+    tau_cross_s: float
+
+    @classmethod
+    def from_file(cls, **overrides: float) -> EstimationParams:
+        """Parameter set of ``data/estimation.yaml``."""
+        return load_params(cls, "estimation.yaml", "estimation", **overrides)
 
 
 def air_path_direction(phi_rad: float, theta_rad: float, psi_rad: float, beta_rad: float,
@@ -65,17 +84,24 @@ def air_path_direction(phi_rad: float, theta_rad: float, psi_rad: float, beta_ra
     return n, e, -d
 
 
-class AirspeedRateEstimator:
+class AirspeedRateEstimator(Tunable[EstimationParams]):
     """Complementary filter of the true airspeed rate from the ground velocity and the airspeed.
 
     Parameters
     ----------
-    tau_s : float
-        Crossover time constant [s]; 0 gives the differenced airspeed (no filtering).
+    params : EstimationParams or float, optional
+        The parameter set (default: the file's), or just the crossover time constant
+        ``tau_cross_s`` [s]; 0 gives the differenced airspeed (no filtering).
     """
 
-    def __init__(self, tau_s: float) -> None:
-        self.tau_s = float(tau_s)
+    tunable_name = "estimation"
+
+    def __init__(self, params: EstimationParams | float | None = None) -> None:
+        if params is None:
+            params = EstimationParams.from_file()
+        elif not isinstance(params, EstimationParams):
+            params = EstimationParams(float(params))
+        self._params = params
         self._v_est: float | None = None
         self._vg_prev: tuple[float, float, float] | None = None
         self._path_prev = (1.0, 0.0, 0.0)  # air path direction (north, east, up) of the previous step [-]
@@ -115,10 +141,11 @@ class AirspeedRateEstimator:
         # turn's centripetal acceleration into a speed change)
         vdot_i = sum((a - b) * c for a, b, c in zip(vg, self._vg_prev, self._path_prev, strict=True)) / dt_s
         self._vg_prev, self._path_prev = vg, u_now
-        if self.tau_s <= 0.0:
+        tau = self._params.tau_cross_s
+        if tau <= 0.0:
             vdot = (tas_m_s - self._v_est) / dt_s
             self._v_est = tas_m_s
             return vdot
-        vdot = vdot_i + (tas_m_s - self._v_est) / self.tau_s
+        vdot = vdot_i + (tas_m_s - self._v_est) / tau
         self._v_est += vdot * dt_s
         return vdot

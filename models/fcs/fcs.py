@@ -155,7 +155,9 @@ class FlightControlSystem:
                                                 "fuel_control": self.fuel}
         self._tecs_engaged = False
         self._lever: float | None = None
-        self._vdot = AirspeedRateEstimator(self.tecs.parameters.tau_Vdot_s)
+        self._estimator = AirspeedRateEstimator()
+        self.controllers["estimation"] = self._estimator
+        self._vdot_f: float | None = None  # low-passed airspeed rate estimate [m/s^2]
 
     # -- parameters -----------------------------------------------------------------------
     def parameter_names(self) -> tuple[str, ...]:
@@ -189,15 +191,18 @@ class FlightControlSystem:
         """One FCS step at time ``t_s`` [s] of length ``dt_s`` [s].
 
         If ``x.Vdot_m_s2`` is NaN (an airframe that does not output it), the rate of the
-        true airspeed is estimated from the ground velocity and the airspeed
-        (:class:`~.estimation.AirspeedRateEstimator`, crossover ``tecs.tau_Vdot_s``).
+        true airspeed and its rate are estimated from the ground velocity and the airspeed
+        (:class:`~.estimation.AirspeedRateEstimator`, crossover ``estimation.tau_cross_s``), the rate
+        low-passed with ``tecs.tau_Vdot_s``; the TECS flies the estimated airspeed.
         """
         vdot, tas = x.Vdot_m_s2, x.tas_m_s
         if math.isnan(vdot):  # (not a dataclasses.replace of the state: a third of this step's cost)
-            self._vdot.tau_s = self.tecs.parameters.tau_Vdot_s
-            vdot = self._vdot.step(dt_s, x.tas_m_s, x.vn_m_s, x.ve_m_s, x.tas_m_s * math.sin(x.gamma_rad),
-                                   x.phi_rad, x.theta_rad, x.psi_rad, x.beta_rad, x.gamma_rad)
-            tas = self._vdot.tas_m_s or tas
+            raw = self._estimator.step(dt_s, x.tas_m_s, x.vn_m_s, x.ve_m_s, x.tas_m_s * math.sin(x.gamma_rad),
+                                       x.phi_rad, x.theta_rad, x.psi_rad, x.beta_rad, x.gamma_rad)
+            tau = self.tecs.parameters.tau_Vdot_s   # first-order low-pass of the estimate
+            self._vdot_f = raw if self._vdot_f is None else self._vdot_f + (raw - self._vdot_f) * dt_s / (tau + dt_s)
+            vdot = self._vdot_f
+            tas = self._estimator.tas_m_s if self._estimator.tas_m_s is not None else tas
         tg = self.runner.step(t_s, dt_s, x)
         tas_cmd = math.nan
         if tg.theta_cmd_rad is not None:

@@ -21,6 +21,8 @@ Format (see ``missions/munich.yaml`` for a complete example)::
       - {type: Levelling, altitude_m: 5000, speed: {mach: 0.6}}
       - {type: Landing, runway: EDDM_26R, approach_altitude_m: 1200, approach_speed: {cas_m_s: 65}}
       - {type: Custom, duration_s: 60, commands: [{t_s: 0, lever: 0.8, pitch_deg: 3, bank_deg: 0}]}
+    wind: {layers: [{alt_m: 450, from_deg: 240, speed_kt: 8}, {alt_m: 1500, from_deg: 260, speed_kt: 20}]}
+    turbulence: {severity: light, seed: 7}           # wind and turbulence optional: see .weather
 
 A speed is a mapping with exactly one of ``mach`` [-], ``cas_m_s`` or ``tas_m_s``
 [m/s]. Every section may have a ``name``. The fields of each section type, with
@@ -51,6 +53,7 @@ import yaml
 from .errors import MissionError
 from .geo import LatLon
 from .tecs import SpeedCommand, SpeedKind
+from .weather import WEATHER_KEYS, Weather, parse_weather
 
 __all__ = ["SECTION_TYPES", "SECTION_FIELDS", "Section", "Mission", "load_mission", "parse_mission",
            "speed_from_mapping"]
@@ -155,6 +158,8 @@ class Mission:
     waypoints: tuple[tuple[str, LatLon], ...]
     sections: tuple[Section, ...]
     source: str
+    #: winds aloft and turbulence of the top-level ``wind`` and ``turbulence`` keys (:mod:`.weather`)
+    weather: Weather | None = None
 
     def waypoint(self, name: str) -> LatLon:
         """Waypoint by name."""
@@ -327,10 +332,11 @@ def parse_mission(text: str, source: str = "<mission>") -> Mission:
         raise MissionError(f"{source}:{line}: not valid YAML: {getattr(e, 'problem', e)}") from None
     if not isinstance(doc, dict):
         raise ctx.fail((), "a mission file is a mapping with 'mission', 'places' and 'sections'")
-    unknown = set(doc) - {"mission", "places", "sections"}
+    unknown = set(doc) - {"mission", "places", "sections", *WEATHER_KEYS}
     if unknown:
         k = sorted(unknown)[0]
-        raise ctx.fail((k,), f"unknown top-level key '{k}'; allowed: mission, places, sections")
+        raise ctx.fail((k,), f"unknown top-level key '{k}'; allowed: mission, places, sections, "
+                       f"{', '.join(WEATHER_KEYS)}")
     head = doc.get("mission") or {}
     if not isinstance(head, dict) or "name" not in head:
         raise ctx.fail(("mission",), "mission: expected a mapping with 'name' (and 'description')")
@@ -372,7 +378,7 @@ def parse_mission(text: str, source: str = "<mission>") -> Mission:
                 raise ctx.fail(path + ("commands",), f"{where} field 'commands': the first command must be at t_s = 0")
         sections.append(Section(i, typ, str(s.get("name", typ)), tuple(fields)))
     return Mission(str(head["name"]), str(head.get("description", "")), tuple(runways.items()),
-                   tuple(waypoints.items()), tuple(sections), source)
+                   tuple(waypoints.items()), tuple(sections), source, parse_weather(doc, ctx.fail, source))
 
 
 def load_mission(path: str | Path) -> Mission:

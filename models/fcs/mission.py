@@ -52,6 +52,8 @@ import yaml
 
 from .errors import MissionError
 from .geo import LatLon
+from .marks import Context as _Ctx
+from .marks import Lines as _Lines
 from .tecs import SpeedCommand, SpeedKind
 from .weather import WEATHER_KEYS, Weather, parse_weather
 
@@ -168,42 +170,6 @@ class Mission:
     def runway(self, name: str) -> Any:
         """Runway by name."""
         return dict(self.runways)[name]
-
-
-class _Lines:
-    """Line numbers of the YAML nodes, by path of keys and indices."""
-
-    def __init__(self, text: str) -> None:
-        self.map: dict[tuple, int] = {}
-        try:
-            root = yaml.compose(text)
-        except yaml.YAMLError:
-            root = None
-        if root is not None:
-            self._walk(root, ())
-
-    def _walk(self, node: yaml.Node, path: tuple) -> None:
-        self.map[path] = node.start_mark.line + 1
-        if isinstance(node, yaml.MappingNode):
-            for k, v in node.value:
-                self.map[path + (k.value,)] = k.start_mark.line + 1
-                self._walk(v, path + (k.value,))
-        elif isinstance(node, yaml.SequenceNode):
-            for i, v in enumerate(node.value):
-                self._walk(v, path + (i,))
-
-    def line(self, path: tuple) -> int:
-        while path and path not in self.map:
-            path = path[:-1]
-        return self.map.get(path, 1)
-
-
-class _Ctx:
-    def __init__(self, source: str, lines: _Lines) -> None:
-        self.source, self.lines = source, lines
-
-    def fail(self, path: tuple, what: str) -> MissionError:
-        return MissionError(f"{self.source}:{self.lines.line(path)}: {what}")
 
 
 def speed_from_mapping(m: Any) -> SpeedCommand:

@@ -46,6 +46,7 @@ from pathlib import Path
 from typing import Any
 
 from .errors import MissionError
+from .marks import Context, Lines
 
 __all__ = ["WindLayer", "WindProfile", "Turbulence", "Weather", "WEATHER_KEYS", "SEVERITIES", "KT_M_S",
            "parse_weather", "parse_weather_text", "load_weather"]
@@ -292,9 +293,7 @@ def parse_weather_text(text: str, source: str) -> Weather:
     see :func:`load_weather`."""
     import yaml
 
-    from .mission import _Ctx, _Lines  # the mission reader's line marks (mission imports this module)
-
-    ctx = _Ctx(source, _Lines(text))
+    ctx = Context(source, Lines(text))
     try:
         doc = yaml.safe_load(text)
     except yaml.YAMLError as e:

@@ -114,6 +114,29 @@ def test_the_good_mission_still_loads(tmp_path: Path) -> None:
     assert [s.type for s in load_mission(path).sections] == ["WaypointFollowing"]
 
 
+WEATHER = "wind:\n  layers:\n    - {alt_m: 450.0, from_deg: 240.0, speed_kt: 10.0}\nturbulence: {severity: light, seed: 1}\n"
+WEATHER_CASES: dict[str, tuple[str, list[str]]] = {
+    "duplicate_layer_field": (WEATHER.replace("speed_kt: 10.0}", "speed_kt: 10.0, speed_kt: 90.0}"),
+                              [":3:", "key 'speed_kt' is given twice"]),
+    "nan_speed": (WEATHER.replace("10.0", ".nan"), [":3:", "not a finite number"]),
+    "alias_bomb": (WEATHER + BOMB.replace("l", "x_l"), ["expands to more than"]),
+}
+
+
+@pytest.mark.parametrize("case", sorted(WEATHER_CASES))
+def test_hostile_weather(tmp_path: Path, case: str) -> None:
+    from openemss.models.fcs.weather import load_weather
+
+    text, fragments = WEATHER_CASES[case]
+    path = tmp_path / "weather.yaml"
+    path.write_text(text, encoding="utf-8")
+    t0 = time.process_time()
+    with pytest.raises(MissionError) as exc:
+        load_weather(path)
+    assert time.process_time() - t0 < 5.0
+    one_line(exc.value, str(path), *fragments)
+
+
 # -- scenarios -----------------------------------------------------------------------------------
 SCENARIO = "events:\n  - at: 1.0\n    set: {a.u_real: 2.0}\n"
 SCENARIO_CASES: dict[str, tuple[str, list[str]]] = {

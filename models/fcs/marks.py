@@ -2,10 +2,13 @@
 weather files share them; each reader imports this module, neither imports the other)."""
 from __future__ import annotations
 
-import yaml
+from typing import TYPE_CHECKING
 
 from ..common import safe_yaml
 from .errors import MissionError
+
+if TYPE_CHECKING:  # PyYAML is imported where a file is read (the airframe FMU runs without it)
+    import yaml
 
 __all__ = ["Lines", "Context"]
 
@@ -23,6 +26,8 @@ class Lines:
             self._walk(root, ())
 
     def _walk(self, node: yaml.Node, path: tuple) -> None:
+        import yaml
+
         self.map[path] = node.start_mark.line + 1
         if isinstance(node, yaml.MappingNode):
             for k, v in node.value:

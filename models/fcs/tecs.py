@@ -13,7 +13,8 @@ first, at constant thrust pitch only trades between height and speed, so:
   (altitude mode: first-order capture with time constant 1/k_h, no overshoot;
   gamma_ff = asin(hdot_ff / V) the feed-forward of a managed vertical path, 0 for
   a level), or a given gamma_c (path mode, e.g. glide slope, flare);
-  Vdot_c = clip(k_V (V_c - V), +-Vdot_max);
+  Vdot_c = clip(k_V (V_c - V), +-Vdot_max), changing by at most jerk_max per second
+  (a speed step does not kick the pitch before the thrust can follow);
 * errors: e_g = sin gamma_c - sin gamma, e_v = (Vdot_c - Vdot) / g;
   E_err = e_g + e_v (total), L_err = w_g e_g - w_v e_v (distribution);
 * thrust: T_c / W = k_TP E_err + k_TI Int E_err dt (the integral holds D/W);
@@ -30,7 +31,10 @@ in the channel that has no priority:
   thrust accelerates at what the thrust gives and the height is held;
 * *speed priority* (an open climb or descent: the altitude command asks for more
   than the flight-path limit, or the caller says so): the flight-path command is
-  cut -- a climb at maximum thrust climbs at what is left after the acceleration.
+  cut -- a climb at maximum thrust climbs at what is left after the acceleration,
+  but no less than level (the acceleration is cut beyond), so a climb that must
+  also accelerate does not first descend, nor an idle descent that must also slow
+  down first climb.
 
 If the thrust saturates nevertheless (the model's limits are estimates), the
 weights (w_g, w_v) blend from (1, 1) to (2, 0) (path) or (0, 2) (speed) with the
@@ -129,6 +133,7 @@ class TecsParams:
     underspeed_margin: float
     mach_max: float
     tau_Vdot_s: float
+    jerk_max_m_s3: float
 
     @classmethod
     def from_file(cls, **overrides: float) -> TecsParams:
@@ -230,12 +235,14 @@ class Tecs(Tunable[TecsParams]):
         self._iT = 0.0
         self._iL = 0.0
         self._sigma = 0.0  # blend of the weights towards the priority's [0, 1]
+        self._a_c = 0.0  # acceleration command of the previous step [m/s^2]
 
     def reset(self, thrust_N: float, weight_N: float, theta_rad: float, gamma_rad: float = 0.0) -> None:
         """Bumpless engagement from the current thrust [N], weight [N], pitch and path angles [rad]."""
         self._iT = thrust_N / weight_N
         self._iL = theta_rad
         self._sigma = 0.0
+        self._a_c = 0.0
 
     def available_thrust_N(self, alt_m: float, dT_isa_K: float = 0.0) -> float:
         """Estimate of the maximum thrust at altitude, thrust_sls (rho/rho0)^n [N]."""
@@ -291,6 +298,9 @@ class Tecs(Tunable[TecsParams]):
             g_raw = float(gamma_cmd_rad)  # type: ignore[arg-type]
         g_c = min(max(g_raw, p.gamma_min_rad), p.gamma_max_rad)
         a_c = min(max(p.k_V_1_s * (V_c - V), -p.Vdot_max_m_s2), p.Vdot_max_m_s2)
+        if not underspeed and p.jerk_max_m_s3 > 0.0:
+            da = p.jerk_max_m_s3 * dt_s
+            a_c = min(max(a_c, self._a_c - da), self._a_c + da)
         if priority is None:
             priority = "speed" if g_raw != g_c else "path"
         limited = False
@@ -307,8 +317,14 @@ class Tecs(Tunable[TecsParams]):
                 if priority == "path":
                     a_c = min(max(G0_M_S2 * (lim - math.sin(g_c)), -p.Vdot_max_m_s2), p.Vdot_max_m_s2)
                 else:
-                    g_c = math.asin(min(max(lim - a_c / G0_M_S2, math.sin(p.gamma_min_rad)),
-                                        math.sin(p.gamma_max_rad)))
+                    # the flight path is cut, but a climb is not turned into a descent (nor a descent into a
+                    # climb) to pay for a speed change: beyond level flight the acceleration is cut instead
+                    sg = lim - a_c / G0_M_S2
+                    if (g_c > 0.0 and sg < 0.0) or (g_c < 0.0 and sg > 0.0):
+                        sg = 0.0
+                        a_c = min(max(G0_M_S2 * lim, -p.Vdot_max_m_s2), p.Vdot_max_m_s2)
+                    g_c = math.asin(min(max(sg, math.sin(p.gamma_min_rad)), math.sin(p.gamma_max_rad)))
+        self._a_c = a_c
         e_g = math.sin(g_c) - math.sin(x.gamma_rad)
         e_v = (a_c - x.Vdot_m_s2) / G0_M_S2
         E_err = e_g + e_v

@@ -230,7 +230,10 @@ class SectionVnav:
             d = self.descent
             if s < 0.0:  # past the constraint point (an intermediate waypoint's): hold its altitude
                 return VerticalTargets(self.h_c, 0.0, self.speed, False, "path", "ALT", s)
+            # the path's vertical speed is taken ``path_lead_s`` ahead (the pitch loop's lag: without it the
+            # aircraft lags into the level-off at the bottom of descent by about its sink rate x the lag)
             h, slope = d.profile.at(s)
+            slope = d.profile.at(s - p.path_lead_s * x.gs_m_s)[1]
             speed = d.speed_target if s <= d.s_decel_m else d.speed_descent
             if t_s >= self._next_check:
                 self._next_check = t_s + p.replan_period_s

@@ -69,6 +69,7 @@ class VnavParams:
     unable_margin_m: float
     replan_period_s: float
     overspeed_m_s: float
+    path_lead_s: float
 
     @classmethod
     def from_file(cls, **overrides: float) -> VnavParams:

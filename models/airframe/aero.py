@@ -20,7 +20,8 @@ Origin of each term (see ``README.md`` for the derivation in prose):
 * zero-lift drag: component build-up with turbulent/laminar skin friction,
   cut-off Reynolds number for roughness, form factors and interference factors
   [1]_ (sect. 12.5), plus intake, gear (frontal-area D/q) and leakage/protuberances;
-* drag due to lift: k = 1/(pi A e) with Oswald e from Nita and Scholz [3]_;
+* drag due to lift: k = 1/(pi A e), 1/e = 1/(u s) + pi A K CD0 (Kroo [10]_) with the planform
+  efficiency u of Nita and Scholz [3]_;
 * wave drag: Korn equation for the drag-divergence Mach number and Lock's
   drag-rise law CD_w = 20 (M - M_cr)^4 [4]_;
 * pitching moment: wing-body, fuselage (Munk/Multhopp via Raymer's K_f) and tail
@@ -28,7 +29,7 @@ Origin of each term (see ``README.md`` for the derivation in prose):
 * damping and control derivatives: tail-volume formulas [5]_ (ch. 2, 3, 5) and
   strip theory for roll damping and aileron power [6]_;
 * ground effect on the drag due to lift: McCormick's factor [7]_;
-* airbrake: flat plate normal to the flow on the panels' frontal area [8]_.
+* airbrake: flat plate normal to the flow on the panels' frontal area [11]_.
 
 References
 ----------
@@ -43,9 +44,15 @@ References
 .. [6] Etkin, B., Reid, L. D., *Dynamics of Flight*, 3rd ed., Wiley, 1996, ch. 5.
 .. [7] McCormick, B. W., *Aerodynamics, Aeronautics and Flight Mechanics*, Wiley, 1979, ch. 4
    (ground effect on induced drag), as quoted in Raymer sect. 17.8.
-.. [8] Hoerner, S. F., *Fluid-Dynamic Drag*, published by the author, 1965, ch. 3 (flat plates
+.. [8] Shevell, R. S., *Fundamentals of Flight*, 2nd ed., Prentice Hall, 1989, ch. 11 (form factor
+   of lifting surfaces from the supervelocity).
+.. [9] Gur, O., Mason, W. H., Schetz, J. A., "Full-configuration drag estimation", *Journal of
+   Aircraft* 47(4), 2010, pp. 1356-1367.
+.. [10] Kroo, I., *Aircraft Design: Synthesis and Analysis*, Stanford University, 2001, "Lift-dependent
+   drag" (1/e = 1/(u s) + pi A K CD0, K about 0.38).
+.. [11] Hoerner, S. F., *Fluid-Dynamic Drag*, published by the author, 1965, ch. 3 (flat plates
    normal to the flow) and ch. 8 (obstacles on a wall).
-.. [9] Stephenson, J. D., "The effects of aerodynamic brakes upon the speed characteristics of
+.. [12] Stephenson, J. D., "The effects of aerodynamic brakes upon the speed characteristics of
    airplanes", NACA TN 1939, 1949 (measured drag increments of wing and fuselage brakes).
 """
 from __future__ import annotations
@@ -57,16 +64,18 @@ from functools import lru_cache
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .corrections import AeroCorrections, load_corrections
 from .geometry import Geometry, Planform, load_geometry
 
-__all__ = ["AeroModel", "aero_model", "helmbold_slope", "skin_friction", "korn_mcrit", "wave_drag",
-           "oswald_nita_scholz", "isa"]
+__all__ = ["AeroModel", "aero_model", "build_aero_model", "geometric_model", "helmbold_slope", "skin_friction", "korn_mcrit",
+           "wave_drag", "planform_efficiency_nita_scholz", "oswald_kroo", "lifting_form_factor", "isa"]
 
 MAX_MACH = 0.95  # highest Mach number of the tables (JSBSim holds the last value beyond)
 LEAKAGE_PROTUBERANCE = 0.05  # fraction of parasite drag [1] sect. 12.5.8
 ELEVATOR_EMPIRICAL = 0.80  # correction of thin-airfoil flap effectiveness for viscosity [2] fig. 6.1.1.1-40
 DESIGN_CL = 0.30  # lift coefficient at which the tail incidence gives zero elevator
 DESIGN_MACH = 0.5
+DESIGN_ALT_M = 5000.0  # altitude of the design condition (Reynolds number of the viscous drag due to lift)
 
 
 def isa(alt_m: float, dT_K: float = 0.0) -> tuple[float, float, float, float, float]:
@@ -101,6 +110,24 @@ def helmbold_slope(aspect: float, tan_sweep_tmax: float, mach: ArrayLike, eta: f
     return 2 * np.pi * aspect / (2 + np.sqrt(4 + aspect ** 2 * beta2 / eta ** 2 * (1 + tan_sweep_tmax ** 2 / beta2)))
 
 
+def compressibility_factor(mach: ArrayLike) -> NDArray:
+    """Prandtl-Glauert factor ``1/sqrt(1 - M^2)`` on the whole lift of wing-body and tail [-].
+
+    Lifting-surface theory (Goethert's rule, Helmbold's formula with the compressible aspect ratio
+    A beta, :func:`helmbold_slope`) makes a wing of aspect ratio 3.2 gain only 10 % of lift slope from
+    Mach 0.4 to 0.75, a sixth of the two-dimensional Prandtl-Glauert gain. That is the inviscid,
+    linear limit. Above the critical Mach number (0.71 at CL 0.14 by Korn) the supercritical
+    pocket on the upper surface adds lift until the shock stall near the drag-divergence Mach number
+    (DATCOM [2]_ sect. 4.1.3.2, transonic lift-curve slopes above the subsonic theory; Hilton [4]_). Held against
+    the CFD's lift of this aircraft, whose three points lie on both sides of M_cr, the lift grows with
+    Mach as fast as 1/beta (2 % over the range, against 15 % for Helmbold's law): the lift is scaled by
+    1/beta, incidence and zero-lift angle included, up to Mach 0.9 (the Mach tables hold 0.9 above,
+    past the drag divergence, where this rule would overstate the lift).
+    """
+    m = np.minimum(np.asarray(mach, dtype=float), 0.9)
+    return 1.0 / np.sqrt(1.0 - m ** 2)
+
+
 def skin_friction(re: ArrayLike, mach: ArrayLike, length_m: float, roughness_m: float,
                   laminar_fraction: float) -> NDArray:
     """Flat-plate skin-friction coefficient, mixed laminar/turbulent [1]_ eqs. 12.24-12.28.
@@ -118,9 +145,23 @@ def skin_friction(re: ArrayLike, mach: ArrayLike, length_m: float, roughness_m: 
 
 
 def lifting_form_factor(p: Planform, mach: ArrayLike) -> NDArray:
-    """Form factor of a wing or tail [1]_ eq. 12.30 (Mach held at 0.2 below 0.2, where the fit fails)."""
-    m = np.maximum(np.asarray(mach, dtype=float), 0.2)
-    return (1 + 0.6 / p.x_t_c * p.t_c + 100 * p.t_c ** 4) * (1.34 * m ** 0.18 * math.cos(p.sweep(p.x_t_c)) ** 0.28)
+    """Form factor of a wing or tail, Shevell's supervelocity law [8]_ [-].
+
+    ``FF = 1 + Z (t/c) + 100 (t/c)^4`` with ``Z = (2 - M^2) cos L / sqrt(1 - M^2 cos^2 L)``, L the
+    quarter-chord sweep. The first-order supervelocity of a thickness distribution grows with the
+    Prandtl-Glauert factor of the Mach number normal to the sweep, so the form factor rises only
+    slowly with Mach (1.195 at M 0.2 and 1.20 at M 0.75 for UPERA's wing).
+
+    Raymer's eq. 12.30 (used before) multiplies a thickness term by ``1.34 M^0.18``: a fit whose Mach
+    term alone raises the lifting surfaces' profile drag by 12 % from Mach 0.4 to 0.75 and stands at
+    1.16 already at Mach 0.5. Gur, Mason and Schetz [9]_ compare the published form factors: at
+    t/c 0.10 they span 1.13 (DATCOM) to 1.28 (Torenbeek) at low speed, and Raymer's is the highest
+    of them at cruise Mach. Shevell's law is the one that follows from the supervelocity it models.
+    """
+    m = np.asarray(mach, dtype=float)
+    c = math.cos(p.sweep(0.25))
+    z = (2.0 - m ** 2) * c / np.sqrt(1.0 - (m * c) ** 2)
+    return 1.0 + z * p.t_c + 100.0 * p.t_c ** 4
 
 
 def korn_mcrit(cl: ArrayLike, t_c: float, sweep_rad: float, kappa: float) -> NDArray:
@@ -140,14 +181,34 @@ def wave_drag(mach: ArrayLike, mcrit: ArrayLike) -> NDArray:
     return 20.0 * dm ** 4
 
 
-def oswald_nita_scholz(aspect: float, taper: float, sweep_c4_deg: float, d_fus_over_b: float) -> float:
-    """Oswald factor e = e_theo k_eF k_eD0 [3]_ (k_eD0 = 0.873 for jets; k_eM = 1, the
-    compressibility of drag due to lift being carried by the Korn/Lock wave drag)."""
+def planform_efficiency_nita_scholz(aspect: float, taper: float, sweep_c4_deg: float) -> float:
+    """Inviscid span efficiency of a trapezoidal planform, ``e_theo`` of Nita and Scholz [3]_ [-]:
+    ``1/(1 + f(taper - d_taper(sweep)) A)`` (Hoerner's optimum taper shifted for sweep)."""
     d_lam = -0.357 + 0.45 * math.exp(-0.0375 * sweep_c4_deg)
     x = taper - d_lam
     f = 0.0524 * x ** 4 - 0.15 * x ** 3 + 0.1659 * x ** 2 - 0.0706 * x + 0.0119
-    e_theo = 1.0 / (1.0 + f * aspect)
-    return e_theo * (1 - 2 * d_fus_over_b ** 2) * 0.873
+    return 1.0 / (1.0 + f * aspect)
+
+
+def oswald_kroo(aspect: float, taper: float, sweep_c4_deg: float, d_fus_over_b: float, cd0: float,
+                k_viscous: float = 0.38) -> float:
+    """Oswald factor with the viscous drag due to lift written as a drag, not a factor [10]_ [-].
+
+    ``1/e = 1/(u s) + pi A K CD0``: u the planform's inviscid span efficiency
+    (:func:`planform_efficiency_nita_scholz`), ``s = 1 - 2 (d/b)^2`` the fuselage's loss of lift
+    carry-over, and ``K CD0 CL^2`` (K = 0.38) the profile drag's growth with lift.
+
+    Nita and Scholz [3]_ take the viscous part as a constant factor on e (0.873 for jets), fitted on
+    transport aircraft of aspect ratio 7 to 10. Their factor is the same for every aspect ratio,
+    while the viscous drag due to lift is not; its share of the drag due to lift is
+    ``pi A e K CD0``, proportional to A. So at UPERA's aspect ratio of 3.2 the fixed factor
+    overstates it about two and a half times (e 0.83 instead of 0.91). Raymer's statistical fits
+    for real aircraft [1]_ eqs. 12.48-12.49 give 0.96 at this aspect ratio. Kroo's form holds at
+    every aspect ratio.
+    """
+    u = planform_efficiency_nita_scholz(aspect, taper, sweep_c4_deg)
+    s = 1.0 - 2.0 * d_fus_over_b ** 2
+    return 1.0 / (1.0 / (u * s) + math.pi * aspect * k_viscous * cd0)
 
 
 def _datcom_downwash_gradient(g: Geometry) -> float:
@@ -186,19 +247,23 @@ class AeroModel:
     cd_gear: float
     intake_drag_area_m2: float
     flapped_area_ratio: float
+    corrections: AeroCorrections = AeroCorrections()
 
     # -- lift ---------------------------------------------------------------
     def a_wb(self, mach: ArrayLike) -> NDArray:
-        """Wing-body lift-curve slope [1/rad]; ``S_exp/S F`` capped at 0.98 as Raymer advises."""
+        """Wing-body lift-curve slope [1/rad]; ``S_exp/S F`` capped at 0.98 as Raymer advises; times the
+        calibrated ``cla_factor``."""
         w = self.geom.wing
         s_exp = w.exposed_area_m2(self.geom.fuselage_diameter_m / 2) / w.area_m2
         f = 1.07 * (1 + self.geom.fuselage_diameter_m / w.span_m) ** 2
-        return helmbold_slope(w.aspect_ratio, w.tan_sweep(w.x_t_c), mach) * min(s_exp * f, 0.98)
+        return helmbold_slope(w.aspect_ratio, w.tan_sweep(w.x_t_c), 0.0) * compressibility_factor(mach) * \
+            min(s_exp * f, 0.98) * self.corrections.cla_factor
 
     def a_h(self, mach: ArrayLike) -> NDArray:
-        """Horizontal-tail lift-curve slope [1/rad]."""
+        """Horizontal-tail lift-curve slope [1/rad], times the calibrated ``cla_factor``."""
         h = self.geom.htail
-        return helmbold_slope(h.aspect_ratio, h.tan_sweep(h.x_t_c), mach)
+        return helmbold_slope(h.aspect_ratio, h.tan_sweep(h.x_t_c), 0.0) * compressibility_factor(mach) * \
+            self.corrections.cla_factor
 
     def a_v(self, mach: ArrayLike) -> NDArray:
         """Vertical-tail lift-curve slope [1/rad], effective aspect ratio 1.55 A_v (end plates)."""
@@ -206,19 +271,36 @@ class AeroModel:
         return helmbold_slope(1.55 * v.aspect_ratio, v.tan_sweep(v.x_t_c), mach)
 
     def deps_dalpha(self, mach: ArrayLike) -> NDArray:
-        """Downwash gradient at the tail [-]."""
-        return self.deps_dalpha0 * self.a_wb(mach) / self.a_wb(0.0)
+        """Downwash gradient at the tail [-].
+
+        The low-speed DATCOM value of the geometric wing, scaled with the wing's lift slope as DATCOM
+        scales it with Mach [2]_ 4.4.1: the downwash follows the wing's lift, so a calibrated slope
+        (``cla_factor``) scales it too. Held below 0.9: a tail that saw all of the wing's angle change
+        as downwash would lose its stabilising lift, which no attached flow does.
+        """
+        return np.minimum(self.deps_dalpha0 * self.corrections.cla_factor * compressibility_factor(mach), 0.9)
+
+    def _alpha_geometric(self, alpha: ArrayLike) -> NDArray:
+        """The angle of attack the geometric model sees [rad]: the aircraft's angle less the calibrated
+        zero-lift shift (the whole lift curve, wing, fuselage and tail, moves by the shift)."""
+        return np.asarray(alpha, dtype=float) - self.corrections.alpha0_shift_rad
 
     def tail_alpha(self, alpha: ArrayLike, mach: ArrayLike) -> NDArray:
         """Angle of attack of the horizontal tail [rad]."""
-        al = np.asarray(alpha, dtype=float)
+        al = self._alpha_geometric(alpha)
         return al + self.incidence_tail_rad - self.deps_dalpha(mach) * (al + self.incidence_wing_rad)
 
     def cl_linear(self, alpha: ArrayLike, mach: ArrayLike) -> NDArray:
-        """Aircraft lift coefficient at zero elevator and flap, linear range [-]."""
+        """Aircraft lift coefficient at zero elevator and flap, linear range [-].
+
+        Prandtl-Glauert/Goethert compressibility through the slopes multiplies the whole lift: the
+        angle from zero lift (wing incidence and the calibrated zero-lift shift included), not only
+        the angle of attack.
+        """
         g = self.geom
         al = np.asarray(alpha, dtype=float)
-        return self.a_wb(mach) * (al + self.incidence_wing_rad) + \
+        ag = self._alpha_geometric(al)
+        return self.a_wb(mach) * (ag + self.incidence_wing_rad) + \
             self.eta_h * g.htail.area_m2 / g.wing.area_m2 * self.a_h(mach) * self.tail_alpha(al, mach)
 
     def cl_alpha(self, mach: ArrayLike) -> NDArray:
@@ -262,7 +344,12 @@ class AeroModel:
 
     # -- drag ---------------------------------------------------------------
     def cd0(self, mach: ArrayLike, re_cbar: ArrayLike) -> NDArray:
-        """Zero-lift drag coefficient, clean [-], component build-up [1]_ 12.5.
+        """Zero-lift drag coefficient, clean [-]: the build-up :meth:`cd0_geometric` times the
+        calibrated ``cd0_factor``."""
+        return self.cd0_geometric(mach, re_cbar) * self.corrections.cd0_factor
+
+    def cd0_geometric(self, mach: ArrayLike, re_cbar: ArrayLike) -> NDArray:
+        """Zero-lift drag coefficient from the geometry alone, clean [-], component build-up [1]_ 12.5.
 
         ``re_cbar`` is the Reynolds number on the wing MAC (JSBSim's ``aero/Re``).
         """
@@ -287,8 +374,8 @@ class AeroModel:
         return total * (1 + LEAKAGE_PROTUBERANCE) / g.wing.area_m2
 
     def k_induced(self) -> float:
-        """Drag-due-to-lift factor 1/(pi A e) [-]."""
-        return 1.0 / (math.pi * self.geom.wing.aspect_ratio * self.oswald)
+        """Drag-due-to-lift factor 1/(pi A e) [-], times the calibrated ``k_factor``."""
+        return self.corrections.k_factor / (math.pi * self.geom.wing.aspect_ratio * self.oswald)
 
     @staticmethod
     def ground_effect(h_over_b: ArrayLike) -> NDArray:
@@ -331,9 +418,9 @@ class AeroModel:
         """Drag increment of the airbrake [-] on the wing area: eta CD_plate A_frontal / S.
 
         CD_plate is the drag of a flat plate normal to the flow on its frontal area (1.18 for a
-        plate of aspect ratio 1 to 2, Hoerner [8]_ ch. 3); eta (0.85) allows for the panels standing
-        partly in the fuselage boundary layer (Hoerner [8]_ ch. 8, plates on a wall; NACA TN 1939
-        [9]_ collects measured fuselage brakes for calibration). Lift and pitching moment unchanged:
+        plate of aspect ratio 1 to 2, Hoerner [11]_ ch. 3); eta (0.85) allows for the panels standing
+        partly in the fuselage boundary layer (Hoerner [11]_ ch. 8, plates on a wall; NACA TN 1939
+        [12]_ collects measured fuselage brakes for calibration). Lift and pitching moment unchanged:
         the panels sit at the CG height.
         """
         ab = self.geom.section("airbrake")
@@ -358,8 +445,9 @@ class AeroModel:
         """Pitching moment about the design CG at zero elevator and flap [-]."""
         g = self.geom
         al = np.asarray(alpha, dtype=float)
+        ag = self._alpha_geometric(al)
         h_arm = (g.x_cg_m - g.x_wing_ac_m) / g.wing.mac_m
-        return self.a_wb(mach) * (al + self.incidence_wing_rad) * h_arm + self.cm_alpha_fus * al - \
+        return self.a_wb(mach) * (ag + self.incidence_wing_rad) * h_arm + self.cm_alpha_fus * ag - \
             self.eta_h * g.tail_volume_h * self.a_h(mach) * self.tail_alpha(al, mach)
 
     def cm_alpha(self, mach: ArrayLike) -> NDArray:
@@ -401,7 +489,8 @@ class AeroModel:
         return -self.dcl_flap_full(mach) * arm
 
 
-def _build(g: Geometry) -> AeroModel:
+def build_aero_model(g: Geometry, corrections: AeroCorrections) -> AeroModel:
+    """The aerodynamic model of geometry ``g`` with ``corrections`` (not cached; see :func:`aero_model`)."""
     w, fus = g.wing, g.raw["fuselage"]
     # Fuselage pitching moment (Munk/Multhopp), Raymer eq. 16.25 with K_f read for the wing
     # quarter-chord root position at this fraction of the fuselage length [1] fig. 16.14.
@@ -417,16 +506,21 @@ def _build(g: Geometry) -> AeroModel:
     y1, y2 = fl["inner_span_fraction"] * w.semi_span_m, fl["outer_span_fraction"] * w.semi_span_m
     flapped = 2 * w.chord_integral_m2(y1, y2) / w.area_m2
     i_w = math.radians(g.raw["wing"]["incidence_deg"])
-    oswald = oswald_nita_scholz(w.aspect_ratio, w.taper, math.degrees(w.sweep_c4_rad), g.fuselage_diameter_m / w.span_m)
     base = AeroModel(
         geom=g, incidence_wing_rad=i_w, incidence_tail_rad=0.0, deps_dalpha0=_datcom_downwash_gradient(g),
-        eta_h=g.raw["htail"]["dynamic_pressure_ratio"], oswald=oswald,
+        eta_h=g.raw["htail"]["dynamic_pressure_ratio"], oswald=1.0,
         clmax_clean=0.9 * g.raw["wing"]["airfoil_clmax"] * math.cos(w.sweep_c4_rad),
         tau_e=_flap_effectiveness(g.raw["htail"]["elevator_chord_ratio"]),
         tau_a=_flap_effectiveness(g.raw["aileron"]["chord_ratio"]),
         tau_r=_flap_effectiveness(g.raw["vtail"]["rudder_chord_ratio"]),
         cm_alpha_fus=cm_a_fus, cd_gear=cd_gear, intake_drag_area_m2=fus["intake_drag_area_m2"],
-        flapped_area_ratio=flapped)
+        flapped_area_ratio=flapped, corrections=corrections)
+    # Oswald factor with the viscous part from the geometric CD0 at the design condition.
+    _, _, rho, a_snd, mu = isa(DESIGN_ALT_M)
+    re_design = rho * DESIGN_MACH * a_snd * w.mac_m / mu
+    oswald = oswald_kroo(w.aspect_ratio, w.taper, math.degrees(w.sweep_c4_rad), g.fuselage_diameter_m / w.span_m,
+                         float(base.cd0_geometric(DESIGN_MACH, re_design)))
+    base = AeroModel(**{**base.__dict__, "oswald": oswald})
     # Tail incidence: Cm = 0 at the design CL and Mach with zero elevator (both linear in i_t).
     cla = float(base.cl_alpha(DESIGN_MACH))
 
@@ -441,7 +535,13 @@ def _build(g: Geometry) -> AeroModel:
     return AeroModel(**{**base.__dict__, "incidence_tail_rad": i_t})
 
 
-@lru_cache(maxsize=4)
-def aero_model(path: str | None = None) -> AeroModel:
-    """The aerodynamic model of the geometry in ``path`` (default data file)."""
-    return _build(load_geometry(path))
+@lru_cache(maxsize=8)
+def aero_model(path: str | None = None, corrections: AeroCorrections | None = None) -> AeroModel:
+    """The aerodynamic model of the geometry in ``path`` (default data file) with ``corrections``
+    (default: the shipped calibration, ``data/upera_calibration.json``; neutral if it is absent)."""
+    return build_aero_model(load_geometry(path), corrections if corrections is not None else load_corrections())
+
+
+def geometric_model(path: str | None = None) -> AeroModel:
+    """The model from the geometry alone, with no calibration."""
+    return aero_model(path, AeroCorrections())

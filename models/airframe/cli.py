@@ -4,6 +4,9 @@
 level flight and prints alpha_deg, elevator, thrust_N, lift_N, drag_N, CL, CD.
 ``emss airframe polar [--out DIR] [--mass-kg W]`` trims over the envelope and
 writes the drag polar and the thrust required (``polar.csv``, ``polar.png``).
+``emss airframe compare [--points CSV] [--out DIR] [--json]`` puts the handbook
+aerodynamics side by side with AeroSandbox's AeroBuildup and vortex lattice and
+with the CFD points (``compare.csv``, ``lift_slopes.csv``, ``compare.png``).
 
 The ``emss`` command finds :func:`register` by itself; airframe errors
 (:class:`.errors.AirframeError`) are bad input or an impossible condition and
@@ -16,15 +19,17 @@ import csv
 import json
 import math
 import sys
+from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
 
+from . import calibrate_cli
 from .aero import aero_model
 from .errors import AirframeError, TrimError
 from .trim import ALT_RANGE_M, MACH_RANGE, TrimResult, trim_level
 
-__all__ = ["register", "cmd_trim", "cmd_polar", "POLAR_ALTS_M", "POLAR_MACHS"]
+__all__ = ["register", "cmd_trim", "cmd_polar", "cmd_compare", "POLAR_ALTS_M", "POLAR_MACHS"]
 
 POLAR_ALTS_M = (0.0, 2500.0, 5000.0, 7500.0)
 POLAR_MACHS = tuple(np.round(np.arange(0.2, 0.801, 0.05), 3))
@@ -58,6 +63,24 @@ def register(subparsers: argparse._SubParsersAction) -> tuple[type[Exception], .
     p.add_argument("--mass-kg", type=float, metavar="W", help="aircraft mass [kg] (default 2100, MTOM)")
     p.add_argument("--json", action="store_true", help="print the rows as JSON")
     p.set_defaults(handler=cmd_polar)
+    c = sub.add_parser("compare", help="handbook aerodynamics vs AeroSandbox (AeroBuildup, vortex lattice) vs CFD",
+                       description="Evaluate UPERA's lift and drag by the handbook model (aero.py), by "
+                                   "AeroSandbox's AeroBuildup and by its vortex lattice (inviscid, Göthert rule) "
+                                   "at the points of a CSV file, and over alpha at the file's (altitude, Mach) "
+                                   "conditions (at most 3). Print them side by side with the CFD where the file "
+                                   "gives it, and the lift-curve slopes. Write compare.csv, lift_slopes.csv and "
+                                   "compare.png. The file needs the columns alt_m, mach, alpha_deg (altitude 0 to "
+                                   "8000 m, Mach above 0 up to 0.85, alpha -10 to 20 deg), and may give point, p_kPa, "
+                                   "lift_cfd_kN and drag_cfd_kN. Lines starting with # are comments.")
+    c.add_argument("--points", type=Path, default=None, metavar="CSV",
+                   help="points file (default: the CFD points, models/airframe/data/upera_cfd.csv)")
+    c.add_argument("--out", type=Path, default=Path("results/airframe-compare"), metavar="DIR",
+                   help="output folder (default: results/airframe-compare)")
+    c.add_argument("--sweep-alpha-deg", type=float, nargs=3, default=None, metavar=("START", "STOP", "STEP"),
+                   help="alpha sweep at each condition [deg] (default: -2 10 1)")
+    c.add_argument("--json", action="store_true", help="print the rows as JSON")
+    c.set_defaults(handler=cmd_compare)
+    calibrate_cli.add_parser(sub)
     return (AirframeError,)
 
 
@@ -141,4 +164,52 @@ def cmd_polar(args: argparse.Namespace) -> int:
         for r in rows:
             print(f"  {r.alt_m:7.0f} {r.mach:5.2f} {r.CL:7.4f} {r.CD:8.5f} {r.lift_N / r.drag_N:6.2f} "
                   f"{r.thrust_N:9.0f}")
+    return 0
+
+
+def cmd_compare(args: argparse.Namespace) -> int:
+    """Handler of ``emss airframe compare``; returns the exit code."""
+    from . import compare
+
+    alphas = compare.SWEEP_ALPHAS_DEG if args.sweep_alpha_deg is None else \
+        compare.sweep_alphas(*args.sweep_alpha_deg)
+    points = compare.read_points(args.points or compare.DEFAULT_POINTS)
+    conditions = compare.sweep_conditions(points)
+    total = len(points) + len(conditions) * (len(alphas) + 1)
+    done = [0]
+    tty = sys.stderr.isatty()
+
+    def tick() -> None:
+        done[0] += 1
+        if tty:
+            print(f"\rairframe compare: {done[0]}/{total} conditions", end="", file=sys.stderr, flush=True)
+
+    rows = []
+    for pt in points:
+        rows.append(compare.compare_point(pt))
+        tick()
+    sweeps = compare.sweep(conditions, alphas, tick=tick)
+    slopes = []
+    for alt, mach in conditions:
+        slopes.append(compare.lift_slopes(alt, mach))
+        tick()
+    if tty:
+        print(file=sys.stderr)
+    out: Path = args.out
+    out.mkdir(parents=True, exist_ok=True)
+    compare.write_csv(out / "compare.csv", rows + sweeps)
+    compare.write_csv(out / "lift_slopes.csv", slopes)
+    compare.plot(out / "compare.png", rows, sweeps)
+    if args.json:
+        json.dump({"points": [asdict(r) for r in rows], "sweep": [asdict(r) for r in sweeps],
+                   "lift_slopes": [asdict(s) for s in slopes]}, sys.stdout, indent=2)
+        sys.stdout.write("\n")
+        return 0
+    print("UPERA lift and drag coefficients (S = 11.2 m^2, zero elevator, clean); d% against the CFD")
+    print(compare.points_table(rows))
+    print("\nDrag decomposed, tail lift and pitching moment about the design CG")
+    print(compare.drag_table(rows))
+    print("\nLift-curve slopes [1/rad] (central differences about alpha 2 deg; wing alone without incidence)")
+    print(compare.slopes_table(slopes))
+    print(f"\nwrote {out / 'compare.csv'}, {out / 'lift_slopes.csv'} and {out / 'compare.png'}")
     return 0

@@ -6,7 +6,7 @@ what is allowed.
 """
 from __future__ import annotations
 
-__all__ = ["AirframeError", "LossOfAircraftError", "OutOfEnvelopeError", "TrimError"]
+__all__ = ["AirframeError", "CalibrationError", "LossOfAircraftError", "OutOfEnvelopeError", "TrimError"]
 
 
 class AirframeError(Exception):
@@ -23,3 +23,7 @@ class TrimError(AirframeError):
 
 class LossOfAircraftError(AirframeError):
     """The aircraft hit the ground outside the landing envelope: the simulation cannot go on."""
+
+
+class CalibrationError(AirframeError):
+    """Calibration data or a calibration file that cannot be used (one line: what, where, allowed)."""

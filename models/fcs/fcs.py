@@ -23,7 +23,7 @@ from .guidance import L1Guidance
 from .lateral import LateralController, LateralState
 from .mission import Mission
 from .performance import Performance
-from .pitch import PitchController
+from .pitch import PitchController, turn_pitch_rate
 from .state import AircraftState, EngineState, Targets
 from .state_machine import MissionRunner
 from .tecs import Tecs, TecsInput
@@ -245,7 +245,8 @@ class FlightControlSystem:
             if out.airbrake_drag_N > 0.0:
                 airbrake = self.perf.airbrake_position(out.airbrake_drag_N, x.qbar_Pa)
         self._lever = lever
-        elevator = self.pitch.step(dt_s, theta_c, x.theta_rad, x.q_rad_s, x.qbar_Pa)
+        q_turn = turn_pitch_rate(x.phi_rad, x.tas_m_s) if not x.on_ground else 0.0
+        elevator = self.pitch.step(dt_s, theta_c, x.theta_rad, x.q_rad_s, x.qbar_Pa, q_turn)
         lat = self.lateral.step(dt_s, LateralState(x.phi_rad, x.theta_rad, x.psi_rad, x.chi_rad, x.p_rad_s, x.r_rad_s,
                                                    x.beta_rad, x.tas_m_s, x.qbar_Pa),
                                 phi_cmd_rad=tg.phi_cmd_rad, heading_cmd_rad=tg.heading_cmd_rad)

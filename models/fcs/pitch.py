@@ -18,11 +18,13 @@ B. L. Stevens, F. L. Lewis, E. N. Johnson, "Aircraft Control and Simulation", 3r
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
+from .atmosphere import G0_M_S2
 from .tunable import Tunable, load_params
 
-__all__ = ["PitchParams", "PitchController"]
+__all__ = ["PitchParams", "PitchController", "turn_pitch_rate"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -57,7 +59,7 @@ class PitchController(Tunable[PitchParams]):
         self._integ = -elevator_trim
 
     def step(self, dt_s: float, theta_cmd_rad: float, theta_rad: float, q_rad_s: float,
-             qbar_Pa: float) -> float:
+             qbar_Pa: float, q_turn_rad_s: float = 0.0) -> float:
         """One step; returns the normalised elevator command [-1, 1] (> 0 nose down).
 
         Parameters
@@ -70,13 +72,28 @@ class PitchController(Tunable[PitchParams]):
             Pitch rate [rad/s].
         qbar_Pa : float
             Dynamic pressure [Pa].
+        q_turn_rad_s : float
+            Pitch rate of the steady turn being flown [rad/s] (:func:`turn_pitch_rate`): the rate
+            damping acts on the pitch rate less this, so that it damps the short period and does not
+            oppose the steady pull of a banked turn (turn compensation, McLean ch. 7).
         """
         p = self._params
         s = min(max(p.qbar_ref_Pa / max(qbar_Pa, 1.0), p.gain_sched_min), p.gain_sched_max)
         e = theta_cmd_rad - theta_rad
-        u_p = s * (p.k_theta_1_rad * e - p.k_q_s_rad * q_rad_s)
+        u_p = s * (p.k_theta_1_rad * e - p.k_q_s_rad * (q_rad_s - q_turn_rad_s))
         u = u_p + self._integ
         if -1.0 < u < 1.0 or (u >= 1.0) != (e > 0):
             self._integ = min(max(self._integ + s * p.k_theta_i_1_rad_s * e * dt_s, -p.trim_limit), p.trim_limit)
         u = min(max(u_p + self._integ, -1.0), 1.0)
         return -u
+
+
+def turn_pitch_rate(phi_rad: float, tas_m_s: float) -> float:
+    """Body pitch rate of a steady, level, coordinated turn at bank ``phi_rad`` [rad/s].
+
+    The turn rate is ``Omega = g tan(phi) / V``; its component on the body y axis is
+    ``q = Omega sin(phi) = g sin(phi) tan(phi) / V`` (Etkin and Reid, *Dynamics of Flight*, 3rd ed.,
+    sect. 4.7). Bank held to 80 deg and speed above 10 m/s so that the rate stays finite.
+    """
+    phi = min(abs(phi_rad), math.radians(80.0))
+    return G0_M_S2 * math.sin(phi) * math.tan(phi) / max(tas_m_s, 10.0)

@@ -11,8 +11,9 @@ s (:mod:`.profile`) with the performance model (:mod:`.performance`), as an airl
    TECS's exponential speed capture, k_V: ds = m V dV / (D - T_idle + D_ab).
 2. *Idle descent* from h_c up to the entry altitude h0 at the descent speed (the entry's CAS held,
    :func:`descent_speed`; the target's when that is faster): the energy falls at the
-   idle energy gradient G = (D + D_ab - T_idle)/W per distance, and dE = dh (1 + V/g dV/dh), so
-   the path's gradient is dh/ds = G / (1 + V/g dV/dh), no steeper than ``gamma_path_max``
+   idle energy gradient G = (D + D_ab - T_idle)/W per distance flown, and dE = dh (1 + V/g dV/dh),
+   so sin(gamma) = G / (1 + V/g dV/dh) (the drag at the lift of level flight: 0.6 % at 6 deg),
+   no steeper than ``gamma_path_max``
    (TECS's flight-path limit keeps the rest for corrections); steps of ``dh_step_m``.
 3. Corners rounded for ``nz_path`` g (:class:`.profile.VerticalProfile`): the level-off at the
    bottom of descent (BOD) and the push-over at the top (TOD).
@@ -190,7 +191,7 @@ class Vnav(Tunable[VnavParams]):
             va, vb, vm = speed.tas_m_s(ha, dT), speed.tas_m_s(hb, dT), speed.tas_m_s(hm, dT)
             grad = -perf.energy_gradient(hm, vm, mass_kg, "idle", airbrake, dT_isa_K=dT)
             dvdh = (vb - va) / dh
-            tan_g = grad / (1.0 + vm / G0_M_S2 * dvdh) if grad > 0.0 else 0.0
+            tan_g = _tan_gamma(grad / (1.0 + vm / G0_M_S2 * dvdh)) if grad > 0.0 else 0.0
             tan_g = min(tan_g, tan_max) if tan_g > 0.0 else 0.0
             ds.append(dh / tan_g if tan_g > 0.0 else math.inf)
             hs.append(hb)
@@ -281,7 +282,7 @@ class Vnav(Tunable[VnavParams]):
         n = math.sqrt(1.0 + (v * v / (G0_M_S2 * p.hold_radius_m)) ** 2)
         g = -self.perf.energy_gradient(h_m, v, mass_kg, "idle", p.airbrake_plan_max, load_factor=n,
                                        dT_isa_K=dT_isa_K)
-        return min(max(g, 1e-3), math.tan(p.gamma_path_max_rad))
+        return min(_tan_gamma(max(g, 1e-3)), math.tan(p.gamma_path_max_rad))
 
     def plan_climb(self, h0: float, h_c: float, s_avail: float, speed: SpeedCommand, v0_m_s: float,
                    mass_kg: float, gamma_max_rad: float, dT_isa_K: float = 0.0) -> ClimbPlan:
@@ -308,11 +309,18 @@ class Vnav(Tunable[VnavParams]):
             vm = speed.tas_m_s(hm, dT_isa_K)
             grad = perf.energy_gradient(hm, vm, mass_kg, "max", dT_isa_K=dT_isa_K)
             dvdh = (speed.tas_m_s(hb, dT_isa_K) - speed.tas_m_s(ha, dT_isa_K)) / dh
-            tan_g = min(grad / (1.0 + vm / G0_M_S2 * dvdh), tan_max)
+            tan_g = min(_tan_gamma(grad / (1.0 + vm / G0_M_S2 * dvdh)), tan_max)
             if tan_g <= 1e-4:
                 return ClimbPlan(h0, h_c, s_avail, math.inf, False)
             s += dh / tan_g
         return ClimbPlan(h0, h_c, s_avail, s, s <= s_avail)
+
+
+def _tan_gamma(sin_like: float) -> float:
+    """tan(gamma) of a path whose energy changes by ``sin_like`` (1 + V/g dV/dh) per distance flown along it:
+    per horizontal distance that is sin_like / cos(gamma), so tan(gamma) = x / sqrt(1 - x^2) (x < 1)."""
+    x = min(sin_like, 0.999)
+    return x / math.sqrt(1.0 - x * x)
 
 
 def _height_at(s_nodes: list[float], h_nodes: list[float], s: float) -> float:

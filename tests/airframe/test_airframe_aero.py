@@ -18,7 +18,10 @@ from openemss.models.airframe.aero import (
     helmbold_slope,
     isa,
     korn_mcrit,
-    oswald_nita_scholz,
+    geometric_model,
+    lifting_form_factor,
+    oswald_kroo,
+    planform_efficiency_nita_scholz,
     skin_friction,
     wave_drag,
 )
@@ -110,23 +113,42 @@ def test_korn_and_lock() -> None:
     assert float(wave_drag(mcr - 0.01, mcr)) == 0.0
 
 
-def test_oswald_nita_scholz_by_hand() -> None:
-    # Nita & Scholz: dl = -0.357 + 0.45 exp(-0.0375 x 25) = -0.18079; f(0.68079) = 0.004661;
-    # e_theo = 1/(1 + 0.004661 x 3.2143) = 0.98524; k_eF = 1 - 2 (0.8/6)^2 = 0.96444; x 0.873 -> 0.82953
-    e = oswald_nita_scholz(G.wing.aspect_ratio, 0.5, 25.0, 0.8 / 6.0)
-    assert e == pytest.approx(0.8295, abs=5e-4)
+def test_oswald_kroo_by_hand() -> None:
+    # Nita & Scholz planform: dl = -0.357 + 0.45 exp(-0.0375 x 25) = -0.18079; f(0.68079) = 0.004661;
+    # u = 1/(1 + 0.004661 x 3.2143) = 0.98524. Kroo: s = 1 - 2 (0.8/6)^2 = 0.96444;
+    # 1/e = 1/(0.98524 x 0.96444) + pi x 3.2143 x 0.38 x 0.012 = 1.052404 + 0.046047 -> e = 0.91037.
+    assert planform_efficiency_nita_scholz(G.wing.aspect_ratio, 0.5, 25.0) == pytest.approx(0.98524, abs=5e-5)
+    e = oswald_kroo(G.wing.aspect_ratio, 0.5, 25.0, 0.8 / 6.0, 0.012)
+    assert e == pytest.approx(0.91037, abs=5e-5)
+    # Limits: no viscous part and no fuselage leave the planform efficiency; more CD0, less e.
+    assert oswald_kroo(G.wing.aspect_ratio, 0.5, 25.0, 0.0, 0.0) == pytest.approx(0.98524, abs=5e-5)
+    assert oswald_kroo(G.wing.aspect_ratio, 0.5, 25.0, 0.0, 0.02) < 0.98524
+
+
+def test_shevell_form_factor_by_hand() -> None:
+    # Wing: t/c 0.10, c/4 sweep 25 deg (cos 0.906308). M 0.5: Z = 1.75 x 0.906308 / sqrt(1 - 0.25 x 0.821394)
+    # = 1.586039/0.891433 = 1.779206 -> FF = 1 + 0.177921 + 0.01 = 1.187921; M 0: Z = 1.812616 -> 1.191262.
+    assert float(lifting_form_factor(G.wing, 0.5)) == pytest.approx(1.187921, abs=2e-6)
+    assert float(lifting_form_factor(G.wing, 0.0)) == pytest.approx(1.191262, abs=2e-6)
+    # Unswept, incompressible: 1 + 2 t/c + 100 (t/c)^4 (Hoerner's thickness term at M 0)
+    from openemss.models.airframe.geometry import Planform
+    p = Planform(10.0, 10.0, 1.0, 0.0, 0.12, 0.4)
+    assert float(lifting_form_factor(p, 0.0)) == pytest.approx(1 + 0.24 + 100 * 0.12 ** 4)
 
 
 def test_cd0_buildup_magnitude() -> None:
     # Clean subsonic jets: CD0 between 0.010 and 0.025 on the wing area (Raymer table 12.3 equivalent
     # skin friction 0.0035 to 0.0045 x Swet/Sref). UPERA: Swet/Sref by hand about
     # (18.8 wing + 15.0 fuselage + 5.5 h-tail + 2.5 v-tail)/11.2 = 3.7 -> 0.013 to 0.017.
+    g = geometric_model()
     for alt, m in ((0, 0.3), (7500, 0.8)):
         T, p, rho, a, mu = isa(alt)
         re = rho * m * a * G.wing.mac_m / mu
-        assert 0.010 < float(A.cd0(m, re)) < 0.017
+        assert 0.010 < float(g.cd0(m, re)) < 0.017
     # More Reynolds number, less friction
-    assert float(A.cd0(0.5, 3e7)) < float(A.cd0(0.5, 5e6))
+    assert float(g.cd0(0.5, 3e7)) < float(g.cd0(0.5, 5e6))
+    # The calibrated CD0 is the build-up times its factor
+    assert float(A.cd0(0.5, 1e7)) == pytest.approx(float(g.cd0(0.5, 1e7)) * A.corrections.cd0_factor)
 
 
 def test_static_margin_positive_over_envelope() -> None:

@@ -21,6 +21,7 @@ from openemss.models.airframe.errors import AirframeError, OutOfEnvelopeError, T
 from openemss.models.airframe.trim import trim_level
 
 A = aero_model()
+A0_CLA = 3.5  # lift-curve slope [1/rad] for which the landing test's flare gain of 0.04 rad per m/s was set
 G = A.geom
 G0 = 9.80665
 S = G.wing.area_m2
@@ -159,7 +160,9 @@ def test_short_period_identified_from_pulse(af: Airframe) -> None:
     zeta_hand = -(m_q + m_ad + z_a / v) / (2 * wn_hand)
     print(f"short period: identified w_n {wn:.3f} rad/s, zeta {zeta:.3f}; "
           f"approximation w_n {wn_hand:.3f} rad/s, zeta {zeta_hand:.3f}")
-    assert 0.3 < zeta < 1.0  # damped, oscillatory
+    # damped and oscillatory; above MIL-F-8785C's level-2 floor of 0.2 for the bare airframe (the
+    # CFD-calibrated lift slope, 0.69 of the lifting-surface theory, lowers Z_alpha and with it the damping)
+    assert 0.2 < zeta < 1.0
     assert wn == pytest.approx(wn_hand, rel=0.10)
     assert zeta == pytest.approx(zeta_hand, rel=0.10)
 
@@ -240,7 +243,18 @@ def test_takeoff_roll_munich_26r(af: Airframe) -> None:
     print(f"take-off at EDDM 26R: V_s {v_s:.1f} m/s, V_LOF {v_lof:.1f} m/s = {v_lof / v_s:.3f} V_s, "
           f"alpha_LOF {math.degrees(alpha_lof):.1f} deg; distance to V_R {x_r:.0f} m (hand {s_r_hand:.0f} m), "
           f"to lift-off {x:.0f} m (hand, no rotation phase {s_lof_hand:.0f} m)")
-    assert 1.05 <= v_lof / v_s <= 1.25
+    # Lift-off where lift and the thrust's vertical part carry the weight at the lift-off angle of attack
+    # (flap half, in ground effect on the drag only): V = sqrt(2 (W - T sin alpha) / (rho S CL)). 6 %: the
+    # pitch rate's lift (CL_q) and the struts' last push are left out.
+    mach_lof = v_lof / isa(elev)[3]
+    cl_lof = float(A.cl_basic(alpha_lof, mach_lof)) + 0.5 * float(A.dcl_flap_full(mach_lof))
+    v_lof_hand = math.sqrt(2 * (w - thrust * math.sin(alpha_lof)) / (rho * S * cl_lof))
+    print(f"  V_LOF by hand at alpha_LOF: {v_lof_hand:.1f} m/s")
+    assert v_lof == pytest.approx(v_lof_hand, rel=0.06)
+    # Rotation to 10 deg pitch (short of the 12 deg tail strike) stays below the stall: V_LOF above 1.05 V_s.
+    # The CFD-calibrated wing reaches CL_max only near 20 deg, so V_LOF lies well above the 1.1 to 1.2 V_s of
+    # a high-slope wing; 1.5 V_s bounds it.
+    assert 1.05 <= v_lof / v_s <= 1.5
     assert x_r == pytest.approx(s_r_hand, rel=0.05)
     assert x == pytest.approx(s_lof_hand, rel=0.10)
 
@@ -303,7 +317,8 @@ def test_landing_on_munich_26r(af: Airframe) -> None:
     while af.time_s < 120.0:
         if td is None:
             sink_cmd = max(-3.0, -0.6 - (prev.alt_agl_m - h_gear) / 3.0)
-            theta_ref = r.alpha_rad - 0.03 + min(max(0.04 * (sink_cmd - prev.vs_m_s), -0.1), 0.15)
+            theta_ref = r.alpha_rad - 0.03 + min(max(0.04 * A0_CLA / float(A.cl_alpha(mach)) * (sink_cmd - prev.vs_m_s),
+                                                     -0.1), 0.15)
             af.set_surfaces(elevator=r.elevator - 5.0 * (theta_ref - prev.theta_rad) + 1.5 * prev.q_rad_s)
         else:
             af.set_surfaces(elevator=0.0)

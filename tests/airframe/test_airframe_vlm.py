@@ -12,7 +12,7 @@ import math
 
 import pytest
 
-from openemss.models.airframe.aero import aero_model, helmbold_slope, oswald_nita_scholz
+from openemss.models.airframe.aero import aero_model, helmbold_slope, planform_efficiency_nita_scholz
 from openemss.models.airframe.geometry import Planform
 from openemss.models.airframe.vlm import vlm_downwash_gradient, vlm_wing
 
@@ -43,9 +43,9 @@ def test_upera_wing_lift_slope_matches_helmbold() -> None:
 
 def test_upera_span_efficiency_matches_nita_scholz() -> None:
     """Planform span efficiency (inviscid, no fuselage): VLM Trefftz plane vs Nita & Scholz's e_theo
-    (their e without the fuselage and zero-lift-drag factors). 3 %: lattice convergence."""
+    (their e_theo, the planform's part of the Oswald factor). 3 %: lattice convergence."""
     e_vlm = vlm_wing(W).span_efficiency
-    e_theo = oswald_nita_scholz(W.aspect_ratio, W.taper, math.degrees(W.sweep_c4_rad), 0.0) / 0.873
+    e_theo = planform_efficiency_nita_scholz(W.aspect_ratio, W.taper, math.degrees(W.sweep_c4_rad))
     print(f"span efficiency: VLM {e_vlm:.4f}, Nita-Scholz e_theo {e_theo:.4f}")
     assert e_vlm == pytest.approx(e_theo, rel=0.03)
 

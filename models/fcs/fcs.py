@@ -260,23 +260,16 @@ class FlightControlSystem:
                          _MODE_CODE.get(tg.vnav_mode, 0))
 
     def _energy_rates(self, t_s: float, x: AircraftState, tg: Targets) -> tuple[float, float, float]:
-        """(E_rate_min, E_rate_max, airbrake drag available [N]): (T - D)/W at idle (less the airbrake where the
-        targets allow it) and at maximum thrust, from the performance model; NaN below 30 m/s."""
+        """(E_rate_min, E_rate_max, airbrake drag available [N]) from the performance model
+        (:meth:`.performance.Performance.energy_rates`; its table look-ups every PERF_REFRESH_S);
+        NaN below 30 m/s."""
         if x.on_ground or x.tas_m_s < 30.0:
             return math.nan, math.nan, 0.0
         perf = self.perf
         if t_s - self._perf_t >= PERF_REFRESH_S or t_s < self._perf_t:
-            mach = perf.mach(x.alt_m, x.tas_m_s, x.dT_isa_K)
-            self._perf = (*perf.polar(x.alt_m, mach), perf.idle_thrust_N(x.alt_m, mach),
-                          perf.max_thrust_N(x.alt_m, mach))
+            self._perf = perf.lookup(x.alt_m, perf.mach(x.alt_m, x.tas_m_s, x.dT_isa_K))
             self._perf_t = t_s
-        cd0, k, t_idle, t_max = self._perf
-        q, S = max(x.qbar_Pa, 1.0), perf.data.S_m2
-        W = x.mass_kg * G0_M_S2
-        cl = W / (q * S * max(math.cos(x.phi_rad), 0.3))
-        drag = q * S * (cd0 + k * cl * cl + (perf.data.cd_gear if tg.gear_down else 0.0))
-        ab = perf.airbrake_drag_N(q) if tg.airbrake else 0.0
-        return (t_idle - drag - ab) / W, (t_max - drag) / W, ab
+        return perf.energy_rates(self._perf, x.qbar_Pa, x.mass_kg, x.phi_rad, tg.gear_down, tg.airbrake)
 
 
 _MODE_CODE = {m: i for i, m in enumerate(VNAV_MODES)}

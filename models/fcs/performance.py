@@ -259,6 +259,25 @@ class Performance(Tunable[PerformanceParams]):
         d = self.drag_N(alt_m, tas_m_s, mass_kg, airbrake, gear, load_factor, dT_isa_K=dT_isa_K)
         return (t - d) / (mass_kg * G0_M_S2)
 
+    def lookup(self, alt_m: float, mach: float) -> tuple[float, float, float, float]:
+        """(CD0, k, idle thrust [N], maximum thrust [N]) at altitude [m] and Mach [-]: the table look-ups of
+        :meth:`energy_rates`, which a caller may keep for a while (they change slowly)."""
+        return (*self.polar(alt_m, mach), self.idle_thrust_N(alt_m, mach), self.max_thrust_N(alt_m, mach))
+
+    def energy_rates(self, lookup: tuple[float, float, float, float], qbar_Pa: float, mass_kg: float,
+                     bank_rad: float = 0.0, gear: bool = False, airbrake: bool = False) -> tuple[float, float, float]:
+        """(E_rate_min, E_rate_max, airbrake drag [N]): (T - D)/W at idle, less the airbrake fully out when
+        ``airbrake``, and at maximum thrust [-], with the drag of the lift of a level turn at ``bank_rad``
+        (load factor 1/cos, at most 3.3) at ``qbar_Pa`` [Pa]; ``lookup`` from :meth:`lookup`. These bound the
+        energy rate the thrust can give, the limits of TECS's commands (:mod:`.tecs`)."""
+        cd0, k, t_idle, t_max = lookup
+        q, S = max(qbar_Pa, 1.0), self.data.S_m2
+        W = mass_kg * G0_M_S2
+        cl = W / (q * S * max(math.cos(bank_rad), 0.3))
+        drag = q * S * (cd0 + k * cl * cl + (self.data.cd_gear if gear else 0.0))
+        ab = self.airbrake_drag_N(q) if airbrake else 0.0
+        return (t_idle - drag - ab) / W, (t_max - drag) / W, ab
+
     def mach(self, alt_m: float, tas_m_s: float, dT_isa_K: float = 0.0) -> float:
         """Mach number of a true airspeed at altitude [-]."""
         return mach_from_tas(tas_m_s, isa(alt_m, dT_isa_K))

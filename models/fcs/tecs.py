@@ -23,8 +23,9 @@ first, at constant thrust pitch only trades between height and speed, so:
 Energy-rate command limiting (Lambregts 2013). The energy rate the thrust can
 give, [E_min, E_max] = [(T_idle - D - D_airbrake) / W, (T_max - D) / W], is an
 input (from the performance model, :mod:`.performance`). A demand sin gamma_c +
-Vdot_c/g outside it (less ``energy_margin``) is cut back before the loops see it,
-in the channel that has no priority:
+Vdot_c/g outside it (less ``energy_margin``, or a quarter of the headroom over sin gamma_c
+where that is smaller) is cut back before the loops see it, in the channel that
+has no priority:
 
 * *path priority* (altitude hold and capture, a managed path, the glide slope):
   the acceleration command is cut -- in level flight a speed step at maximum
@@ -45,7 +46,10 @@ flare) pitch flies the path (``gamma_cmd``) or the speed.
 
 Below idle the thrust channel goes on into the airbrake where the caller allows
 it (``airbrake_max_N`` > 0, in descents): the drag it asks for beyond idle is
-``airbrake_drag_N``; the airbrake's drag extends the lower energy limit.
+``airbrake_drag_N``, through a first-order lag ``tau_airbrake_s`` (the airbrake acts at once
+on the drag, where the engine's thrust lags its spools: without the lag the thrust loop's
+proportional gain would close a one-step loop through it and chatter); the airbrake's drag
+extends the lower energy limit.
 
 Speed commands may be Mach, calibrated or true airspeed: they are turned into
 true airspeed through the ISA (:mod:`.atmosphere`) at the current altitude.
@@ -134,6 +138,7 @@ class TecsParams:
     mach_max: float
     tau_Vdot_s: float
     jerk_max_m_s3: float
+    tau_airbrake_s: float
 
     @classmethod
     def from_file(cls, **overrides: float) -> TecsParams:
@@ -236,6 +241,7 @@ class Tecs(Tunable[TecsParams]):
         self._iL = 0.0
         self._sigma = 0.0  # blend of the weights towards the priority's [0, 1]
         self._a_c = 0.0  # acceleration command of the previous step [m/s^2]
+        self._ab = 0.0  # airbrake drag command, filtered [N]
 
     def reset(self, thrust_N: float, weight_N: float, theta_rad: float, gamma_rad: float = 0.0) -> None:
         """Bumpless engagement from the current thrust [N], weight [N], pitch and path angles [rad]."""
@@ -243,6 +249,7 @@ class Tecs(Tunable[TecsParams]):
         self._iL = theta_rad
         self._sigma = 0.0
         self._a_c = 0.0
+        self._ab = 0.0
 
     def available_thrust_N(self, alt_m: float, dT_isa_K: float = 0.0) -> float:
         """Estimate of the maximum thrust at altitude, thrust_sls (rho/rho0)^n [N]."""
@@ -306,12 +313,16 @@ class Tecs(Tunable[TecsParams]):
         limited = False
         if lever_fixed is None and not underspeed:
             # energy-rate command limiting: cut the channel without priority back to what the thrust gives
+            # the margin shrinks with the headroom over the path's own need, so a small but feasible speed
+            # change is still flown (slowly) rather than cut to nothing
             demand = math.sin(g_c) + a_c / G0_M_S2
             lim = math.nan
-            if demand > x.E_rate_max - p.energy_margin:
-                lim = x.E_rate_max - p.energy_margin
-            elif demand < x.E_rate_min + p.energy_margin:
-                lim = x.E_rate_min + p.energy_margin
+            hi = x.E_rate_max - min(p.energy_margin, 0.25 * max(x.E_rate_max - math.sin(g_c), 0.0))
+            lo = x.E_rate_min + min(p.energy_margin, 0.25 * max(math.sin(g_c) - x.E_rate_min, 0.0))
+            if demand > hi:
+                lim = hi
+            elif demand < lo:
+                lim = lo
             if lim == lim:  # not NaN
                 limited = True
                 if priority == "path":
@@ -350,6 +361,11 @@ class Tecs(Tunable[TecsParams]):
             T_c = p.lever_max * T_avail if underspeed else min(max(T_c, T_lo), p.lever_max * T_avail)
             if T_c < T_idle:
                 airbrake, T_c = T_idle - T_c, T_idle
+            # the airbrake acts at once on the drag (the engine's thrust with its spool lag): filtered to the
+            # thrust's pace, or the proportional gain k_TP closes a one-step loop through it and chatters
+            tau = p.tau_airbrake_s
+            self._ab = airbrake if tau <= 0.0 else self._ab + (airbrake - self._ab) * dt_s / (tau + dt_s)
+            airbrake = self._ab
             lever = T_c / T_avail
             prio = "speed" if underspeed else (priority if saturated else "normal")
             sigma_target = 1.0 if saturated else 0.0

@@ -116,6 +116,7 @@ class ApproachParams:
     hold_enter_m: float
     hold_exit_m: float
     hold_radius_m: float
+    loc_damping: float
 
     @classmethod
     def from_file(cls, **overrides: float) -> ApproachParams:
@@ -282,7 +283,7 @@ class AutoLand(Tunable[ApproachParams]):
         ils = ils_deviation(rwy, p, pos, alt_m)
         V = max(tas_m_s, 1.0)
         vg = math.hypot(vn_m_s, ve_m_s)
-        lat = self._g.line(rwy.heading_rad, ils.loc_m, vn_m_s, ve_m_s, psi_rad)
+        lat = self._g.line(rwy.heading_rad, ils.loc_m, vn_m_s, ve_m_s, psi_rad, damping=p.loc_damping)
         phi = lat.phi_cmd_rad
         alt_cmd: float | None = None
         gamma: float | None = None

@@ -40,8 +40,8 @@ class VerticalProfile:
     def rounded(cls, s_m: list[float], h_m: list[float], vg_m_s: list[float], nz_g: float,
                 g_m_s2: float = 9.80665) -> VerticalProfile:
         """The polyline through (s, h) with each inner corner rounded for a vertical acceleration of
-        ``nz_g`` at ground speed ``vg_m_s`` [m/s] (one per node), the roundings shrunk where they would
-        overlap their neighbours."""
+        ``nz_g`` at ground speed ``vg_m_s`` [m/s] (one per node), two roundings shrunk in proportion where
+        they would overlap on a segment."""
         n = len(s_m)
         if n < 2 or len(h_m) != n or any(b <= a for a, b in zip(s_m, s_m[1:], strict=False)):
             raise ValueError("a vertical profile needs at least two nodes with increasing distance to go")
@@ -49,9 +49,11 @@ class VerticalProfile:
         w = [0.0] * n
         for i in range(1, n - 1):
             w[i] = vg_m_s[i] ** 2 * abs(slopes[i] - slopes[i - 1]) / (2.0 * nz_g * g_m_s2)
-        for i in range(1, n - 1):  # no overlap: each rounding gets at most half of each adjacent segment
-            w[i] = min(w[i], 0.5 * (s_m[i] - s_m[i - 1]) if i > 1 else s_m[i] - s_m[i - 1],
-                       0.5 * (s_m[i + 1] - s_m[i]) if i < n - 2 else s_m[i + 1] - s_m[i])
+        for i in range(n - 1):  # no overlap: two roundings that would share a segment shrink in proportion
+            room = s_m[i + 1] - s_m[i]
+            if w[i] + w[i + 1] > room:
+                f = room / (w[i] + w[i + 1])
+                w[i], w[i + 1] = w[i] * f, w[i + 1] * f
         return cls(tuple(s_m), tuple(h_m), tuple(w))
 
     def _slope(self, i: int) -> float:

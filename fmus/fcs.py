@@ -199,8 +199,11 @@ class Fcs(Fmi2Slave):
                                        description=OUTPUT_SIGNALS["fuel_limiter"],
                                        getter=lambda: self._fuel_limiter))
         self._vnav_mode = 0
+        self._ils_phase = 0
         self.register_variable(Integer("vnav_mode", causality=out, variability=discrete,
                                        description=OUTPUT_SIGNALS["vnav_mode"], getter=lambda: self._vnav_mode))
+        self.register_variable(Integer("ils_phase", causality=out, variability=discrete,
+                                       description=OUTPUT_SIGNALS["ils_phase"], getter=lambda: self._ils_phase))
         self._prev_pos: LatLon | None = None
         self._prev_h = 0.0
 
@@ -287,4 +290,5 @@ class Fcs(Fmi2Slave):
         self._completed = self._fcs.finished
         self._fuel_limiter = o.fuel_limiter
         self._vnav_mode = o.vnav_mode
+        self._ils_phase = o.ils_phase
         return True

@@ -43,7 +43,7 @@ AIRFRAME_OUT = ("lat_deg", "lon_deg", "alt_msl_m", "alt_agl_m", "tas_m_s", "cas_
                 "mass_kg", "fuel_kg")
 FCS_OUT = ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "airbrake_norm", "brakes_norm",
            "steering_norm", "gear_down", "lever_norm", "fuel_flow_cmd_kg_s", "alt_cmd_m", "tas_cmd_m_s", "mach_cmd",
-           "track_cmd_rad", "section_index", "mission_completed", "fuel_limiter", "vnav_mode")
+           "track_cmd_rad", "section_index", "mission_completed", "fuel_limiter", "vnav_mode", "ils_phase")
 # Flight idle of the Larzac-04-sized engines (the fuel controller's lowest N1c demand, and the TECS lever
 # that demands it, N1c_idle / k_delta): 40 % corrected fan speed runs steadily on the engine model from sea
 # level to 7500 m (its lowest steady N1 there: 18 to 30 %) and gives 0.84 kN at 600 m, Mach 0.2 (a

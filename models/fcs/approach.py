@@ -47,7 +47,10 @@ from .guidance import L1Guidance
 from .tunable import Tunable, load_params
 
 __all__ = ["Runway", "IlsDeviation", "ApproachParams", "ApproachCommand", "AutoLand", "LOC_BEYOND_END_M",
-           "ils_deviation", "centreline_steer"]
+           "ils_deviation", "centreline_steer", "APPROACH_PHASES"]
+
+#: Phases of :class:`AutoLand` in the order of their codes (the FCS FMU's Integer output ``ils_phase``; 0: none).
+APPROACH_PHASES = ("", "HOLD", "LOC_ARMED", "LOC", "GS", "FLARE", "DEROTATION", "ROLLOUT", "STOPPED")
 
 #: Localizer antenna beyond the stop end of the runway [m] (typical siting).
 LOC_BEYOND_END_M = 300.0

@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .approach import ApproachParams
+from .approach import APPROACH_PHASES, ApproachParams
 from .atmosphere import G0_M_S2
 from .errors import ParameterError
 from .fuel_control import FuelController
@@ -57,6 +57,8 @@ OUTPUT_SIGNALS: dict[str, str] = {
     "airbrake": "Airbrake command, 0 retracted to 1 fully out [-]",
     "vnav_mode": "Vertical mode: 0 none (ground), 1 ALT, 2 CLIMB, 3 PATH (managed descent), 4 DECEL, "
                  "5 HOLD (planned hold at a fix), 6 DESCENT (open), 7 APPROACH [-]",
+    "ils_phase": "Phase of the automatic approach and landing: 0 none, 1 HOLD, 2 LOC_ARMED, 3 LOC, 4 GS, 5 FLARE, "
+                 "6 DEROTATION, 7 ROLLOUT, 8 STOPPED [-]",
 }
 #: Period of the performance model's table look-ups in the energy-rate limits [s] (the polar and the
 #: thrusts change slowly with altitude and Mach; the drag is recomputed every step).
@@ -108,6 +110,8 @@ class FcsOutput:
         Airbrake command [0, 1].
     vnav_mode : int
         Vertical mode, an index of :data:`.vertical.VNAV_MODES` [-].
+    ils_phase : int
+        Approach phase, an index of :data:`.approach.APPROACH_PHASES` (0 outside a landing) [-].
     """
 
     elevator: float
@@ -125,6 +129,7 @@ class FcsOutput:
     fuel_limiter: int = 0
     airbrake: float = 0.0
     vnav_mode: int = 0
+    ils_phase: int = 0
 
     def signals(self) -> dict[str, float | int | str | bool]:
         """The outputs as a flat mapping named as :data:`OUTPUT_SIGNALS` (what an FMU exposes)."""
@@ -135,7 +140,8 @@ class FcsOutput:
                 "phi_cmd_rad": self.phi_cmd_rad, "section_index": tg.section_index, "section_name": tg.section_name,
                 "section_phase": tg.phase, "alt_cmd_m": math.nan if tg.alt_cmd_m is None else tg.alt_cmd_m,
                 "tas_cmd_m_s": self.tas_cmd_m_s, "track_cmd_rad": tg.track_cmd_rad, "xtk_m": tg.xtk_m,
-                "fuel_limiter": self.fuel_limiter, "airbrake": self.airbrake, "vnav_mode": self.vnav_mode}
+                "fuel_limiter": self.fuel_limiter, "airbrake": self.airbrake, "vnav_mode": self.vnav_mode,
+                "ils_phase": self.ils_phase}
 
 
 class FlightControlSystem:
@@ -257,7 +263,8 @@ class FlightControlSystem:
         f = self.fuel.step(dt_s, lever, eng.N1c_pct, eng.N1_pct, eng.Tt41_K)
         return FcsOutput(elevator, lat.aileron, rudder, tg.steer, tg.brake, tg.gear_down, lever, f.Wf_cmd_kg_s,
                          theta_c, lat.phi_cmd_rad, tg, tas_cmd, FUEL_LIMITERS.index(f.limiter), airbrake,
-                         _MODE_CODE.get(tg.vnav_mode, 0))
+                         _MODE_CODE.get(tg.vnav_mode, 0),
+                         _PHASE_CODE.get(tg.phase, 0) if tg.section_type == "Landing" else 0)
 
     def _energy_rates(self, t_s: float, x: AircraftState, tg: Targets) -> tuple[float, float, float]:
         """(E_rate_min, E_rate_max, airbrake drag available [N]) from the performance model
@@ -273,3 +280,4 @@ class FlightControlSystem:
 
 
 _MODE_CODE = {m: i for i, m in enumerate(VNAV_MODES)}
+_PHASE_CODE = {m: i for i, m in enumerate(APPROACH_PHASES)}

@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import argparse
 import json
-
 import sys
 from pathlib import Path
 from typing import Any
@@ -31,8 +30,8 @@ from typing import Any
 import numpy as np
 import yaml
 
-from ..airframe.aero import aero_model
 from ..airframe.adapter import Airframe
+from ..airframe.aero import aero_model
 from ..airframe.errors import AirframeError
 from ..airframe.geometry import load_geometry
 from ..airframe.trim import trim_level
@@ -41,7 +40,8 @@ from ..engine.design_params import load_params, preset_path
 from ..engine.errors import ModelError
 from ..engine.offdesign import OffDesignPoint, TurbofanOffDesign, scaled_maps
 
-__all__ = ["ALT_AXIS_M", "MACH_AXIS", "N1C_AXIS_PCT", "MASS_RANGE_KG", "CL_FIT_MAX", "polar_point", "thrust_column", "max_thrust",
+__all__ = ["ALT_AXIS_M", "MACH_AXIS", "N1C_AXIS_PCT", "MASS_RANGE_KG", "CL_FIT_MAX", "polar_point", "thrust_column",
+           "max_thrust",
            "generate", "OUT_FILE"]
 
 OUT_FILE = Path(__file__).resolve().parents[1] / "fcs" / "data" / "performance.json"

@@ -20,7 +20,8 @@ N1C = (0.0, 100.0)
 
 def synthetic(cd0: float, k: float, thrust_N: Callable[[float, float, float], float],
               thrust_max_N: Callable[[float, float], float], S_m2: float = 11.2, cd_airbrake: float = 0.0,
-              cd_gear: float = 0.0, blowback_qbar_Pa: float = 1e9, base: PerformanceData | None = None) -> PerformanceData:
+              cd_gear: float = 0.0, blowback_qbar_Pa: float = 1e9,
+              base: PerformanceData | None = None) -> PerformanceData:
     """A database with a constant polar (or ``base``'s polar, when given) and the thrust functions
     ``thrust_N(h, M, N1c)`` and ``thrust_max_N(h, M)`` [N]."""
     def grid(f: Callable[[float, float], float]) -> tuple[tuple[float, ...], ...]:

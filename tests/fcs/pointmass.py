@@ -48,7 +48,8 @@ class PointMass:
     def t_avail(self) -> float:
         return T_SLS_N * (isa(self.h).rho_kg_m3 / 1.225) ** 0.7
 
-    def deriv(self, s: np.ndarray, elevator: float, T_cmd: float, drag_extra_N: float = 0.0) -> tuple[np.ndarray, float]:
+    def deriv(self, s: np.ndarray, elevator: float, T_cmd: float,
+              drag_extra_N: float = 0.0) -> tuple[np.ndarray, float]:
         V, gam, h, th, q, x, T = s
         rho = isa(h).rho_kg_m3
         qbar = 0.5 * rho * V * V

@@ -53,10 +53,12 @@ class Airframe(Fmi2Slave):
         self.lat0_deg = 48.366886
         self.lon0_deg = 11.821172
         self.heading0_deg = 263.4
-        self.alt0_m = 453.0
+        # The EDDM 26R threshold elevation of missions/munich.yaml (1449 ft, AIP): the runway the FCS
+        # takes off from and lands on lies at the ground the aircraft stands on.
+        self.alt0_m = 441.7
         self.tas0_m_s = 150.0
         self.alpha0_rad = 0.0
-        self.ground_elevation_m = 453.0
+        self.ground_elevation_m = 441.7
         self.flaps0_norm = 0.0
         self.fuel0_kg = 600.0
         self.isa_dev_K = 0.0

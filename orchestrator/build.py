@@ -124,6 +124,7 @@ def analyse(script: Path) -> SlaveSource:
     for pkg in packages:
         if not (MODELS_DIR / pkg / "__init__.py").is_file():
             raise BuildError(f"{script}: imports openemss.models.{pkg}, which does not exist in {MODELS_DIR}")
+    packages |= _package_closure(packages)
     data_files = _literal_list(tree, script, "DATA_FILES")
     for f in data_files:
         target = (PACKAGE_ROOT / f).resolve()
@@ -131,6 +132,30 @@ def analyse(script: Path) -> SlaveSource:
             raise BuildError(f"{script}: DATA_FILES entry '{f}' must name a file below {PACKAGE_ROOT}")
     return SlaveSource(script, tuple(sorted(siblings)), tuple(sorted(packages)),
                        _literal_list(tree, script, "REQUIREMENTS"), data_files)
+
+
+def _package_closure(packages: set[str]) -> set[str]:
+    """The model packages that ``packages`` import among themselves, transitively: a package's
+    ``from ..other import x`` (relative, two dots: a sibling package of ``models``) brings ``other``
+    (for example ``common``, the shared atmosphere)."""
+    found, todo = set(packages), list(packages)
+    while todo:
+        pkg = todo.pop()
+        for f in _package_files(pkg):
+            if f.suffix != ".py":
+                continue
+            for node in ast.walk(ast.parse(f.read_text(encoding="utf-8"), filename=str(f))):
+                if not (isinstance(node, ast.ImportFrom) and node.level >= 2):
+                    continue
+                depth = len(f.relative_to(MODELS_DIR / pkg).parts)  # 1 for a module at the package's top
+                if node.level != depth + 1:
+                    continue                                          # inside the package itself
+                names = [node.module.split(".")[0]] if node.module else [a.name for a in node.names]
+                for other in names:
+                    if other not in found and (MODELS_DIR / other / "__init__.py").is_file():
+                        found.add(other)
+                        todo.append(other)
+    return found
 
 
 def _package_files(pkg: str) -> list[Path]:

@@ -64,7 +64,9 @@ from functools import lru_cache
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ..common import atmosphere as _atm
 from .corrections import AeroCorrections, load_corrections
+from .errors import OutOfEnvelopeError
 from .geometry import Geometry, Planform, load_geometry
 
 __all__ = ["AeroModel", "aero_model", "build_aero_model", "geometric_model", "helmbold_slope", "skin_friction", "korn_mcrit",
@@ -79,25 +81,25 @@ DESIGN_ALT_M = 5000.0  # altitude of the design condition (Reynolds number of th
 
 
 def isa(alt_m: float, dT_K: float = 0.0) -> tuple[float, float, float, float, float]:
-    """ISA troposphere/lower stratosphere (ICAO Doc 7488), geopotential altitude below 20 km.
+    """The standard atmosphere (:mod:`openemss.models.common.atmosphere`, ISO 2533) with Sutherland's
+    viscosity, as a tuple for the aerodynamic formulas.
 
     Returns
     -------
     T_K, p_Pa, rho_kg_m3, a_m_s, mu_Pa_s
         Temperature [K], pressure [Pa], density [kg/m^3], speed of sound [m/s],
         dynamic viscosity by Sutherland's law [Pa s].
+
+    Raises
+    ------
+    OutOfEnvelopeError
+        Outside the standard's range (-1000 to 32000 m, 150 to 350 K).
     """
-    R, gamma = 287.05287, 1.4
-    if alt_m <= 11000.0:
-        T_std = 288.15 - 0.0065 * alt_m
-        p = 101325.0 * (T_std / 288.15) ** 5.255877
-    else:
-        T_std = 216.65
-        p = 22632.06 * math.exp(-9.80665 * (alt_m - 11000.0) / (R * 216.65))
-    T = T_std + dT_K
-    rho = p / (R * T)
-    mu = 1.458e-6 * T ** 1.5 / (T + 110.4)
-    return T, p, rho, math.sqrt(gamma * R * T), mu
+    try:
+        a = _atm.isa(alt_m, dT_K)
+    except _atm.AtmosphereRangeError as exc:
+        raise OutOfEnvelopeError(str(exc)) from None
+    return a.T_K, a.p_Pa, a.rho_kg_m3, a.a_m_s, _atm.sutherland_viscosity(a.T_K)
 
 
 def helmbold_slope(aspect: float, tan_sweep_tmax: float, mach: ArrayLike, eta: float = 0.95) -> NDArray:

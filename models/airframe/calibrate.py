@@ -34,7 +34,7 @@ from .corrections import FACTOR_BOUNDS, AeroCorrections
 from .errors import CalibrationError
 from .geometry import load_geometry
 
-__all__ = ["CalibrationPoint", "PointResult", "Calibration", "load_points", "fit", "model_coefficients",
+__all__ = ["CalibrationPoint", "PointResult", "Calibration", "read_points", "load_points", "fit", "model_coefficients",
            "ENVELOPE"]
 
 #: Where the model may be compared with data: altitude [m], Mach number [-] (the JSBSim tables and
@@ -47,7 +47,8 @@ _FORCE = re.compile(r"^(lift|drag)(?:_[A-Za-z0-9]+)*?_(N|kN)$")
 
 @dataclass(frozen=True)
 class CalibrationPoint:
-    """One measured point: condition and coefficients on the model's reference area."""
+    """One measured point: condition, dynamic pressure [Pa], Reynolds number on the reference chord [-], and
+    the lift and drag coefficients on the reference area [-] (``None`` where the file gives none)."""
 
     label: str
     line: int
@@ -56,8 +57,8 @@ class CalibrationPoint:
     alpha_rad: float
     qbar_Pa: float
     re_mac: float
-    cl: float
-    cd: float
+    cl: float | None
+    cd: float | None
     cl_reference: float | None = None
     cd_reference: float | None = None
 
@@ -74,9 +75,9 @@ class PointResult:
 
     def errors(self) -> dict[str, float]:
         """Relative errors of the model [-]: ``cl_before``, ``cd_before``, ``cl_after``, ``cd_after``."""
-        p = self.point
-        return {"cl_before": self.cl_before / p.cl - 1, "cd_before": self.cd_before / p.cd - 1,
-                "cl_after": self.cl_after / p.cl - 1, "cd_after": self.cd_after / p.cd - 1}
+        cl, cd = float(self.point.cl or math.nan), float(self.point.cd or math.nan)
+        return {"cl_before": self.cl_before / cl - 1, "cd_before": self.cd_before / cd - 1,
+                "cl_after": self.cl_after / cl - 1, "cd_after": self.cd_after / cd - 1}
 
 
 @dataclass(frozen=True)
@@ -121,27 +122,29 @@ def _to_coefficient(col: str, value: float, qs_N: float) -> float:
     return value * (1000.0 if col.endswith("_kN") else 1.0) / qs_N
 
 
-def load_points(path: Path | str, model: AeroModel | None = None, lift_column: str | None = None,
-                drag_column: str | None = None,
-                reference_columns: tuple[str, str] | None = None) -> tuple[tuple[CalibrationPoint, ...], str]:
+def read_points(path: Path | str, s_ref_m2: float, mac_m: float, lift_column: str | None = None, drag_column: str | None = None,
+                reference_columns: tuple[str, str] | None = None,
+                require_forces: bool = True) -> tuple[tuple[CalibrationPoint, ...], str]:
     """Read and check a points file; return the points and the source text (its ``#`` lines).
 
-    ``reference_columns`` (lift, drag) names another code's values in the same file (for example the
-    reference flight simulator's), carried along for comparison and not fitted.
+    The one reader of points files (``emss airframe calibrate`` and ``emss airframe compare``).
+    Coefficients are referred to ``s_ref_m2`` [m^2], Reynolds numbers to the chord ``mac_m`` [m]. Without ``require_forces`` the lift and drag
+    columns may be absent (the points' ``cl`` and ``cd`` are then ``None``). ``reference_columns``
+    (lift, drag) names another code's values in the same file (for example the reference flight
+    simulator's), carried along for comparison and not fitted.
 
     Raises
     ------
     CalibrationError
-        One line naming the file, the line and the column: a missing file or column, a value that is
-        not a finite number, a condition outside :data:`ENVELOPE`, a non-positive lift or drag.
+        One line naming the file and every problem with its line and column: a missing file or
+        column, a value that is not a finite number, a condition outside :data:`ENVELOPE`, a
+        non-positive lift or drag.
     """
     path = Path(path)
-    model = model or aero_model()
-    s_ref = model.geom.wing.area_m2
     try:
         text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise _fail(path, None, f"cannot read the points file ({exc.strerror or exc})") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise _fail(path, None, f"cannot read the points file ({getattr(exc, 'strerror', None) or exc})") from None
     source, rows = [], []
     for n, raw in enumerate(text.splitlines(), start=1):
         s = raw.strip()
@@ -156,59 +159,96 @@ def load_points(path: Path | str, model: AeroModel | None = None, lift_column: s
     if len(set(header)) != len(header):
         dup = sorted({h for h in header if header.count(h) > 1})
         raise _fail(path, header_line, f"duplicate column(s) {', '.join(dup)}")
-    for need in ("alt_m", "mach", "alpha_deg"):
-        if need not in header:
-            raise _fail(path, header_line, f"missing column {need!r}; required: alt_m, mach, alpha_deg, a lift "
-                                            "and a drag column")
-    lcol, dcol = _pick(path, header, "lift", lift_column), _pick(path, header, "drag", drag_column)
+    missing = [c for c in ("alt_m", "mach", "alpha_deg") if c not in header]
+    if missing:
+        raise _fail(path, header_line, f"missing column(s) {', '.join(missing)}; required: alt_m, "
+                                        "mach, alpha_deg" + (", a lift and a drag column" if require_forces else ""))
+    has_forces = require_forces or any(h in ("CL", "CD") or _FORCE.match(h) for h in header)
+    lcol = _pick(path, header, "lift", lift_column) if has_forces else None
+    dcol = _pick(path, header, "drag", drag_column) if has_forces else None
     pcol = next((h for h in ("p_Pa", "p_kPa") if h in header), None)
     refs = tuple(reference_columns or ())
     for col in refs:
-        if col not in header or not ((m := _FORCE.match(col)) or col in ("CL", "CD")):
+        if col not in header or not (_FORCE.match(col) or col in ("CL", "CD")):
             raise _fail(path, header_line, f"reference column {col!r} is not a lift or drag column of the file "
                                            f"(columns: {', '.join(header)})")
-    points = []
+    points: list[CalibrationPoint] = []
+    problems: list[str] = []
     for n, raw in rows[1:]:
         cells = [c.strip() for c in next(csv.reader([raw]))]
         if len(cells) != len(header):
-            raise _fail(path, n, f"{len(cells)} values for {len(header)} columns")
+            problems.append(f"line {n}: {len(cells)} values for {len(header)} columns")
+            continue
         rec = dict(zip(header, cells, strict=True))
         val: dict[str, float] = {}
-        for col in ("alt_m", "mach", "alpha_deg", lcol, dcol, *((pcol,) if pcol else ()), *refs):
+        bad = []
+        for col in ("alt_m", "mach", "alpha_deg", *(c for c in (lcol, dcol, pcol) if c), *refs):
             try:
                 v = float(rec[col])
             except ValueError:
-                raise _fail(path, n, f"column {col}: {rec[col]!r} is not a number") from None
+                bad.append(f"line {n}: column {col}: {rec[col]!r} is not a number")
+                continue
             if not math.isfinite(v):
-                raise _fail(path, n, f"column {col}: {rec[col]!r} is not a finite number")
+                bad.append(f"line {n}: column {col}: {rec[col]!r} is not a finite number")
             val[col] = v
-        for col, (lo, hi) in ENVELOPE.items():
-            if not lo <= val[col] <= hi:
-                raise _fail(path, n, f"column {col} = {val[col]:g} is outside the model's envelope [{lo:g}, {hi:g}]")
+        bad += [f"line {n}: column {col} = {val[col]:g} is outside the model's envelope [{lo:g}, {hi:g}]"
+                for col, (lo, hi) in ENVELOPE.items() if col in val and math.isfinite(val[col])
+                and not lo <= val[col] <= hi]
+        if bad:
+            problems += bad
+            continue
         _, p_isa, rho, a_snd, mu = isa(val["alt_m"])
         p = p_isa if pcol is None else val[pcol] * (1000.0 if pcol == "p_kPa" else 1.0)
         if not 0.2 * p_isa <= p <= 5.0 * p_isa:
-            raise _fail(path, n, f"column {pcol} = {val[pcol]:g} is not a pressure near the ISA "
-                                 f"{p_isa:.0f} Pa of {val['alt_m']:g} m")
-        q = 0.7 * p * val["mach"] ** 2
-        cl, cd = _to_coefficient(lcol, val[lcol], q * s_ref), _to_coefficient(dcol, val[dcol], q * s_ref)
-        if cl <= 0.0 or cd <= 0.0:
-            raise _fail(path, n, f"lift and drag must be positive (relative errors are fitted); got CL {cl:.4g}, "
-                                 f"CD {cd:.4g}")
-        alpha = math.radians(val["alpha_deg"])
-        cl_lin = abs(float(model.cl_linear(alpha, val["mach"])))
-        if cl_lin > 0.8 * model.clmax_clean:
-            raise _fail(path, n, f"alpha_deg = {val['alpha_deg']:g} is beyond the model's linear lift range at "
-                                 f"Mach {val['mach']:g} (CL {cl_lin:.2f} above 0.8 CL_max = "
-                                 f"{0.8 * model.clmax_clean:.2f}), where the factors are not defined")
-        label = rec.get("point") or str(len(points) + 1)
-        ref = [_to_coefficient(c, val[c], q * s_ref) for c in refs] or [None, None]
-        points.append(CalibrationPoint(label, n, val["alt_m"], val["mach"], alpha, q,
-                                       rho * val["mach"] * a_snd * model.geom.wing.mac_m / mu, cl, cd, *ref))
+            problems.append(f"line {n}: column {pcol} = {val[pcol]:g} is not a pressure near the ISA "
+                            f"{p_isa:.0f} Pa of {val['alt_m']:g} m")
+            continue
+        qs = 0.7 * p * val["mach"] ** 2 * s_ref_m2
+        cl = _to_coefficient(lcol, val[lcol], qs) if lcol else None
+        cd = _to_coefficient(dcol, val[dcol], qs) if dcol else None
+        if (cl is not None and cl <= 0.0) or (cd is not None and cd <= 0.0):
+            problems.append(f"line {n}: lift and drag must be positive (relative errors are compared); got CL "
+                            f"{cl:.4g}, CD {cd:.4g}")
+            continue
+        ref = [_to_coefficient(c, val[c], qs) for c in refs] or [None, None]
+        points.append(CalibrationPoint(rec.get("point") or str(len(points) + 1), n, val["alt_m"], val["mach"],
+                                       math.radians(val["alpha_deg"]), qs / s_ref_m2,
+                                       rho * val["mach"] * a_snd * mac_m / mu,
+                                       cl, cd, *ref))
+    if problems:
+        more = f" ({len(problems)} problems)" if len(problems) > 1 else ""
+        raise _fail(path, None, "; ".join(problems) + more)
     if not points:
         raise _fail(path, header_line, "no data rows under the header")
     src = " ".join(source) if source else "no source given in the file"
     return tuple(points), f"{path.name}: {src}"
+
+
+def load_points(path: Path | str, model: AeroModel | None = None, lift_column: str | None = None,
+                drag_column: str | None = None,
+                reference_columns: tuple[str, str] | None = None) -> tuple[tuple[CalibrationPoint, ...], str]:
+    """Points to calibrate ``model`` (default: the shipped one) on: :func:`read_points` with lift and
+    drag required, and each point in the model's linear lift range (where the factors are defined).
+
+    Raises
+    ------
+    CalibrationError
+        As :func:`read_points`, and for points beyond the linear lift range (CL_linear above 0.8 CL_max).
+    """
+    model = model or aero_model()
+    pts, src = read_points(path, model.geom.wing.area_m2, model.geom.wing.mac_m, lift_column, drag_column,
+                           reference_columns)
+    problems = []
+    for p in pts:
+        cl_lin = abs(float(model.cl_linear(p.alpha_rad, p.mach)))
+        if cl_lin > 0.8 * model.clmax_clean:
+            problems.append(f"line {p.line}: alpha_deg = {math.degrees(p.alpha_rad):g} is beyond the model's linear "
+                            f"lift range at Mach {p.mach:g} (CL {cl_lin:.2f} above 0.8 CL_max = "
+                            f"{0.8 * model.clmax_clean:.2f}), where the factors are not defined")
+    if problems:
+        more = f" ({len(problems)} problems)" if len(problems) > 1 else ""
+        raise _fail(Path(path), None, "; ".join(problems) + more)
+    return pts, src
 
 
 def model_coefficients(model: AeroModel, p: CalibrationPoint) -> tuple[float, float]:
@@ -237,6 +277,8 @@ def fit(points: tuple[CalibrationPoint, ...], factors: tuple[str, ...] = (*LIFT_
     if unknown or not factors:
         raise CalibrationError(f"unknown or no factor(s) {unknown}; choose from {', '.join(FACTOR_BOUNDS)}")
     names = tuple(dict.fromkeys(factors))
+    if any(p.cl is None or p.cd is None for p in points):
+        raise CalibrationError("every point to fit needs a lift and a drag (read them with load_points)")
     for group in (LIFT_FACTORS, DRAG_FACTORS):
         k = sum(f in names for f in group)
         if len(points) < k:

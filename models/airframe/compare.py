@@ -29,28 +29,26 @@ from .errors import AirframeError, OutOfEnvelopeError
 
 __all__ = ["PointSpec", "CompareRow", "SlopeRow", "read_points", "compare_point", "sweep", "lift_slopes",
            "points_table", "drag_table", "slopes_table", "write_csv", "plot", "DEFAULT_POINTS",
-           "SWEEP_ALPHAS_DEG", "REQUIRED_COLUMNS", "sweep_alphas", "sweep_conditions"]
+           "SWEEP_ALPHAS_DEG", "sweep_alphas", "sweep_conditions"]
 
 DEFAULT_POINTS = Path(__file__).resolve().parent / "data" / "upera_cfd.csv"
-REQUIRED_COLUMNS = ("alt_m", "mach", "alpha_deg")
-OPTIONAL_COLUMNS = ("p_kPa", "lift_cfd_kN", "drag_cfd_kN")
 SWEEP_ALPHAS_DEG = tuple(float(a) for a in np.arange(-2.0, 10.01, 1.0))
 MAX_SWEEPS = 3
-GAMMA = 1.4
 SLOPE_STEP_RAD = math.radians(0.5)
 
 
 @dataclass(frozen=True)
 class PointSpec:
-    """One row of a points file: a condition and, optionally, the CFD forces [N] and pressure [Pa]."""
+    """One row of a points file: a condition, the dynamic pressure [Pa] the file's coefficients refer to,
+    and, optionally, the CFD's lift and drag coefficients on the wing area [-]."""
 
     label: str
     alt_m: float
     mach: float
     alpha_rad: float
-    p_Pa: float | None = None
-    lift_cfd_N: float | None = None
-    drag_cfd_N: float | None = None
+    qbar_file_Pa: float | None = None
+    cl_cfd: float | None = None
+    cd_cfd: float | None = None
 
 
 @dataclass(frozen=True)
@@ -110,66 +108,29 @@ def _problem_list(path: Path, problems: list[str]) -> AirframeError:
 
 
 def read_points(path: Path) -> list[PointSpec]:
-    """Read a points file: CSV with ``#`` comment lines, columns ``alt_m, mach, alpha_deg``
-    and optionally ``point, p_kPa, lift_cfd_kN, drag_cfd_kN``.
+    """Read a points file with :func:`.calibrate.read_points` (the one reader of points files): columns
+    ``alt_m, mach, alpha_deg``, optionally a lift and a drag column (the CFD), ``p_kPa``/``p_Pa`` and
+    ``point``; then check each condition against AeroSandbox's range (:func:`.asb_estimate.check_condition`).
 
     Raises
     ------
     AirframeError
-        One line naming every problem with its line number: a missing file or column,
-        a value that is not a finite number, or a condition outside the valid range.
+        One line naming every problem with its line number.
     """
     from .asb_estimate import check_condition
+    from .calibrate import read_points as read_calibration_points
 
-    try:
-        lines = path.read_text(encoding="utf-8").splitlines()
-    except (OSError, UnicodeDecodeError) as exc:
-        raise AirframeError(f"{path}: cannot read the points file ({exc.__class__.__name__}: {exc})") from None
-    numbered = [(i + 1, ln) for i, ln in enumerate(lines) if ln.strip() and not ln.lstrip().startswith("#")]
-    if not numbered:
-        raise AirframeError(f"{path}: no header and no points (columns {', '.join(REQUIRED_COLUMNS)} required)")
-    header = [h.strip() for h in next(csv.reader([numbered[0][1]]))]
-    missing = [c for c in REQUIRED_COLUMNS if c not in header]
-    if missing:
-        raise AirframeError(f"{path}:{numbered[0][0]}: missing column(s) {', '.join(missing)}; "
-                            f"required: {', '.join(REQUIRED_COLUMNS)}")
-    points: list[PointSpec] = []
-    problems: list[str] = []
-    for lineno, text in numbered[1:]:
-        cells = [c.strip() for c in next(csv.reader([text]))]
-        if len(cells) != len(header):
-            problems.append(f"line {lineno}: {len(cells)} values for {len(header)} columns")
-            continue
-        row = dict(zip(header, cells, strict=True))
-        values: dict[str, float | None] = {}
-        for col in (*REQUIRED_COLUMNS, *OPTIONAL_COLUMNS):
-            if col not in row or (col in OPTIONAL_COLUMNS and row[col] == ""):
-                values[col] = None
-                continue
-            try:
-                v = float(row[col])
-            except ValueError:
-                v = math.nan
-            if not math.isfinite(v):
-                problems.append(f"line {lineno}: {col} = {row[col]!r} is not a finite number")
-            values[col] = v
-        if any(v is not None and not math.isfinite(v) for v in values.values()):
-            continue
-        alt, mach, alpha = (float(values[c]) for c in REQUIRED_COLUMNS)  # type: ignore[arg-type]
+    g = geometric_model().geom
+    pts, _ = read_calibration_points(path, g.wing.area_m2, g.wing.mac_m, require_forces=False)
+    problems = []
+    for p in pts:
         try:
-            check_condition(alt, mach, math.radians(alpha))
+            check_condition(p.alt_m, p.mach, p.alpha_rad)
         except OutOfEnvelopeError as exc:
-            problems.append(f"line {lineno}: {exc}")
-            continue
-        kn = {c: (None if values[c] is None else 1e3 * float(values[c])) for c in OPTIONAL_COLUMNS}  # type: ignore[arg-type]
-        points.append(PointSpec(label=row.get("point", "") or str(len(points) + 1), alt_m=alt, mach=mach,
-                                alpha_rad=math.radians(alpha), p_Pa=kn["p_kPa"], lift_cfd_N=kn["lift_cfd_kN"],
-                                drag_cfd_N=kn["drag_cfd_kN"]))
+            problems.append(f"line {p.line}: {exc}")
     if problems:
         raise _problem_list(path, problems)
-    if not points:
-        raise AirframeError(f"{path}: no points below the header")
-    return points
+    return [PointSpec(p.label, p.alt_m, p.mach, p.alpha_rad, p.qbar_Pa, p.cl, p.cd) for p in pts]
 
 
 def compare_point(spec: PointSpec, kind: str = "point") -> CompareRow:
@@ -178,16 +139,15 @@ def compare_point(spec: PointSpec, kind: str = "point") -> CompareRow:
 
     a = geometric_model()
     cal = aero_model()
-    _, p_isa, rho, sound, mu = isa(spec.alt_m)
+    _, _, rho, sound, mu = isa(spec.alt_m)
     tas = spec.mach * sound
     re = rho * tas * a.geom.wing.mac_m / mu
     cl = float(a.cl_basic(spec.alpha_rad, spec.mach))
     cd0 = float(a.cd0(spec.mach, re))
     b = buildup_point(spec.alt_m, spec.mach, spec.alpha_rad)
     v = lattice_point(spec.alt_m, spec.mach, spec.alpha_rad)
-    qs_cfd = 0.5 * GAMMA * (spec.p_Pa if spec.p_Pa is not None else p_isa) * spec.mach ** 2 * a.geom.wing.area_m2
-    cl_cfd = spec.lift_cfd_N / qs_cfd if spec.lift_cfd_N is not None else math.nan
-    cd_cfd = spec.drag_cfd_N / qs_cfd if spec.drag_cfd_N is not None else math.nan
+    cl_cfd = spec.cl_cfd if spec.cl_cfd is not None else math.nan
+    cd_cfd = spec.cd_cfd if spec.cd_cfd is not None else math.nan
     return CompareRow(
         kind=kind, label=spec.label, alt_m=spec.alt_m, mach=spec.mach, alpha_deg=math.degrees(spec.alpha_rad),
         tas_m_s=tas, qbar_Pa=0.5 * rho * tas ** 2, re_mac=re,

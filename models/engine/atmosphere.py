@@ -1,11 +1,8 @@
 """International Standard Atmosphere with a temperature deviation, and the free stream.
 
-The ISA (ISO 2533:1975, identical to the U.S. Standard Atmosphere 1976 up to
-32 km) is defined by its sea-level state (288.15 K, 101325 Pa), g0 =
-9.80665 m/s^2, R = 287.05287 J/(kg K) and three layers of linear temperature
-in geopotential altitude: -6.5 K/km to 11 km, isothermal to 20 km, +1.0 K/km to
-32 km. These few defining constants of the standard are written here, not
-in a data file, because they *are* the standard.
+The ISA (ISO 2533:1975) is :mod:`openemss.models.common.atmosphere`, the one atmosphere of
+engine, airframe and FCS; this module gives the engine's view of it (:class:`Ambient`, with the
+altitude and deviation it was made for) and the free stream.
 
 An ISA deviation dT_isa adds to the temperature at every altitude while the
 pressure stays that of the standard at the same (pressure) altitude, the usual
@@ -23,37 +20,16 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..common import atmosphere as _atm
 from .errors import OutOfRangeError
 from .flow import FlowStation, flow_TP, total_from_static
 from .gas import DEFAULT_GAS, GasModel
 
 __all__ = ["ALT_MIN_M", "ALT_MAX_M", "Ambient", "FreeStream", "isa", "free_stream"]
 
-_T0_K = 288.15
-_P0_PA = 101325.0
-_G0 = 9.80665
-_R_AIR = 287.05287
-#: (base geopotential altitude [m], base temperature [K], lapse rate [K/m]) of the ISA layers.
-_LAYERS = ((0.0, 288.15, -0.0065), (11000.0, 216.65, 0.0), (20000.0, 216.65, 0.001))
-#: Valid geopotential altitude range [m].
-ALT_MIN_M: float = -1000.0
-ALT_MAX_M: float = 32000.0
-
-
-def _base_pressures() -> tuple[float, ...]:
-    p = [_P0_PA]
-    for (H0, T0, L), (H1, _, _) in zip(_LAYERS[:-1], _LAYERS[1:], strict=True):
-        p.append(_p_in_layer(p[-1], H1 - H0, T0, L))
-    return tuple(p)
-
-
-def _p_in_layer(p_base: float, dH: float, T_base: float, L: float) -> float:
-    if L == 0.0:
-        return p_base * math.exp(-_G0 * dH / (_R_AIR * T_base))
-    return p_base * (1.0 + L * dH / T_base) ** (-_G0 / (_R_AIR * L))
-
-
-_P_BASE = _base_pressures()
+#: Valid geopotential altitude range [m] (ISO 2533 to 32 km).
+ALT_MIN_M: float = _atm.ALT_MIN_M
+ALT_MAX_M: float = _atm.ALT_MAX_M
 
 
 @dataclass(frozen=True, slots=True)
@@ -94,18 +70,11 @@ def isa(alt_m: float, dT_isa_K: float = 0.0) -> Ambient:
         If the altitude lies outside -1000 m to 32000 m or the temperature
         would leave 150 K to 350 K.
     """
-    if not (ALT_MIN_M <= alt_m <= ALT_MAX_M):
-        raise OutOfRangeError(f"atmosphere.isa: alt_m={alt_m!r} m is outside the valid range "
-                              f"{ALT_MIN_M} m to {ALT_MAX_M} m")
-    i = 0 if alt_m < _LAYERS[1][0] else (1 if alt_m < _LAYERS[2][0] else 2)
-    H0, T0, L = _LAYERS[i]
-    T_std = T0 + L * (alt_m - H0)
-    P = _p_in_layer(_P_BASE[i], alt_m - H0, T0, L)
-    T = T_std + dT_isa_K
-    if not (150.0 <= T <= 350.0):
-        raise OutOfRangeError(f"atmosphere.isa: dT_isa_K={dT_isa_K!r} K gives T={T:.2f} K, outside "
-                              f"the valid range 150 K to 350 K")
-    return Ambient(alt_m, dT_isa_K, T, P, P / (_R_AIR * T), math.sqrt(1.4 * _R_AIR * T))
+    try:
+        a = _atm.isa(alt_m, dT_isa_K)
+    except _atm.AtmosphereRangeError as exc:
+        raise OutOfRangeError(f"atmosphere.{exc}") from None
+    return Ambient(alt_m, dT_isa_K, a.T_K, a.p_Pa, a.rho_kg_m3, a.a_m_s)
 
 
 @dataclass(frozen=True, slots=True)

@@ -23,7 +23,7 @@ References
 ----------
 C. G. Broyden, "A class of methods for solving nonlinear simultaneous equations",
 Math. Comp. 19 (1965) 577-593 (the inverse update).
-ISO 2533:1975, "Standard Atmosphere" (the layers, as :mod:`.atmosphere`).
+ISO 2533:1975, "Standard Atmosphere" (:func:`openemss.models.common.atmosphere.isa_T_p`, compiled).
 """
 
 from __future__ import annotations
@@ -33,6 +33,7 @@ from typing import Any
 
 import numpy as np
 
+from ..common import atmosphere as _atm
 from . import jit_kernels as K
 from .jit_cycle import cycle
 from .jit_kernels import jit
@@ -50,19 +51,13 @@ _MAX_IT = 8
 
 
 def atm_array() -> np.ndarray:
-    """The ISA's defining constants as :func:`free_stream` reads them, from :mod:`.atmosphere` (one source):
-    (H0, T0, L) of the three layers, their base pressures [Pa], g0 [m/s2], R [J/(kg K)], altitude range [m]."""
-    from . import atmosphere as a
-    vals = [v for layer in a._LAYERS for v in layer] + list(a._P_BASE) + [a._G0, a._R_AIR, a.ALT_MIN_M,
-                                                                          a.ALT_MAX_M]
-    return np.array(vals, dtype=float)
+    """The standard atmosphere's valid ranges as :func:`free_stream` checks them, from
+    :mod:`openemss.models.common.atmosphere` (one source): altitude [m] and temperature [K], low and high."""
+    return np.array([_atm.ALT_MIN_M, _atm.ALT_MAX_M, _atm.T_MIN_K, _atm.T_MAX_K], dtype=float)
 
 
-@jit
-def _p_in_layer(p_base: float, dH: float, T_base: float, L: float, g0: float, R_air: float) -> float:
-    if L == 0.0:
-        return p_base * math.exp(-g0 * dH / (R_air * T_base))
-    return p_base * (1.0 + L * dH / T_base) ** (-g0 / (R_air * L))
+#: The atmosphere's own source, compiled (not a second implementation).
+_isa_T_p = jit(_atm.isa_T_p)
 
 
 @jit
@@ -71,14 +66,10 @@ def free_stream(gc: np.ndarray, gs: np.ndarray, atm: np.ndarray, alt: float, Mac
     """Fill fs with (Tt0 [K], Pt0 [Pa], V0 [m/s], p_amb [Pa], Mach, ram recovery [-]) at altitude alt [m],
     Mach [-] and ISA deviation dT [K], as :func:`.atmosphere.free_stream` and
     :func:`.inlet.ram_recovery_mil_e_5008b`; returns 1 (fs untouched) where they would raise."""
-    if not (0.0 <= Mach <= 3.0) or not (atm[14] <= alt <= atm[15]):
+    if not (0.0 <= Mach <= 3.0) or not (atm[0] <= alt <= atm[1]) or not (abs(dT) < 1e300):
         return 1
-    i = 0 if alt < atm[3] else (1 if alt < atm[6] else 2)
-    H0, T0, L = atm[3 * i], atm[3 * i + 1], atm[3 * i + 2]
-    T_std = T0 + L * (alt - H0)
-    P = _p_in_layer(atm[9 + i], alt - H0, T0, L, atm[12], atm[13])
-    T = T_std + dT
-    if not (150.0 <= T <= 350.0):
+    T, P = _isa_T_p(alt, dT)
+    if not (atm[2] <= T <= atm[3]):
         return 1
     err = np.zeros(1, np.int64)
     c = K.cp(gc, gs, T, 0.0, err)

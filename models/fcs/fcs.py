@@ -80,6 +80,9 @@ class _ParamHolder(Tunable[ApproachParams]):
         self._runner.approach_params = self._params
 
 
+_GROUND_PITCH_PHASES = frozenset({"ROLL", "ROTATE", "LIFTOFF"})
+
+
 @dataclass(frozen=True, slots=True)
 class FcsOutput:
     """Commands of one FCS step and the targets behind them (for recording and plots).
@@ -252,7 +255,10 @@ class FlightControlSystem:
                 airbrake = self.perf.airbrake_position(out.airbrake_drag_N, x.qbar_Pa)
         self._lever = lever
         q_turn = turn_pitch_rate(x.phi_rad, x.tas_m_s) if not x.on_ground else 0.0
-        elevator = self.pitch.step(dt_s, theta_c, x.theta_rad, x.q_rad_s, x.qbar_Pa, q_turn)
+        # The ground gains act on the runway and until the climb law takes over after lift-off, so that
+        # the gains do not switch while the aircraft leaves the ground.
+        ground = x.on_ground or tg.phase in _GROUND_PITCH_PHASES
+        elevator = self.pitch.step(dt_s, theta_c, x.theta_rad, x.q_rad_s, x.qbar_Pa, q_turn, on_ground=ground)
         lat = self.lateral.step(dt_s, LateralState(x.phi_rad, x.theta_rad, x.psi_rad, x.chi_rad, x.p_rad_s, x.r_rad_s,
                                                    x.beta_rad, x.tas_m_s, x.qbar_Pa),
                                 phi_cmd_rad=tg.phi_cmd_rad, heading_cmd_rad=tg.heading_cmd_rad)

@@ -34,6 +34,9 @@ class PitchParams:
     k_theta_1_rad: float
     k_q_s_rad: float
     k_theta_i_1_rad_s: float
+    k_theta_ground_1_rad: float
+    k_q_ground_s_rad: float
+    k_theta_i_ground_1_rad_s: float
     qbar_ref_Pa: float
     gain_sched_min: float
     gain_sched_max: float
@@ -59,7 +62,7 @@ class PitchController(Tunable[PitchParams]):
         self._integ = -elevator_trim
 
     def step(self, dt_s: float, theta_cmd_rad: float, theta_rad: float, q_rad_s: float,
-             qbar_Pa: float, q_turn_rad_s: float = 0.0) -> float:
+             qbar_Pa: float, q_turn_rad_s: float = 0.0, on_ground: bool = False) -> float:
         """One step; returns the normalised elevator command [-1, 1] (> 0 nose down).
 
         Parameters
@@ -76,14 +79,22 @@ class PitchController(Tunable[PitchParams]):
             Pitch rate of the steady turn being flown [rad/s] (:func:`turn_pitch_rate`): the rate
             damping acts on the pitch rate less this, so that it damps the short period and does not
             oppose the steady pull of a banked turn (turn compensation, McLean ch. 7).
+        on_ground : bool
+            Weight on wheels: the ground gains (``*_ground``) act, as the gear carries the aircraft
+            and the attitude answers the elevator only through the rotation about the main wheels
+            (gain switching on weight on wheels).
         """
         p = self._params
         s = min(max(p.qbar_ref_Pa / max(qbar_Pa, 1.0), p.gain_sched_min), p.gain_sched_max)
         e = theta_cmd_rad - theta_rad
-        u_p = s * (p.k_theta_1_rad * e - p.k_q_s_rad * (q_rad_s - q_turn_rad_s))
+        if on_ground:
+            k_th, k_q, k_i = p.k_theta_ground_1_rad, p.k_q_ground_s_rad, p.k_theta_i_ground_1_rad_s
+        else:
+            k_th, k_q, k_i = p.k_theta_1_rad, p.k_q_s_rad, p.k_theta_i_1_rad_s
+        u_p = s * (k_th * e - k_q * (q_rad_s - q_turn_rad_s))
         u = u_p + self._integ
         if -1.0 < u < 1.0 or (u >= 1.0) != (e > 0):
-            self._integ = min(max(self._integ + s * p.k_theta_i_1_rad_s * e * dt_s, -p.trim_limit), p.trim_limit)
+            self._integ = min(max(self._integ + s * k_i * e * dt_s, -p.trim_limit), p.trim_limit)
         u = min(max(u_p + self._integ, -1.0), 1.0)
         return -u
 

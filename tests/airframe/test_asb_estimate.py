@@ -238,12 +238,12 @@ def _write(path: Path, text: str) -> Path:
 @pytest.mark.parametrize("content,expect", [
     (None, "cannot read the points file"),
     ("alt_m,alpha_deg\n5000,2\n", "missing column(s) mach"),
-    ("alt_m,mach,alpha_deg\n5000,nan,2\n", "line 2: mach = 'nan' is not a finite number"),
-    ("alt_m,mach,alpha_deg\n5000,0.5,two\n", "alpha_deg = 'two' is not a finite number"),
+    ("alt_m,mach,alpha_deg\n5000,nan,2\n", "line 2: column mach: 'nan' is not a finite number"),
+    ("alt_m,mach,alpha_deg\n5000,0.5,two\n", "column alpha_deg: 'two' is not a number"),
     ("# c\nalt_m,mach,alpha_deg\n5000,0.9,2\n", "line 3: Mach = 0.9 is outside the valid range 0 to 0.85"),
-    ("alt_m,mach,alpha_deg\n5000,0,2\n", "Mach = 0 is outside the valid range 0 to 0.85 (0 excluded)"),
+    ("alt_m,mach,alpha_deg\n5000,0,2\n", "column mach = 0 is outside the model's envelope [0.05, 0.9]"),
     ("alt_m,mach,alpha_deg\n5000,0.5,2\n9000,0.5,2\n", "altitude = 9000 m is outside the valid range"),
-    ("alt_m,mach,alpha_deg\n", "no points below the header"),
+    ("alt_m,mach,alpha_deg\n", "no data rows under the header"),
 ])
 def test_compare_bad_input_one_line_nonzero(tmp_path: Path, content: str | None, expect: str,
                                             capsys: pytest.CaptureFixture[str]) -> None:

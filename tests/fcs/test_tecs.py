@@ -283,3 +283,31 @@ def test_pitch_loop_step_across_the_envelope(V: float, h: float) -> None:
     assert resp.max() - 1.0 < 0.25
     assert t[np.argmax(resp > 0.9)] < 2.0
     assert abs(resp[-1] - 1.0) < 0.05
+
+
+def test_turn_pitch_rate_and_compensation() -> None:
+    """Steady level turn: body pitch rate q = g sin(phi) tan(phi) / V (Etkin & Reid sect. 4.7); at 60 deg
+    and 100 m/s, 9.80665 x 0.866025 x 1.732051 / 100 = 0.147100 rad/s. The pitch loop's damping acts on
+    q less that rate: in the steady turn, on attitude, it gives the same elevator as in straight flight."""
+    import math
+
+    from openemss.models.fcs.pitch import PitchController, turn_pitch_rate
+
+    assert turn_pitch_rate(math.radians(60.0), 100.0) == pytest.approx(0.147100, abs=2e-6)
+    assert turn_pitch_rate(0.0, 100.0) == 0.0
+    assert turn_pitch_rate(math.radians(-60.0), 100.0) == turn_pitch_rate(math.radians(60.0), 100.0)
+    q = turn_pitch_rate(math.radians(60.0), 150.0)
+    straight, turning = PitchController(), PitchController()
+    assert turning.step(0.05, 0.05, 0.05, q, 10000.0, q_turn_rad_s=q) == straight.step(0.05, 0.05, 0.05, 0.0, 10000.0)
+
+
+def test_pitch_ground_gains_on_weight_on_wheels() -> None:
+    """With weight on wheels the ground gains act: the proportional elevator is k_ground x error."""
+    from openemss.models.fcs.pitch import PitchController, PitchParams
+
+    p = PitchParams.from_file(k_theta_1_rad=2.0, k_theta_ground_1_rad=0.5, k_q_s_rad=0.0, k_q_ground_s_rad=0.0,
+                              k_theta_i_1_rad_s=0.0, k_theta_i_ground_1_rad_s=0.0)
+    air, ground = PitchController(p), PitchController(p)
+    # qbar = qbar_ref: gain schedule 1; the elevator is minus the nose-up command
+    assert air.step(0.05, 0.1, 0.0, 0.0, p.qbar_ref_Pa) == pytest.approx(-0.2)
+    assert ground.step(0.05, 0.1, 0.0, 0.0, p.qbar_ref_Pa, on_ground=True) == pytest.approx(-0.05)

@@ -77,7 +77,7 @@ import math
 from dataclasses import dataclass
 from enum import StrEnum
 
-from .atmosphere import G0_M_S2, cas_from_tas, isa, tas_from_cas, tas_from_mach
+from .atmosphere import G0_M_S2, Atmosphere, cas_from_tas, isa, tas_from_cas, tas_from_mach
 from .errors import FcsError
 from .tunable import Tunable, load_params
 
@@ -102,9 +102,10 @@ class SpeedCommand:
     value: float
     kind: SpeedKind = SpeedKind.TAS
 
-    def tas_m_s(self, alt_m: float, dT_isa_K: float = 0.0) -> float:
-        """The target as true airspeed at altitude ``alt_m`` [m/s]."""
-        atm = isa(alt_m, dT_isa_K)
+    def tas_m_s(self, alt_m: float, dT_isa_K: float = 0.0, atm: Atmosphere | None = None) -> float:
+        """The target as true airspeed at altitude ``alt_m`` [m/s] (``atm``: that altitude's atmosphere, when the
+        caller has it)."""
+        atm = atm if atm is not None else isa(alt_m, dT_isa_K)
         if self.kind is SpeedKind.MACH:
             return tas_from_mach(self.value, atm)
         if self.kind is SpeedKind.CAS:
@@ -294,7 +295,7 @@ class Tecs(Tunable[TecsParams]):
         V = max(x.tas_m_s, 1.0)
         atm = isa(x.alt_m, x.dT_isa_K)
         W = x.mass_kg * G0_M_S2
-        V_c = min(speed.tas_m_s(x.alt_m, x.dT_isa_K), p.mach_max * atm.a_m_s)
+        V_c = min(speed.tas_m_s(x.alt_m, x.dT_isa_K, atm), p.mach_max * atm.a_m_s)
         underspeed = cas_from_tas(V, atm) < p.V_min_cas_m_s
         if underspeed:
             V_c = max(V_c, tas_from_cas(p.V_min_cas_m_s * p.underspeed_margin, atm))
@@ -340,7 +341,7 @@ class Tecs(Tunable[TecsParams]):
         e_v = (a_c - x.Vdot_m_s2) / G0_M_S2
         E_err = e_g + e_v
 
-        T_avail = self.available_thrust_N(x.alt_m, x.dT_isa_K)
+        T_avail = p.thrust_sls_N * (atm.rho_kg_m3 / RHO0_KG_M3) ** p.thrust_lapse_exp  # available_thrust_N
         T_idle = p.lever_min * T_avail
         airbrake = 0.0
         if lever_fixed is not None:

@@ -303,3 +303,39 @@ def test_impossible_descent_is_a_planned_flagged_hold_at_the_fix() -> None:
     outside = sec1 & ~in_hold
     assert abs(float(np.sum(np.diff(np.unwrap(log["psi"][outside]))))) < 2 * math.pi
     assert float(np.max(log["airbrake"][sec1])) > 0.0  # the descent used the airbrake
+
+
+CLIMB_HOLD = """
+mission: {name: a climb that cannot be flown in its distance}
+places:
+  waypoints:
+    A: {lat_deg: 48.10, lon_deg: 11.00}
+    B: {lat_deg: 48.10, lon_deg: 11.10}
+    C: {lat_deg: 48.25, lon_deg: 11.10}
+sections:
+  - {type: Levelling, altitude_m: 1000, speed: {mach: 0.35}, heading_deg: 90, tolerance_m: 10, hold_s: 5}
+  - {type: WaypointFollowing, name: steep, waypoints: [A, B], fly_by: true, altitude_m: 5000, speed: {mach: 0.4}}
+  - {type: WaypointFollowing, name: on, waypoints: [C], fly_by: true, altitude_m: 5000, speed: {mach: 0.4}}
+"""
+
+
+def test_impossible_climb_is_a_planned_climbing_hold_at_the_fix() -> None:
+    """4000 m up within about 10 km: the top of climb predicted at maximum thrust (perf_models' thrust of
+    this aircraft) lies beyond B, so a climbing hold at B is planned at the section's start (flagged, with the
+    height to climb, -4000 m); the section ends within 30 m of 5000 m after the hold."""
+    from openemss.models.fcs.geo import LatLon
+
+    m = parse_mission(CLIMB_HOLD)
+    a = isa(1000.0)
+    ac = Aircraft3Dof(LatLon.from_deg(48.10, 10.90), 1000.0, 0.35 * a.a_m_s, math.pi / 2, 0.0, on_ground=False,
+                      theta=0.03, N1c=60.0)
+    fcs, log = fly(m, ac, 3000.0)
+    assert fcs.finished
+    holds = fcs.runner.holds
+    assert len(holds) == 1 and holds[0].section_index == 1 and holds[0].reason == "planned"
+    assert holds[0].height_m < 0.0  # a climb
+    sec1 = log["sec"] == 1
+    in_hold = sec1 & (log["phase"] == "HOLD")
+    assert in_hold.any() and np.all(log["mode"][in_hold] == "HOLD")
+    assert abs(log["h"][sec1][-1] - 5000.0) < 30.0
+    assert log["h"][in_hold][0] < 5000.0 - 100.0  # the hold did the rest of the climb

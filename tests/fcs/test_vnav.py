@@ -12,7 +12,8 @@ sin(gamma) is the gradient. The references are worked in the tests' docstrings:
 * the planned hold: the height the path cannot lose before the fix, over 2 pi R tan(gamma) per turn;
 * the top of climb: the acceleration (V1^2 - V0^2) / (2 g 0.10), then 3000 m at sin(gamma) = 0.10;
 * the route's distance to go: the legs, less a fly-by turn's shortening R (2 tan(dpsi/2) - dpsi);
-* the profile's rounding: a parabola with the vertical acceleration n_z g at the ground speed.
+* the profile's rounding: a parabola with the vertical acceleration n_z g at the ground speed;
+* in flight, the height a descent would still have at its fix at the steepest path.
 """
 from __future__ import annotations
 
@@ -28,7 +29,7 @@ from openemss.models.fcs.guidance import GuidanceParams
 from openemss.models.fcs.performance import Performance
 from openemss.models.fcs.profile import VerticalProfile
 from openemss.models.fcs.tecs import SpeedCommand, SpeedKind
-from openemss.models.fcs.vertical import RouteDistance
+from openemss.models.fcs.vertical import RouteDistance, SectionVnav
 from openemss.models.fcs.vnav import Vnav, VnavParams
 
 MASS = 2000.0
@@ -145,3 +146,34 @@ def test_profile_rounding_has_the_stated_vertical_acceleration() -> None:
             assert h == pytest.approx(line, abs=1e-6)
     assert prof.at(1000.0 + w + 1e-6)[1] == pytest.approx(0.1, abs=1e-9)
     assert prof.at(11000.0) == (pytest.approx(1000.0), pytest.approx(0.1))
+
+
+def test_a_descent_found_unable_in_flight_plans_a_flagged_hold(vnav: Vnav) -> None:
+    """In flight, every replan_period_s: 20 km before the fix at 5000 m for 2000 m, even the steepest path
+    (6 deg) would reach it 5000 - 2000 - 20 000 tan 6 deg = 898 m high, beyond unable_margin_m: a hold is
+    planned then ("unable", that height), before the fix; within the margin nothing is planned."""
+    import dataclasses as dc
+
+    from openemss.models.fcs.state import AircraftState
+
+    p = vnav.parameters
+    gp = dc.replace(GuidanceParams.from_file(), wp_fly_by=True)
+    a = LatLon.from_deg(48.0, 11.0)
+    b = destination(a, math.pi / 2, 60e3)
+    v = SpeedCommand(150.0, SpeedKind.TAS)
+
+    def state(pos: LatLon, h: float) -> AircraftState:
+        return AircraftState(pos, h, 150.0, 0.0, 0.0, 0.0, 150.0, math.pi / 2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1e4,
+                             MASS, False)
+
+    sv = SectionVnav(vnav, gp, 3, 2000.0, v, v, a, [b], 0, None, state(a, 5000.0), 0.0, (VDOT_MAX, K_V, 0.175))
+    assert sv.kind == "descent" and sv.hold is None  # 60 km are enough for 3000 m at 4 deg
+    here = destination(a, math.pi / 2, 40e3)
+    excess = 5000.0 - 2000.0 - 20e3 * math.tan(p.gamma_path_max_rad)
+    sv.step(p.replan_period_s, state(here, 5000.0), 0, distance_m(here, b))
+    assert sv.hold is not None and sv.hold.reason == "unable" and sv.hold.planned_at_s == p.replan_period_s
+    assert sv.hold.height_m == pytest.approx(excess, rel=1e-3)
+    sv2 = SectionVnav(vnav, gp, 3, 2000.0, v, v, a, [b], 0, None, state(a, 5000.0), 0.0, (VDOT_MAX, K_V, 0.175))
+    ok_h = 2000.0 + 20e3 * math.tan(p.gamma_path_max_rad) + 0.5 * p.unable_margin_m
+    sv2.step(p.replan_period_s, state(here, ok_h), 0, distance_m(here, b))
+    assert sv2.hold is None

@@ -39,7 +39,9 @@ has no priority:
 
 If the thrust saturates nevertheless (the model's limits are estimates), the
 weights (w_g, w_v) blend from (1, 1) to (2, 0) (path) or (0, 2) (speed) with the
-time constant ``tau_priority_s``, and back when the thrust comes off its limit.
+time constant ``tau_priority_s``, and back when the thrust comes off its limit
+(with ``priority="path_only"``, a deceleration segment, they blend to the path's in
+any case).
 In underspeed (below V_min) speed has priority at once and the thrust lever goes
 to its maximum, the speed command is raised to V_min; with a fixed lever (take-off,
 flare) pitch flies the path (``gamma_cmd``) or the speed.
@@ -282,6 +284,9 @@ class Tecs(Tunable[TecsParams]):
         priority : str, optional
             ``"path"`` or ``"speed"``: which command the energy limits leave alone. Default: speed when
             the altitude command saturates the flight-path limit (an open climb or descent), else path.
+            ``"path_only"``: path, and the pitch weights blend to the path's (2, 0) also while the thrust
+            is not saturated: pitch holds the path alone and the speed is the thrust's and the airbrake's
+            (a deceleration segment, where the engine's spool-down would otherwise lift the aircraft).
         airbrake_max_N : float
             Drag the airbrake may add below idle [N] (0: not allowed).
 
@@ -309,8 +314,11 @@ class Tecs(Tunable[TecsParams]):
         if not underspeed and p.jerk_max_m_s3 > 0.0:
             da = p.jerk_max_m_s3 * dt_s
             a_c = min(max(a_c, self._a_c - da), self._a_c + da)
+        strict = priority == "path_only"
         if priority is None:
             priority = "speed" if g_raw != g_c else "path"
+        elif strict:
+            priority = "path"
         limited = False
         if lever_fixed is None and not underspeed:
             # energy-rate command limiting: cut the channel without priority back to what the thrust gives
@@ -369,7 +377,7 @@ class Tecs(Tunable[TecsParams]):
             airbrake = self._ab
             lever = T_c / T_avail
             prio = "speed" if underspeed else (priority if saturated else "normal")
-            sigma_target = 1.0 if saturated else 0.0
+            sigma_target = 1.0 if saturated or strict else 0.0
             if underspeed:
                 self._sigma = 1.0
             elif p.tau_priority_s > 0.0:

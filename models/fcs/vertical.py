@@ -15,6 +15,7 @@ CLIMB      open climb to the constraint at maximum thrust (TECS speed priority)
 PATH       managed descent path: altitude and vertical speed of the path, thrust and
            airbrake fly the speed (TECS path priority)
 DECEL      deceleration segment, level at the constraint altitude, to the target speed
+           (pitch holds the altitude alone, thrust and airbrake fly the speed)
 HOLD       planned hold at the constraint's waypoint: a spiral to the constraint altitude
 DESCENT    open descent (a section without a plan, or a path left for the speed)
 APPROACH   the landing section's approach and landing
@@ -230,10 +231,14 @@ class SectionVnav:
             d = self.descent
             if s < 0.0:  # past the constraint point (an intermediate waypoint's): hold its altitude
                 return VerticalTargets(self.h_c, 0.0, self.speed, False, "path", "ALT", s)
-            # the path's vertical speed is taken ``path_lead_s`` ahead (the pitch loop's lag: without it the
-            # aircraft lags into the level-off at the bottom of descent by about its sink rate x the lag)
+            # where the path levels off ahead (the bottom of descent), its vertical speed is taken
+            # ``path_lead_s`` ahead: the level-off needs the thrust back from idle, and the engine's spool-up
+            # lags; without the lead the aircraft sinks through the level-off by about its sink rate x the lag.
+            # Not at the push-over at the top of descent, where idle comes at once (it would dive below the path)
             h, slope = d.profile.at(s)
-            slope = d.profile.at(s - p.path_lead_s * x.gs_m_s)[1]
+            ahead = d.profile.at(s - p.path_lead_s * x.gs_m_s)[1]
+            if abs(ahead) < abs(slope):
+                slope = ahead
             speed = d.speed_target if s <= d.s_decel_m else d.speed_descent
             if t_s >= self._next_check:
                 self._next_check = t_s + p.replan_period_s
@@ -244,7 +249,7 @@ class SectionVnav:
                 mode = "PATH"
             else:
                 mode = "DECEL"
-            prio = "path"
+            prio = "path_only" if mode == "DECEL" else "path"
             if mode == "PATH" and x.tas_m_s > speed.tas_m_s(x.alt_m, x.dT_isa_K) + p.overspeed_m_s:
                 prio = "speed"
             return VerticalTargets(h, -slope * x.gs_m_s, speed, mode != "ALT", prio, mode, s)

@@ -9,16 +9,29 @@ Start: on a runway at rest (``start_on_runway``) or in the air at ``alt0_m`` and
 attack from :func:`openemss.models.airframe.trim.trim_level`; the trim's elevator and
 thrust are published as ``trim_elevator_norm`` and ``trim_thrust_N`` so the flight
 control can start from them).
+
+Weather: ``weather_file`` (String, empty by default: the steady ``wind_*_m_s`` and the
+``turbulence_*`` parameters apply) names a mission file, or a file of only its ``wind`` and
+``turbulence`` keys (:mod:`openemss.models.fcs.weather`), absolute or relative to the FMU's
+resources folder (the shipped ones: ``missions/weather/``). Its winds aloft replace the steady
+wind and are applied at the aircraft's altitude every step; its turbulence (severity, wind at
+20 ft, seed) replaces the turbulence parameters. The airframe owns the atmosphere: the flight
+control reads its mission through its own ``mission_file`` and never passes the wind on.
 """
 from __future__ import annotations
 
-from pythonfmu import Boolean, Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real
+from pathlib import Path
+
+from pythonfmu import Boolean, Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real, String
 
 from openemss.models.airframe.adapter import FT
 from openemss.models.airframe.adapter import Airframe as AirframeModel
 from openemss.models.airframe.trim import trim_level
+from openemss.models.fcs.errors import MissionError
+from openemss.models.fcs.weather import Weather, load_weather
 
-REQUIREMENTS = ["jsbsim>=1.2", "numpy>=1.24", "scipy>=1.10"]
+REQUIREMENTS = ["jsbsim>=1.2", "numpy>=1.24", "scipy>=1.10", "pyyaml>=6.0"]
+DATA_FILES = ["missions/weather/munich_wind_light_turbulence.yaml"]
 
 # (name, description) in the order of AirframeModel.values() after time_s (on_ground handled apart).
 OUTPUTS = (
@@ -68,7 +81,12 @@ class Airframe(Fmi2Slave):
         self.turbulence_severity = 0
         self.turbulence_wind_20ft_m_s = 0.0
         self.turbulence_seed = 0
+        self.weather_file = ""
         self.rate_hz = 120.0
+        self.register_variable(String("weather_file", causality=par, variability=fixed,
+                                      description="Winds aloft and turbulence: a mission or weather file (YAML), "
+                                                  "absolute or relative to the FMU's resources folder; empty: the "
+                                                  "wind_* and turbulence_* parameters [-]"))
         self.register_variable(Boolean("start_on_runway", causality=par, variability=fixed,
                                        description="Start at rest on the runway (else in the air) [-]"))
         self.register_variable(Boolean("trim_at_start", causality=par, variability=fixed,
@@ -142,11 +160,27 @@ class Airframe(Fmi2Slave):
         vals, base, n = self._vals, self._out0, len(OUTPUTS)
         return [vals[vr - base] if 0 < vr - base <= n else Fmi2Slave.get_real(self, [vr])[0] for vr in vrs]
 
+    def _weather(self) -> Weather | None:
+        if not self.weather_file:
+            return None
+        p = Path(self.weather_file)
+        if not p.is_absolute():
+            p = Path(self.resources or ".") / p
+        if not p.is_file():
+            raise MissionError(f"airframe: weather_file '{self.weather_file}' not found (looked at {p}); give a "
+                               f"path, absolute or relative to the FMU's resources folder (shipped: {DATA_FILES[0]})")
+        return load_weather(p)
+
     def exit_initialization_mode(self) -> None:
+        w = self._weather()
+        turb = w.turbulence if w is not None else None
+        sev, w20, seed = (self.turbulence_severity, self.turbulence_wind_20ft_m_s, self.turbulence_seed)
+        if turb is not None:  # the file's turbulence replaces the parameters'
+            sev, w20, seed = turb.severity, turb.wind_20ft_m_s, turb.seed
         m = AirframeModel(rate_hz=self.rate_hz, isa_dev_K=self.isa_dev_K,
                           wind_ned_m_s=(self.wind_north_m_s, self.wind_east_m_s, self.wind_down_m_s),
-                          turbulence_severity=self.turbulence_severity,
-                          turbulence_wind_20ft_m_s=self.turbulence_wind_20ft_m_s, seed=self.turbulence_seed)
+                          turbulence_severity=sev, turbulence_wind_20ft_m_s=w20, seed=seed,
+                          wind_profile=w.wind.ned_m_s if w is not None and w.wind is not None else None)
         if self.start_on_runway:
             m.start_runway(self.lat0_deg, self.lon0_deg, self.heading0_deg, self.alt0_m, fuel_kg=self.fuel0_kg,
                            flaps=self.flaps0_norm)

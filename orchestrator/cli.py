@@ -84,6 +84,8 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--status", metavar="VAR",
                      help="component.variable shown in the progress bar, any type (default: what a plugin "
                           "proposes, e.g. the active mission section)")
+    run.add_argument("--no-pre-run", action="store_true",
+                     help="skip the plugins' pre-run checks (e.g. the feasibility of a mission before flying it)")
     run.add_argument("--no-post-run", action="store_true",
                      help="skip the plugins' post-run hooks (e.g. summary.json and plots of a mission run)")
     run.add_argument("--json", action="store_true", help="print the run summary as JSON")
@@ -173,6 +175,28 @@ def _proposed(bound: BoundSystem, hook: str) -> str | None:
         if answer:
             return str(answer)
     return None
+
+
+def _pre_run(bound: BoundSystem) -> list[str]:
+    """Every plugin's pre-run hook on the bound system: the warning lines they return, and one line per
+    hook that failed (a failed check never stops the run)."""
+    components = {c.name: c.fmu_path for c in bound.components}
+    parameters = {f"{bound.components[p.component].name}.{p.variable.name}": p.value for p in bound.parameters}
+    lines: list[str] = []
+    for module in plugins():
+        hook = getattr(module, "pre_run", None)
+        if hook is None:
+            continue
+        try:
+            lines.extend(str(line) for line in hook(components, parameters))
+        except (EmssError, *USER_ERRORS) as exc:
+            lines.append(f"pre-run hook '{plugin_name(module)}' failed: {exc}")
+        except Exception as exc:
+            if os.environ.get("EMSS_DEBUG"):
+                raise
+            lines.append(f"pre-run hook '{plugin_name(module)}' failed: internal error: {type(exc).__name__}: {exc} "
+                         "(set EMSS_DEBUG=1 for the traceback)")
+    return lines
 
 
 def _post_run(out: Path, error: BaseException | None) -> tuple[list[Path], list[str]]:
@@ -309,6 +333,9 @@ def cmd_run(args: argparse.Namespace) -> int:
             ex.add_observer(o)
     for line in load_problems:
         print(f"emss run: warning: {line}", file=sys.stderr)
+    pre = [] if args.no_pre_run else _pre_run(bound)
+    for line in pre:
+        print(f"emss run: warning: {line}", file=sys.stderr)
     try:
         ex.run(stop)
     except (EmssError, KeyboardInterrupt) as exc:
@@ -321,7 +348,8 @@ def cmd_run(args: argparse.Namespace) -> int:
     written, failures = ([], []) if args.no_post_run else _post_run(out, None)
     summary = {k: record.info.get(k) for k in ("status", "algorithm", "rate_hz", "stop_time_s", "steps",
                                                 "wall_time_s", "realtime_factor", "realtime")}
-    summary.update(system=sysdef.name, out=str(out), rows=csv.rows_written, post_run=[str(f) for f in written])
+    summary.update(system=sysdef.name, out=str(out), rows=csv.rows_written, pre_run=pre,
+                   post_run=[str(f) for f in written])
     if args.stats:
         summary["step_statistics"] = ex.stats()
     for line in failures:

@@ -13,6 +13,11 @@ A plugin is a module named by an entry point of the group ``openemss.plugins`` (
 ``stop_condition(variables: Sequence[str]) -> str | None``
     the condition (``component.variable OP number``) that ends a run of that system before
     its stop time (e.g. a mission completed), or None; ``emss run --until`` overrides it;
+``pre_run(components: Mapping[str, Path], parameters: Mapping[str, bool | int | float | str]) -> Sequence[str]``
+    called before every ``emss run`` with the FMU of each component and every bound parameter
+    value (``component.variable``, after the SSD, the parameter sets and ``--set``); returns
+    warning lines to print (e.g. the sections of a mission its aircraft cannot fly), nothing when
+    the system is not its business; the run goes ahead whatever it says;
 ``post_run(run_dir: Path, error: BaseException | None) -> Sequence[Path]``
     called after every ``emss run`` (also a failed one, once what was recorded is on
     disk) with the results folder; returns the files it wrote, nothing when the run is

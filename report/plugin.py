@@ -6,7 +6,9 @@
   results folder (also after a failed run, from what was recorded); nothing otherwise.
 * ``status_variable``: the progress bar shows the FCS's ``section_name``.
 * ``stop_condition``: the run ends when the FCS reports the mission completed.
-* ``emss plot RUN_DIR [RUN_DIR_B ...]`` and ``emss summary RUN_DIR``.
+* ``pre_run``: before every ``emss run`` of a system that flies a mission, its feasibility check
+  (:mod:`.mission_check`): the marginal and infeasible sections, as warnings.
+* ``emss plot RUN_DIR [RUN_DIR_B ...]``, ``emss summary RUN_DIR`` and ``emss mission check MISSION``.
 """
 from __future__ import annotations
 
@@ -15,10 +17,14 @@ import json
 from collections.abc import Sequence
 from pathlib import Path, PurePosixPath
 
+from . import mission_check
 from .errors import ReportError
+from .mission_check import pre_run
 from .plots import PlotRun, plot_runs
 from .rundata import MISSION_COPY, find_roles, load_mission, load_run, read_header
 from .summary import summarize
+
+__all__ = ["pre_run", "post_run", "status_variable", "stop_condition", "register", "write_report"]
 
 SUMMARY = "summary.json"
 MAX_RUNS = len(("-", "--", ":", "-."))
@@ -169,7 +175,7 @@ def _window(text: str) -> float:
 
 
 def register(sub: argparse._SubParsersAction) -> tuple[type[Exception], ...]:  # type: ignore[type-arg]
-    """Add ``emss plot`` and ``emss summary``."""
+    """Add ``emss plot``, ``emss summary`` and ``emss mission check``."""
     p = sub.add_parser("plot", help="plot a mission run, or compare runs on the same figures",
                        description="Draw the PNG plots of finished runs (folders written by emss run): ground "
                                    "track with waypoints and runways, altitude and Mach against the commands with "
@@ -189,4 +195,4 @@ def register(sub: argparse._SubParsersAction) -> tuple[type[Exception], ...]:  #
     s.add_argument("run_dir", type=Path, metavar="RUN_DIR", help="results folder of emss run")
     s.add_argument("--json", action="store_true", help="print summary.json")
     s.set_defaults(handler=cmd_summary)
-    return (ReportError,)
+    return (ReportError, *mission_check.register(sub))

@@ -187,14 +187,19 @@ def _mission_source(run: RunData) -> tuple[str, str] | None:
     fcs = run.roles.fcs
     if fcs is None:
         return None
-    value = parameter(run, fcs, "mission_file")
+    fmu = run.info.get("components", {}).get(fcs)
+    return read_fmu_file(parameter(run, fcs, "mission_file"), Path(fmu) if fmu else None)
+
+
+def read_fmu_file(value: str | None, fmu: Path | None) -> tuple[str, str] | None:
+    """(text, source) of a file parameter as an FMU resolves it: an absolute path, or a path relative to
+    the FMU's resources folder (read from the archive); None when it cannot be read."""
     if not value:
         return None
     path = Path(value)
     if path.is_absolute():
         return (path.read_text(encoding="utf-8"), str(path)) if path.is_file() else None
-    fmu = run.info.get("components", {}).get(fcs)
-    if not fmu:
+    if fmu is None:
         return None
     member = str(PurePosixPath("resources") / PurePosixPath(*path.parts))
     try:

@@ -7,7 +7,8 @@ together, every connector taken from its FMU's modelDescription.xml with the uni
 its description states) and the parameter sets ``engine_larzac04.ssv``,
 ``engine_reference_study.ssv``, ``engine_redesigned.ssv`` (the lowest-SFC engine of the
 cycle study; ``emss run --params ssp/engine_redesigned.ssv`` flies it),
-``aircraft_mtow.ssv`` (2100 kg: full tank) and ``aircraft_half_fuel.ssv`` (1800 kg).
+``aircraft_mtow.ssv`` (2100 kg: full tank), ``aircraft_half_fuel.ssv`` (1800 kg) and
+``munich_wind_turbulence.ssv`` (the airframe's weather: a 20 kt wind aloft, light turbulence).
 ``tests/test_system_files.py`` checks every connector of the result against the FMUs, so the
 files cannot drift from them.
 """
@@ -144,7 +145,10 @@ def parameter_sets() -> dict[str, ParameterSet]:
             "engine_redesigned.ssv": ParameterSet("engine_redesigned", {**redesigned_engine(), **IDLE}),
             # UPERA: operating empty mass 1500 kg, tank 600 kg (SPEC.md): take-off mass = 1500 kg + fuel
             "aircraft_mtow.ssv": ParameterSet("aircraft_mtow", {"airframe.fuel0_kg": 600.0}),
-            "aircraft_half_fuel.ssv": ParameterSet("aircraft_half_fuel", {"airframe.fuel0_kg": 300.0})}
+            "aircraft_half_fuel.ssv": ParameterSet("aircraft_half_fuel", {"airframe.fuel0_kg": 300.0}),
+            # the Munich mission in a 20 kt wind aloft and light turbulence (the airframe owns the weather)
+            "munich_wind_turbulence.ssv": ParameterSet("munich_wind_turbulence", {
+                "airframe.weather_file": "missions/weather/munich_wind_light_turbulence.yaml"})}
 
 
 def main() -> int:

@@ -20,13 +20,18 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
 from .errors import AirframeError, LossOfAircraftError, OutOfEnvelopeError
 from .geometry import load_geometry
 
-__all__ = ["Airframe", "AirframeState", "JSBSIM_ROOT", "DEFAULT_RATE_HZ"]
+__all__ = ["Airframe", "AirframeState", "JSBSIM_ROOT", "DEFAULT_RATE_HZ", "WindProfile"]
+
+#: Winds aloft: altitude MSL [m] -> wind velocity (north, east, down) [m/s], e.g.
+#: ``openemss.models.fcs.weather.WindProfile.ned_m_s``.
+WindProfile = Callable[[float], tuple[float, float, float]]
 
 JSBSIM_ROOT = Path(__file__).resolve().parent / "jsbsim"
 DEFAULT_RATE_HZ = 120.0
@@ -151,7 +156,8 @@ class Airframe:
 
     def __init__(self, rate_hz: float = DEFAULT_RATE_HZ, isa_dev_K: float = 0.0,
                  wind_ned_m_s: tuple[float, float, float] = (0.0, 0.0, 0.0), turbulence_severity: int = 0,
-                 turbulence_wind_20ft_m_s: float = 0.0, seed: int = 0) -> None:
+                 turbulence_wind_20ft_m_s: float = 0.0, seed: int = 0,
+                 wind_profile: WindProfile | None = None) -> None:
         self.rate_hz = _check("rate_hz", rate_hz, 10.0, 2000.0, " Hz")
         self.dt_s = 1.0 / self.rate_hz
         os.environ.setdefault("JSBSIM_DEBUG", "0")
@@ -181,8 +187,12 @@ class Airframe:
         self._tank = pm.get_node("propulsion/tank[0]/contents-lbs")
         self._thrust = pm.get_node("external_reactions/thrust/magnitude")
         self._time = pm.get_node("simulation/sim-time-sec")
-        self.set_atmosphere(isa_dev_K, wind_ned_m_s, turbulence_severity, turbulence_wind_20ft_m_s)
+        self._h_sl = pm.get_node("position/h-sl-ft")
+        self._wind_nodes = tuple(pm.get_node(f"atmosphere/wind-{c}-fps") for c in ("north", "east", "down"))
+        self._wind_profile: WindProfile | None = None
         self._started = False
+        self.set_atmosphere(isa_dev_K, wind_ned_m_s, turbulence_severity, turbulence_wind_20ft_m_s)
+        self.set_wind_profile(wind_profile)
 
     # -- environment --------------------------------------------------------
     def set_atmosphere(self, isa_dev_K: float = 0.0, wind_ned_m_s: tuple[float, float, float] = (0.0, 0.0, 0.0),
@@ -197,6 +207,21 @@ class Airframe:
         f["atmosphere/turb-type"] = 3 if sev > 0 else 0  # 3: MIL-F-8785C / Tustin
         f["atmosphere/turbulence/milspec/severity"] = sev
         f["atmosphere/turbulence/milspec/windspeed_at_20ft_AGL-fps"] = float(turbulence_wind_20ft_m_s) / FT
+
+    def set_wind_profile(self, profile: WindProfile | None) -> None:
+        """Winds aloft, replacing the steady wind: ``profile(alt_m)`` gives the wind (north, east, down)
+        [m/s] at an altitude MSL [m]. It is applied at the start (at the initial altitude) and at the
+        beginning of every :meth:`step` at the altitude then, so a step of 0.05 s at 20 m/s of climb
+        flies the wind of its first metre. None keeps the steady wind of :meth:`set_atmosphere`."""
+        self._wind_profile = profile
+        if profile is not None and self._started:
+            self._apply_wind(self._h_sl.get_double_value() * FT)
+
+    def _apply_wind(self, alt_m: float) -> None:
+        n, e, d = self._wind_profile(alt_m)  # type: ignore[misc]
+        self._wind_fps = (n / FT, e / FT, d / FT)
+        for node, v in zip(self._wind_nodes, self._wind_fps, strict=True):
+            node.set_double_value(v)
 
     # -- initial conditions -------------------------------------------------
     def _begin(self, fuel_kg: float | None) -> None:
@@ -237,6 +262,8 @@ class Airframe:
         f["ic/lat-geod-deg"] = _check("lat_deg", lat_deg, -89.0, 89.0, " deg")
         f["ic/long-gc-deg"] = _check("lon_deg", lon_deg, -180.0, 180.0, " deg")
         f["ic/terrain-elevation-ft"] = _check("elevation_m", elevation_m, -500.0, 5000.0, " m") / FT
+        if self._wind_profile is not None:
+            self._apply_wind(float(elevation_m))
         gear = self.geometry.section("gear")
         f["ic/h-agl-ft"] = (-gear["contact_z_m"] + self.geometry.z_cg_m - 0.5 * gear["main_static_deflection_m"]) / FT
         f["ic/psi-true-deg"] = float(heading_deg) % 360.0
@@ -266,6 +293,8 @@ class Airframe:
         f["ic/long-gc-deg"] = _check("lon_deg", lon_deg, -180.0, 180.0, " deg")
         f["ic/terrain-elevation-ft"] = float(ground_elevation_m) / FT
         f["ic/h-sl-ft"] = _check("alt_m", alt_m, -400.0, 12000.0, " m") / FT
+        if self._wind_profile is not None:
+            self._apply_wind(float(alt_m))
         # The initial condition is given as attitude and body-axis velocity over the ground, with
         # the initial condition's own wind zero. (With jsbsim 1.3.3, a 10 m/s tailwind set through
         # ic/vw-mag-fps and ic/vw-dir-deg gave an initial-condition airspeed of ground speed + 10 m/s,
@@ -363,6 +392,8 @@ class Airframe:
                                 f"{self.dt_s:.6g} s (rate {self.rate_hz:g} Hz)")
         if not self._started:
             raise AirframeError("start the aircraft first (start_runway or start_air)")
+        if self._wind_profile is not None:
+            self._apply_wind(self._h_sl.get_double_value() * FT)
         run = self._fdm.run
         tank = self._tank.set_double_value
         burn = self._wf_kg_s * self.dt_s

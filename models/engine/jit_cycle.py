@@ -28,6 +28,8 @@ from typing import Any
 import numpy as np
 
 from . import jit_kernels as K
+from .jit_freestream import atm_array
+from .jit_freestream import free_stream as compiled_free_stream
 from .jit_kernels import jit
 
 __all__ = ["OUT", "FastCycle"]
@@ -390,7 +392,6 @@ class FastCycle:
         self.r, self.o = np.empty(9), np.empty(len(OUT))
         self._fs: tuple[tuple[float, float, float], np.ndarray] | None = None
         self._ctl = np.empty(6)
-        from .jit_solve import atm_array
         self.atm = atm_array()                  # the ISA's constants, for the compiled free stream
         self.fsc = np.full(9, math.nan)         # (alt, Mach, dT) and the free stream of jit_solve.chord_solve
 
@@ -432,13 +433,12 @@ class FastCycle:
     def free_stream(self, cond: tuple[float, float, float]) -> np.ndarray:
         """(Tt0, Pt0, V0, p_amb, Mach, ram recovery) of a flight condition, cached; raises as :func:`.free_stream`.
 
-        Compiled (:func:`.jit_solve.free_stream`); where that refuses, :func:`.atmosphere.free_stream` (which
+        Compiled (:func:`.jit_freestream.free_stream`); where that refuses, :func:`.atmosphere.free_stream` (which
         raises, or gives the values)."""
         if self._fs is not None and self._fs[0] == cond:
             return self._fs[1]
-        from .jit_solve import free_stream as compiled
         fs = np.empty(6)
-        if compiled(self.gc, self.gs, self.atm, float(cond[0]), float(cond[1]), float(cond[2]), fs) != 0:
+        if compiled_free_stream(self.gc, self.gs, self.atm, float(cond[0]), float(cond[1]), float(cond[2]), fs) != 0:
             from .atmosphere import free_stream
             from .inlet import ram_recovery_mil_e_5008b
             fr = free_stream(*cond, self.gas)              # raises with the full message

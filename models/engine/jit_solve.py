@@ -11,9 +11,8 @@ not halved) and the same limit of eight iterations. Its matrix products are ``np
 numba hands to the same BLAS routines (gemv, dot) as NumPy's ``@`` in the Python iteration, so
 where NumPy and SciPy ship the same BLAS kernels (the project's environment) the iterates are
 the same numbers, bit for bit; elsewhere they differ by rounding.
-:func:`free_stream` is :func:`.atmosphere.free_stream` (ISA and real-gas totals) and the
-MIL-E-5008B ram recovery of :mod:`.inlet`, also compiled, evaluated only when the flight
-condition changes (the first entries of the ``fsc`` array remember the last one).
+:func:`.jit_freestream.free_stream` is evaluated only when the flight condition changes (the
+first entries of the ``fsc`` array remember the last one).
 
 Nothing here raises: a status tells the caller what Python would do. ``tests/engine/
 test_jit_cycle.py`` checks the free stream against :func:`.atmosphere.free_stream` and the
@@ -23,7 +22,6 @@ References
 ----------
 C. G. Broyden, "A class of methods for solving nonlinear simultaneous equations",
 Math. Comp. 19 (1965) 577-593 (the inverse update).
-ISO 2533:1975, "Standard Atmosphere" (:func:`openemss.models.common.atmosphere.isa_T_p`, compiled).
 """
 
 from __future__ import annotations
@@ -33,12 +31,12 @@ from typing import Any
 
 import numpy as np
 
-from ..common import atmosphere as _atm
 from . import jit_kernels as K
 from .jit_cycle import cycle
+from .jit_freestream import free_stream
 from .jit_kernels import jit
 
-__all__ = ["CONVERGED", "STALLED", "REFUSED", "FREE", "INPUTS", "atm_array", "chord_solve", "free_stream"]
+__all__ = ["CONVERGED", "STALLED", "REFUSED", "FREE", "INPUTS", "chord_solve"]
 
 #: :func:`chord_solve` statuses: converged; stalled (max |r| not halved, a step refused by
 #: Python's rules, or eight iterations), Python's chord would give up there too; refused: the
@@ -48,41 +46,6 @@ CONVERGED, STALLED, REFUSED = 0, 1, 2
 FREE = (0, 1, 2, 5, 6, 7)
 INPUTS = (3, 4, 8)
 _MAX_IT = 8
-
-
-def atm_array() -> np.ndarray:
-    """The standard atmosphere's valid ranges as :func:`free_stream` checks them, from
-    :mod:`openemss.models.common.atmosphere` (one source): altitude [m] and temperature [K], low and high."""
-    return np.array([_atm.ALT_MIN_M, _atm.ALT_MAX_M, _atm.T_MIN_K, _atm.T_MAX_K], dtype=float)
-
-
-#: The atmosphere's own source, compiled (not a second implementation).
-_isa_T_p = jit(_atm.isa_T_p)
-
-
-@jit
-def free_stream(gc: np.ndarray, gs: np.ndarray, atm: np.ndarray, alt: float, Mach: float, dT: float,
-                fs: np.ndarray) -> int:
-    """Fill fs with (Tt0 [K], Pt0 [Pa], V0 [m/s], p_amb [Pa], Mach, ram recovery [-]) at altitude alt [m],
-    Mach [-] and ISA deviation dT [K], as :func:`.atmosphere.free_stream` and
-    :func:`.inlet.ram_recovery_mil_e_5008b`; returns 1 (fs untouched) where they would raise."""
-    if not (0.0 <= Mach <= 3.0) or not (atm[0] <= alt <= atm[1]) or not (abs(dT) < 1e300):
-        return 1
-    T, P = _isa_T_p(alt, dT)
-    if not (atm[2] <= T <= atm[3]):
-        return 1
-    err = np.zeros(1, np.int64)
-    c = K.cp(gc, gs, T, 0.0, err)
-    R_ = gs[10]
-    V0 = Mach * math.sqrt(c / (c - R_) * R_ * T)
-    ht = K.h(gc, gs, T, 0.0, err) + 0.5 * V0 * V0
-    Tt = K.T_from_h(gc, gs, ht, 0.0, T, err)
-    Pt = P * math.exp((K.phi(gc, gs, Tt, 0.0, err) - K.phi(gc, gs, T, 0.0, err)) / R_)
-    if err[0]:
-        return 1
-    fs[0], fs[1], fs[2], fs[3], fs[4] = Tt, Pt, V0, P, Mach
-    fs[5] = 1.0 if Mach <= 1.0 else 1.0 - 0.075 * (Mach - 1.0) ** 1.35
-    return 0
 
 
 @jit

@@ -2,7 +2,7 @@
 
 The maps are data files in ``maps/`` (JSON, one per map; ``maps/README.md``
 states their origin, licence, units and meaning). :func:`load_map_data` is the
-one function that reads them; :func:`load_map` builds the interpolating map.
+one function that reads them; :func:`.map_loading.load_map` builds the interpolating map.
 
 Compressor maps (:class:`CompressorMap`) give corrected flow, pressure ratio
 and isentropic efficiency over relative corrected speed ``nc_rel`` (1.0 at the
@@ -61,8 +61,8 @@ from .map_points import CompressorPoint, CompressorPointD, TurbinePoint, Turbine
 __all__ = [
     "MAP_DIR", "T_REF_K", "P_REF_PA", "LBM_TO_KG", "WP_TO_WC", "DEFAULT_EXTRAPOLATION",
     "MapSource", "MapData", "CompressorPoint", "CompressorPointD", "TurbinePoint", "TurbinePointD",
-    "CompressorMap", "TurbineMap", "ScaledCompressorMap", "ScaledTurbineMap",
-    "load_map_data", "load_map", "load_compressor_map", "load_turbine_map",
+    "CompressorMap", "TurbineMap",
+    "load_map_data",
 ]
 
 #: Folder of the map data files.
@@ -445,37 +445,3 @@ class TurbineMap:
     def __repr__(self) -> str:
         return (f"TurbineMap({self.name!r}, nc_rel {self.nc_rel[0]:g}..{self.nc_rel[-1]:g}, "
                 f"PR {self.pr[0]:g}..{self.pr[-1]:g})")
-
-
-def _data(name_or_path: str | Path, extended: bool) -> MapData:
-    data = load_map_data(name_or_path)
-    if extended:
-        from .map_extension import extend_map_data
-        data = extend_map_data(data)
-    return data
-
-
-def load_map(name_or_path: str | Path, extrapolation: float = DEFAULT_EXTRAPOLATION,
-             extended: bool = False) -> CompressorMap | TurbineMap:
-    """Load a map file (:func:`load_map_data`) and build its interpolating map; with `extended`, on the
-    grid extended for sub-idle operation (:func:`.map_extension.extend_map_data`)."""
-    data = _data(name_or_path, extended)
-    if data.kind == "compressor":
-        return CompressorMap(data, extrapolation)
-    return TurbineMap(data, extrapolation)
-
-
-def load_compressor_map(name_or_path: str | Path, extrapolation: float = DEFAULT_EXTRAPOLATION,
-                        extended: bool = False) -> CompressorMap:
-    """:func:`load_map` for a compressor map (raises ModelError for another kind)."""
-    return CompressorMap(_data(name_or_path, extended), extrapolation)
-
-
-def load_turbine_map(name_or_path: str | Path, extrapolation: float = DEFAULT_EXTRAPOLATION,
-                     extended: bool = False) -> TurbineMap:
-    """:func:`load_map` for a turbine map (raises ModelError for another kind)."""
-    return TurbineMap(_data(name_or_path, extended), extrapolation)
-
-
-# The scaled maps live in their own module (which imports this one); re-exported here.
-from .map_scaled import ScaledCompressorMap, ScaledTurbineMap  # noqa: E402

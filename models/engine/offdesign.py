@@ -104,7 +104,8 @@ def scaled_maps(dp: DesignPoint, fan: str = "lpc_hbtf", hpc: str = "axi5", hpt: 
     """Maps of :mod:`.maps` scaled to the design point `dp` (corrected speeds in rpm); the booster
     map only if the design has a booster (PR_booster > 1). With `extended` (default) the maps carry
     the sub-idle extension of :mod:`.map_extension` (the original nodes unchanged)."""
-    from .maps import ScaledCompressorMap, ScaledTurbineMap, load_compressor_map, load_turbine_map
+    from .map_loading import load_compressor_map, load_turbine_map
+    from .map_scaled import ScaledCompressorMap, ScaledTurbineMap
     c = dp.components
     fo = c["fan_outer"]
     W2c = dp.stations["2"].Wc_kg_s

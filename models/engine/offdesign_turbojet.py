@@ -47,7 +47,8 @@ RESIDUALS_TURBOJET: tuple[str, ...] = ("compressor_flow", "turbine_flow", "nozzl
 def scaled_turbojet_maps(dp: DesignPoint, comp: str = "axi5", turb: str = "lpt2269"
                          ) -> tuple[CompressorMapLike, TurbineMapLike, float]:
     """(compressor map, turbine map, design beta) of :mod:`.maps`, scaled to the design point `dp`."""
-    from .maps import ScaledCompressorMap, ScaledTurbineMap, load_compressor_map, load_turbine_map
+    from .map_loading import load_compressor_map, load_turbine_map
+    from .map_scaled import ScaledCompressorMap, ScaledTurbineMap
     c, t = dp.components["compressor"], dp.components["turbine"]
     cm = ScaledCompressorMap.from_design(load_compressor_map(comp), c.Wc_kg_s, c.PR, c.eta_is, c.Nc_rpm)
     tm = ScaledTurbineMap.from_design(load_turbine_map(turb), t.Wc_kg_s, t.PR, t.eta_is, t.Nc_rpm)

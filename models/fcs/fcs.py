@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from .approach import APPROACH_PHASES, ApproachParams
 from .atmosphere import G0_M_S2
 from .errors import ParameterError
+from .estimation import AirspeedRateEstimator
 from .fuel_control import FuelController
 from .geo import wrap_pi
 from .guidance import L1Guidance
@@ -180,8 +181,9 @@ class FlightControlSystem:
                                                 "performance": self.perf}
         self._tecs_engaged = False
         self._lever: float | None = None
-        self._tas_prev: float | None = None
-        self._vdot_f = 0.0  # filtered acceleration estimate [m/s^2]
+        self._estimator = AirspeedRateEstimator()
+        self.controllers["estimation"] = self._estimator
+        self._vdot_f: float | None = None  # low-passed airspeed rate estimate [m/s^2]
         self._perf_t = -math.inf  # time of the last look-up of the performance tables [s]
         self._perf = (0.0, 0.0, 0.0, 0.0)  # CD0, k, idle and maximum thrust [N] there
 
@@ -219,15 +221,18 @@ class FlightControlSystem:
         """One FCS step at time ``t_s`` [s] of length ``dt_s`` [s].
 
         If ``x.Vdot_m_s2`` is NaN (an airframe that does not output it), the rate of the
-        true airspeed is taken from its change since the previous step.
+        true airspeed and its rate are estimated from the ground velocity and the airspeed
+        (:class:`~.estimation.AirspeedRateEstimator`, crossover ``estimation.tau_cross_s``), the rate
+        low-passed with ``tecs.tau_Vdot_s``; the TECS flies the estimated airspeed.
         """
-        vdot = x.Vdot_m_s2
+        vdot, tas = x.Vdot_m_s2, x.tas_m_s
         if math.isnan(vdot):  # (not a dataclasses.replace of the state: a third of this step's cost)
-            raw = 0.0 if self._tas_prev is None or dt_s <= 0.0 else (x.tas_m_s - self._tas_prev) / dt_s
-            tau = self.tecs.parameters.tau_Vdot_s   # first-order low-pass of the differenced airspeed
-            self._vdot_f = raw if self._tas_prev is None else self._vdot_f + (raw - self._vdot_f) * dt_s / (tau + dt_s)
+            raw = self._estimator.step(dt_s, x.tas_m_s, x.vn_m_s, x.ve_m_s, x.tas_m_s * math.sin(x.gamma_rad),
+                                       x.phi_rad, x.theta_rad, x.psi_rad, x.beta_rad, x.gamma_rad)
+            tau = self.tecs.parameters.tau_Vdot_s   # first-order low-pass of the estimate
+            self._vdot_f = raw if self._vdot_f is None else self._vdot_f + (raw - self._vdot_f) * dt_s / (tau + dt_s)
             vdot = self._vdot_f
-        self._tas_prev = x.tas_m_s
+            tas = self._estimator.tas_m_s if self._estimator.tas_m_s is not None else tas
         tg = self.runner.step(t_s, dt_s, x)
         tas_cmd = math.nan
         airbrake = 0.0
@@ -245,7 +250,7 @@ class FlightControlSystem:
                 self._tecs_engaged = True
             alt_cmd = tg.alt_cmd_m if tg.gamma_cmd_rad is None else None
             e_min, e_max, ab_max = self._energy_rates(t_s, x, tg)
-            out = self.tecs.step(dt_s, TecsInput(x.alt_m, x.tas_m_s, vdot, x.gamma_rad, x.mass_kg, x.dT_isa_K,
+            out = self.tecs.step(dt_s, TecsInput(x.alt_m, tas, vdot, x.gamma_rad, x.mass_kg, x.dT_isa_K,
                                                  e_min, e_max),
                                  tg.speed, alt_cmd if alt_cmd is not None else None,
                                  tg.gamma_cmd_rad if alt_cmd is None else None, lever_fixed=tg.lever,

@@ -23,6 +23,8 @@ Format (see ``missions/munich.yaml`` for a complete example)::
       - {type: Levelling, altitude_m: 5000, speed: {mach: 0.6}}
       - {type: Landing, runway: EDDM_26R, approach_altitude_m: 1200, approach_speed: {cas_m_s: 65}}
       - {type: Custom, duration_s: 60, commands: [{t_s: 0, lever: 0.8, pitch_deg: 3, bank_deg: 0}]}
+    wind: {layers: [{alt_m: 450, from_deg: 240, speed_kt: 8}, {alt_m: 1500, from_deg: 260, speed_kt: 20}]}
+    turbulence: {severity: light, seed: 7}           # wind and turbulence optional: see .weather
 
 A speed is a mapping with exactly one of ``mach`` [-], ``cas_m_s`` or ``tas_m_s``
 [m/s]. Every section may have a ``name``. The fields of each section type, with
@@ -52,7 +54,10 @@ import yaml
 
 from .errors import MissionError
 from .geo import LatLon
+from .marks import Context as _Ctx
+from .marks import Lines as _Lines
 from .tecs import SpeedCommand, SpeedKind
+from .weather import WEATHER_KEYS, Weather, parse_weather
 
 __all__ = ["SECTION_TYPES", "SECTION_FIELDS", "Section", "Mission", "load_mission", "parse_mission",
            "speed_from_mapping"]
@@ -159,6 +164,8 @@ class Mission:
     waypoints: tuple[tuple[str, LatLon], ...]
     sections: tuple[Section, ...]
     source: str
+    #: winds aloft and turbulence of the top-level ``wind`` and ``turbulence`` keys (:mod:`.weather`)
+    weather: Weather | None = None
 
     def waypoint(self, name: str) -> LatLon:
         """Waypoint by name."""
@@ -167,42 +174,6 @@ class Mission:
     def runway(self, name: str) -> Any:
         """Runway by name."""
         return dict(self.runways)[name]
-
-
-class _Lines:
-    """Line numbers of the YAML nodes, by path of keys and indices."""
-
-    def __init__(self, text: str) -> None:
-        self.map: dict[tuple, int] = {}
-        try:
-            root = yaml.compose(text)
-        except yaml.YAMLError:
-            root = None
-        if root is not None:
-            self._walk(root, ())
-
-    def _walk(self, node: yaml.Node, path: tuple) -> None:
-        self.map[path] = node.start_mark.line + 1
-        if isinstance(node, yaml.MappingNode):
-            for k, v in node.value:
-                self.map[path + (k.value,)] = k.start_mark.line + 1
-                self._walk(v, path + (k.value,))
-        elif isinstance(node, yaml.SequenceNode):
-            for i, v in enumerate(node.value):
-                self._walk(v, path + (i,))
-
-    def line(self, path: tuple) -> int:
-        while path and path not in self.map:
-            path = path[:-1]
-        return self.map.get(path, 1)
-
-
-class _Ctx:
-    def __init__(self, source: str, lines: _Lines) -> None:
-        self.source, self.lines = source, lines
-
-    def fail(self, path: tuple, what: str) -> MissionError:
-        return MissionError(f"{self.source}:{self.lines.line(path)}: {what}")
 
 
 def speed_from_mapping(m: Any) -> SpeedCommand:
@@ -331,10 +302,11 @@ def parse_mission(text: str, source: str = "<mission>") -> Mission:
         raise MissionError(f"{source}:{line}: not valid YAML: {getattr(e, 'problem', e)}") from None
     if not isinstance(doc, dict):
         raise ctx.fail((), "a mission file is a mapping with 'mission', 'places' and 'sections'")
-    unknown = set(doc) - {"mission", "places", "sections"}
+    unknown = set(doc) - {"mission", "places", "sections", *WEATHER_KEYS}
     if unknown:
         k = sorted(unknown)[0]
-        raise ctx.fail((k,), f"unknown top-level key '{k}'; allowed: mission, places, sections")
+        raise ctx.fail((k,), f"unknown top-level key '{k}'; allowed: mission, places, sections, "
+                       f"{', '.join(WEATHER_KEYS)}")
     head = doc.get("mission") or {}
     if not isinstance(head, dict) or "name" not in head:
         raise ctx.fail(("mission",), "mission: expected a mapping with 'name' (and 'description')")
@@ -381,7 +353,7 @@ def parse_mission(text: str, source: str = "<mission>") -> Mission:
                 raise ctx.fail(path + ("commands",), f"{where} field 'commands': the first command must be at t_s = 0")
         sections.append(Section(i, typ, str(s.get("name", typ)), tuple(fields)))
     return Mission(str(head["name"]), str(head.get("description", "")), tuple(runways.items()),
-                   tuple(waypoints.items()), tuple(sections), source)
+                   tuple(waypoints.items()), tuple(sections), source, parse_weather(doc, ctx.fail, source))
 
 
 def load_mission(path: str | Path) -> Mission:

@@ -184,13 +184,15 @@ def test_runs_in_our_orchestrator_and_libcosim(fmu: Path, tmp_path: Path) -> Non
 
 def test_fmu_is_self_contained(fmu: Path, tmp_path: Path) -> None:
     """The FMU runs where neither openEMSS nor anything beyond its requirements (and the host's fmpy)
-    can be imported, and it says what it needs in resources/requirements.txt."""
+    can be imported, and it says what it needs in resources/requirements.txt (pyyaml: for a weather
+    file only, so it runs here without one where yaml cannot be imported)."""
     import subprocess
     import sys
     import zipfile
 
     z = zipfile.ZipFile(fmu)
-    assert z.read("resources/requirements.txt").decode().split() == ["jsbsim>=1.2", "numpy>=1.24", "scipy>=1.10"]
+    assert z.read("resources/requirements.txt").decode().split() == ["jsbsim>=1.2", "numpy>=1.24", "scipy>=1.10",
+                                                                   "pyyaml>=6.0"]
     assert any(n.endswith("jsbsim/aircraft/UPERA/UPERA.xml") for n in z.namelist())
     code = ("import sys\n"
             "for m in ('openemss', 'matplotlib', 'yaml'): sys.modules[m] = None  # lxml: fmpy's own\n"

@@ -53,7 +53,7 @@ def test_one_source_in_every_model() -> None:
     from openemss.models.airframe.aero import isa as airframe_isa
     from openemss.models.engine import jit_kernels
     from openemss.models.engine.atmosphere import isa as engine_isa
-    from openemss.models.engine.jit_solve import _isa_T_p
+    from openemss.models.engine.jit_freestream import _isa_T_p
     from openemss.models.fcs.atmosphere import isa as fcs_isa
 
     for alt in (0.0, 4321.0, 11000.0, 17500.0):

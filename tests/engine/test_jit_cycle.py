@@ -116,7 +116,7 @@ def test_free_stream_equals_the_atmosphere_module(model: EngineModel) -> None:
     from openemss.models.engine.atmosphere import free_stream
     from openemss.models.engine.errors import OutOfRangeError
     from openemss.models.engine.inlet import ram_recovery_mil_e_5008b
-    from openemss.models.engine.jit_solve import free_stream as compiled
+    from openemss.models.engine.jit_freestream import free_stream as compiled
     fc = model.od.fast
     assert fc is not None
     ok = refused = 0

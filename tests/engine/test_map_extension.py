@@ -26,7 +26,8 @@ from openemss.models.engine.map_extension import (
     fit_velocity_ratio_parabola,
     smooth_floor,
 )
-from openemss.models.engine.maps import load_map, load_map_data
+from openemss.models.engine.map_loading import load_map
+from openemss.models.engine.maps import load_map_data
 
 TURBINES = ("hpt1269", "lpt2269")
 COMPRESSORS = ("lpc_hbtf", "axi5")

@@ -26,18 +26,15 @@ from scipy.optimize import brentq
 
 from openemss.models.engine.errors import ModelError, OutOfRangeError
 from openemss.models.engine.map_interp import BicubicTable
+from openemss.models.engine.map_loading import load_compressor_map, load_map, load_turbine_map
+from openemss.models.engine.map_scaled import ScaledCompressorMap, ScaledTurbineMap
 from openemss.models.engine.maps import (
     LBM_TO_KG,
     MAP_DIR,
     WP_TO_WC,
     CompressorMap,
-    ScaledCompressorMap,
-    ScaledTurbineMap,
     TurbineMap,
-    load_compressor_map,
-    load_map,
     load_map_data,
-    load_turbine_map,
 )
 
 NAMES = ("lpc_hbtf", "axi5", "hpt1269", "lpt2269")

@@ -203,17 +203,19 @@ def python_reference(rows: list[dict[str, float | bool]], n_steps: int, gains: d
             fcs.set_parameter(name, value)
         r = rows[k]
         pos = LatLon.from_deg(r["lat_deg"], r["lon_deg"])
+        # the master's step sizes are differences of its integer-tick times, t_k = k H (so they differ
+        # from H in the last bits, which the FCS's ground acceleration, a difference of differences, sees)
         if prev is None:
             vn, ve = r["gs_m_s"] * math.cos(r["psi_rad"]), r["gs_m_s"] * math.sin(r["psi_rad"])
         else:
             n, e = local_ne_m(prev, pos)
-            vn, ve = n / H, e / H
+            vn, ve = n / (k * H - (k - 1) * H), e / (k * H - (k - 1) * H)
         prev = pos
         gamma = math.asin(max(-1.0, min(1.0, r["vs_m_s"] / max(r["tas_m_s"], 1.0))))
         x = AircraftState(pos, r["alt_msl_m"], r["tas_m_s"], math.nan, gamma, vn, ve, r["psi_rad"], r["phi_rad"],
                           r["theta_rad"], r["p_rad_s"], r["q_rad_s"], r["r_rad_s"], r["beta_rad"],
                           0.5 * r["rho_amb_kg_m3"] * r["tas_m_s"] ** 2, r["mass_kg"], bool(r["on_ground"]))
-        o = fcs.step(k * H, H, x, EngineState(r["N1_pct"], r["N1c_pct"], r["Tt41_K"]))
+        o = fcs.step(k * H, (k + 1) * H - k * H, x, EngineState(r["N1_pct"], r["N1c_pct"], r["Tt41_K"]))
         for name, v in o.signals().items():
             out.setdefault(name, []).append(v)
     return out
@@ -546,8 +548,8 @@ def test_coupled_airframe_fcs_engine_take_off_and_climb(fmus: Path, tmp_path: Pa
     (order FCS, engine, airframe: the FCS samples the state at t, the engine and the airframe fly its commands
     over [t, t + h]) take off from EDDM 26R and climb to 1000 m on a shortened Munich mission (roll, take-off,
     climb to WP 1). It is the closed loop of tests/fcs/upera_loop.py, computed there in plain Python on the
-    same models: the trajectories agree to 1e-9 (the same arithmetic; the one difference is the N1 the fuel
-    controller sees, whose temperature correction uses the previous step's ambient temperature)."""
+    same models: the trajectories agree to 1e-9 (the same arithmetic, with the master's step sizes and the
+    engine's N1 corrected with the temperature of its last step, as the FMUs see them)."""
     from upera_loop import fly_upera
 
     from openemss.models.airframe import adapter

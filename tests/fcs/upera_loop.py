@@ -5,7 +5,7 @@ The engine is the first-order stand-in of aircraft3dof.py (corrected fan speed w
 on the 6-DoF airframe independently of the engine model; the FCS's performance model
 (perf_models.upera_standin) has the shipped UPERA polar and airbrake with that thrust. The FCS measures what an FMU
 would receive: the airframe's state; ground velocity from successive positions (it
-carries the wind), airspeed rate from successive true airspeeds.
+carries the wind); the airspeed rate is left to the FCS, as an FMU leaves it.
 """
 
 from __future__ import annotations
@@ -44,27 +44,33 @@ def fly_upera(af, s, fcs: FlightControlSystem, t_end: float, N1c0: float, dt: fl
     from openemss.models.fcs.vertical import VNAV_MODES
 
     N1c = N1c0
+    th_engine = s.T_K / 288.15  # the temperature the engine last stepped in: its N1 output's correction
     prev_pos = None
     run = Run()
     k = 0
     while not fcs.finished and k * dt < t_end:
+        # times and step sizes as a master with integer ticks has them: t_k = k dt, steps t_(k+1) - t_k
+        # (equal to dt but in the last bits, which the FCS's ground acceleration, a difference of
+        # position differences, sees)
         t = k * dt
+        h = (k + 1) * dt - t
         pos = LatLon.from_deg(s.lat_deg, s.lon_deg)
         if prev_pos is None:
             vn, ve = s.gs_m_s * math.cos(s.psi_rad), s.gs_m_s * math.sin(s.psi_rad)
         else:
             n, e = local_ne_m(prev_pos, pos)
-            vn, ve = n / dt, e / dt
+            vn, ve = n / (t - (k - 1) * dt), e / (t - (k - 1) * dt)
         gamma = math.asin(max(-1.0, min(1.0, s.vs_m_s / max(s.tas_m_s, 1.0))))
         Vdot = math.nan  # as the FCS FMU gets it: the FCS derives it from successive airspeeds (filtered)
         prev_pos = pos
-        qbar = 0.5 * s.rho_kg_m3 * s.tas_m_s**2
+        qbar = 0.5 * s.rho_kg_m3 * s.tas_m_s * s.tas_m_s
         x = AircraftState(pos, s.alt_msl_m, s.tas_m_s, Vdot, gamma, vn, ve, s.psi_rad, s.phi_rad, s.theta_rad,
                           s.p_rad_s, s.q_rad_s, s.r_rad_s, s.beta_rad, qbar, s.mass_kg, s.on_ground)
         th = s.T_K / 288.15
-        out = fcs.step(t, dt, x, EngineState(N1c * math.sqrt(th), N1c, 700.0 + 7.0 * N1c))
+        out = fcs.step(t, h, x, EngineState(N1c * math.sqrt(th_engine), N1c, 700.0 + 7.0 * N1c))
+        th_engine = th
         delta = s.p_Pa / 101325.0
-        N1c += (min(400.0 * out.Wf_cmd_kg_s / (delta * math.sqrt(th)), 115.0) - N1c) * dt
+        N1c += (min(400.0 * out.Wf_cmd_kg_s / (delta * math.sqrt(th)), 115.0) - N1c) * h
         thrust = 13000.0 * (s.rho_kg_m3 / 1.225) ** 0.7 * (N1c / 100.0) ** 2
         af.set_surfaces(aileron=out.aileron, elevator=out.elevator, rudder=out.rudder)
         af.set_thrust(thrust)

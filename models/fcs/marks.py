@@ -1,0 +1,47 @@
+"""Line numbers of the nodes of a YAML document, for errors that name ``file:line`` (mission and
+weather files share them; each reader imports this module, neither imports the other)."""
+from __future__ import annotations
+
+import yaml
+
+from .errors import MissionError
+
+__all__ = ["Lines", "Context"]
+
+
+class Lines:
+    """Line numbers of the YAML nodes, by path of keys and indices."""
+
+    def __init__(self, text: str) -> None:
+        self.map: dict[tuple, int] = {}
+        try:
+            root = yaml.compose(text)
+        except yaml.YAMLError:
+            root = None
+        if root is not None:
+            self._walk(root, ())
+
+    def _walk(self, node: yaml.Node, path: tuple) -> None:
+        self.map[path] = node.start_mark.line + 1
+        if isinstance(node, yaml.MappingNode):
+            for k, v in node.value:
+                self.map[path + (k.value,)] = k.start_mark.line + 1
+                self._walk(v, path + (k.value,))
+        elif isinstance(node, yaml.SequenceNode):
+            for i, v in enumerate(node.value):
+                self._walk(v, path + (i,))
+
+    def line(self, path: tuple) -> int:
+        while path and path not in self.map:
+            path = path[:-1]
+        return self.map.get(path, 1)
+
+
+class Context:
+    """A file's name and its line marks: :meth:`fail` makes the one-line error of a node."""
+
+    def __init__(self, source: str, lines: Lines) -> None:
+        self.source, self.lines = source, lines
+
+    def fail(self, path: tuple, what: str) -> MissionError:
+        return MissionError(f"{self.source}:{self.lines.line(path)}: {what}")

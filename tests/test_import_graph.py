@@ -1,0 +1,57 @@
+"""No import cycles inside a model package (issue 18): every relative import, at module level or inside
+a function (a lazy import hides a cycle, it does not remove it), makes an edge of the package's graph."""
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+MODELS = Path(__file__).resolve().parents[1] / "models"
+
+
+def _graph(pkg: Path) -> dict[str, set[str]]:
+    g: dict[str, set[str]] = {}
+    for f in sorted(pkg.glob("*.py")):
+        edges = g.setdefault(f.stem, set())
+        for node in ast.walk(ast.parse(f.read_text(encoding="utf-8"), filename=str(f))):
+            if isinstance(node, ast.ImportFrom) and node.level == 1:
+                if node.module:
+                    edges.add(node.module.split(".")[0])
+                else:
+                    edges.update(a.name for a in node.names)
+    return {m: {e for e in es if e in g or (pkg / f"{e}.py").is_file()} for m, es in g.items()}
+
+
+def _cycle(g: dict[str, set[str]]) -> list[str] | None:
+    """One cycle of ``g`` (depth-first search with colours), or None."""
+    colour: dict[str, int] = {}
+    path: list[str] = []
+
+    def visit(v: str) -> list[str] | None:
+        colour[v] = 1
+        path.append(v)
+        for w in sorted(g.get(v, ())):
+            if colour.get(w) == 1:
+                return path[path.index(w):] + [w]
+            if colour.get(w) is None and (c := visit(w)):
+                return c
+        colour[v] = 2
+        path.pop()
+        return None
+
+    for v in sorted(g):
+        if colour.get(v) is None and (c := visit(v)):
+            return c
+    return None
+
+
+def test_the_search_finds_a_cycle() -> None:
+    assert _cycle({"a": {"b"}, "b": {"c"}, "c": {"a"}}) == ["a", "b", "c", "a"]
+    assert _cycle({"a": {"b"}, "b": set()}) is None
+
+
+@pytest.mark.parametrize("pkg", sorted(p.name for p in MODELS.iterdir() if (p / "__init__.py").is_file()))
+def test_no_import_cycle_in_model_package(pkg: str) -> None:
+    cycle = _cycle(_graph(MODELS / pkg))
+    assert cycle is None, " -> ".join(cycle or [])

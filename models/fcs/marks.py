@@ -2,7 +2,7 @@
 weather files share them; each reader imports this module, neither imports the other)."""
 from __future__ import annotations
 
-import yaml
+from typing import Any
 
 from .errors import MissionError
 
@@ -13,6 +13,8 @@ class Lines:
     """Line numbers of the YAML nodes, by path of keys and indices."""
 
     def __init__(self, text: str) -> None:
+        import yaml  # here, not at the top: the airframe FMU imports the weather reader without pyyaml
+
         self.map: dict[tuple, int] = {}
         try:
             root = yaml.compose(text)
@@ -21,13 +23,13 @@ class Lines:
         if root is not None:
             self._walk(root, ())
 
-    def _walk(self, node: yaml.Node, path: tuple) -> None:
+    def _walk(self, node: Any, path: tuple) -> None:
         self.map[path] = node.start_mark.line + 1
-        if isinstance(node, yaml.MappingNode):
+        if node.id == "mapping":  # yaml.MappingNode
             for k, v in node.value:
                 self.map[path + (k.value,)] = k.start_mark.line + 1
                 self._walk(v, path + (k.value,))
-        elif isinstance(node, yaml.SequenceNode):
+        elif node.id == "sequence":  # yaml.SequenceNode
             for i, v in enumerate(node.value):
                 self._walk(v, path + (i,))
 

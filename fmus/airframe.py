@@ -45,6 +45,7 @@ OUTPUTS = (
     ("r_rad_s", "Body yaw rate [rad/s]"), ("load_factor", "Normal load factor Nz [-]"),
     ("vs_m_s", "Vertical speed, positive up [m/s]"), ("p_amb_Pa", "Ambient static pressure [Pa]"),
     ("T_amb_K", "Ambient static temperature [K]"), ("rho_amb_kg_m3", "Ambient density [kg/m3]"),
+    ("airbrake_pos_norm", "Airbrake position, 0 retracted to 1 fully out [-]"),
 )
 _ON_GROUND = len(OUTPUTS) + 1  # index in values(): time, outputs..., on_ground, mass, fuel
 
@@ -114,6 +115,7 @@ class Airframe(Fmi2Slave):
         self.elevator_norm = 0.0
         self.rudder_norm = 0.0
         self.flaps_norm = 0.0
+        self.airbrake_norm = 0.0
         self.gear_down = True
         self.brakes_norm = 0.0
         self.steering_norm = 0.0
@@ -123,6 +125,8 @@ class Airframe(Fmi2Slave):
                            ("elevator_norm", "Elevator command, -1 to 1, > 0 trailing edge down (nose down) [-]"),
                            ("rudder_norm", "Rudder command, -1 to 1, > 0 yaws the nose right [-]"),
                            ("flaps_norm", "Flap command, 0 up to 1 full (30 deg) [-]"),
+                           ("airbrake_norm", "Airbrake command, 0 retracted to 1 fully out (rate limited, blown "
+                                             "back above its limiting dynamic pressure) [-]"),
                            ("brakes_norm", "Wheel brakes, 0 to 1 [-]"),
                            ("steering_norm", "Nose-wheel steering, -1 to 1, > 0 right [-]"),
                            ("thrust_N", "Net thrust along the engine axis [N]"),
@@ -201,6 +205,7 @@ class Airframe(Fmi2Slave):
         m = self._model
         m.set_surfaces(self.aileron_norm, self.elevator_norm, self.rudder_norm)
         m.set_flaps(self.flaps_norm)
+        m.set_airbrake(self.airbrake_norm)
         m.set_gear(self.gear_down)
         m.set_brakes(self.brakes_norm, self.brakes_norm)
         m.set_steering(self.steering_norm)

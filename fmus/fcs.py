@@ -3,7 +3,7 @@
 A thin pythonfmu slave over :class:`openemss.models.fcs.fcs.FlightControlSystem`. Its
 inputs carry the airframe FMU's output names (``fmus/airframe.py``) and the engine's
 ``N1_pct``, ``N1c_pct`` and ``Tt41_K`` (the engine FMU, ``fmus/engine.py``, calls the
-latter ``T41_K``); its surface, gear, brake, steering and flap outputs carry the airframe
+latter ``T41_K``); its surface, airbrake, gear, brake, steering and flap outputs carry the airframe
 FMU's input names and ``fuel_flow_cmd_kg_s`` the engine FMU's, so they connect name to name.
 
 Measured state. The FCS needs what the airframe does not output directly:
@@ -83,6 +83,7 @@ OUTPUTS: tuple[tuple[str, str], ...] = (
     ("mach_cmd", "Commanded true airspeed as Mach at the flown altitude (NaN when none, 0 before the first step) [-]"),
     ("track_cmd_rad", "Commanded true track (NaN when none, 0 before the first step) [rad]"),
     ("xtk_m", "Cross-track error of the active path, right positive (NaN when none, 0 before the first step) [m]"),
+    ("airbrake_norm", "Airbrake command, 0 retracted to 1 fully out [-]"),
 )
 _N_REAL = len(OUTPUTS)
 _N_IN = len(INPUTS)
@@ -197,6 +198,12 @@ class Fcs(Fmi2Slave):
         self.register_variable(Integer("fuel_limiter", causality=out, variability=discrete,
                                        description=OUTPUT_SIGNALS["fuel_limiter"],
                                        getter=lambda: self._fuel_limiter))
+        self._vnav_mode = 0
+        self._ils_phase = 0
+        self.register_variable(Integer("vnav_mode", causality=out, variability=discrete,
+                                       description=OUTPUT_SIGNALS["vnav_mode"], getter=lambda: self._vnav_mode))
+        self.register_variable(Integer("ils_phase", causality=out, variability=discrete,
+                                       description=OUTPUT_SIGNALS["ils_phase"], getter=lambda: self._ils_phase))
         self._prev_pos: LatLon | None = None
         self._prev_h = 0.0
 
@@ -275,11 +282,13 @@ class Fcs(Fmi2Slave):
         self._y[:] = (o.aileron, o.elevator, o.rudder, self.flaps_cmd_norm, o.brake, o.steer, o.lever,
                       o.Wf_cmd_kg_s, o.theta_cmd_rad, o.phi_cmd_rad,
                       math.nan if tg.alt_cmd_m is None else tg.alt_cmd_m, tas_cmd, mach_cmd, tg.track_cmd_rad,
-                      tg.xtk_m)
+                      tg.xtk_m, o.airbrake)
         self._gear_down = bool(o.gear_down)
         self._section_index = tg.section_index
         self._section_name = tg.section_name
         self._section_phase = tg.phase
         self._completed = self._fcs.finished
         self._fuel_limiter = o.fuel_limiter
+        self._vnav_mode = o.vnav_mode
+        self._ils_phase = o.ils_phase
         return True

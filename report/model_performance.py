@@ -175,6 +175,16 @@ class ModelPerformance:
         return self._solve(alt_m, mach, Fn_N=float(thrust_N)).Wf_kg_s
 
     # -- aircraft -------------------------------------------------------------------------------
+    def _airbrake_drag_N(self, qbar_Pa: float) -> float:
+        """Drag of the airbrake fully out at ``qbar_Pa`` [N]: its drag increment (:meth:`.AeroModel.cd_airbrake`)
+        on the wing area, the dynamic pressure held at the panels' blow-back pressure (the JSBSim file's
+        channel); 0 for a geometry without an airbrake."""
+        g = self._aero.geom
+        if "airbrake" not in g.raw:
+            return 0.0
+        q = min(qbar_Pa, float(g.raw["airbrake"].get("blowback_qbar_Pa", math.inf)))
+        return float(self._aero.cd_airbrake(1.0)) * q * g.wing.area_m2
+
     def point(self, alt_m: float, mach: float, mass_kg: float, gear_down: bool = False) -> PerfPoint:
         """Trimmed level flight at ``alt_m`` [m], ``mach`` [-], ``mass_kg`` [kg], and the thrust range there."""
         key = _key(alt_m, mach, mass_kg, float(gear_down))
@@ -192,7 +202,8 @@ class ModelPerformance:
         p = PerfPoint(alt_m=alt_m, mach=mach, tas_m_s=r.tas_m_s, mass_kg=mass, drag_N=r.drag_N, CL=r.CL,
                       CL_max=float(self._aero.clmax(self.flaps)), k_induced=float(self._aero.k_induced()),
                       qS_N=r.qbar_Pa * g.wing.area_m2, thrust_max_N=hi.Fn_N, thrust_idle_N=lo.Fn_N,
-                      fuel_max_kg_s=hi.Wf_kg_s, fuel_idle_kg_s=lo.Wf_kg_s)
+                      fuel_max_kg_s=hi.Wf_kg_s, fuel_idle_kg_s=lo.Wf_kg_s,
+                      drag_airbrake_N=self._airbrake_drag_N(r.qbar_Pa))
         if not all(math.isfinite(v) for v in (p.drag_N, p.thrust_max_N, p.thrust_idle_N)):
             raise PerformanceError(f"level flight at {alt_m:.0f} m, M {mach:.2f}: no finite drag or thrust")
         self._points[key] = p

@@ -1,7 +1,8 @@
 """Plots of one mission run, or of several on the same figures (PNG, matplotlib's Agg canvas).
 
 Figures are built on :class:`matplotlib.figure.Figure` directly (no pyplot, no global
-backend): ground track, altitude and Mach against the commands with the sections shaded,
+backend): ground track, altitude and Mach against the commands with the sections shaded
+(the altitude constraints as markers, planned holds shaded, the airbrake and lever below),
 burned fuel, fuel flow and Tt4 over a window, spool speeds, attitude. Runs are told apart
 by line style and named in the legends; sections and the mission's places come from the
 first run that has them. A figure whose signals a run lacks is left out for that run, and
@@ -119,10 +120,43 @@ def ground_track(runs: Sequence[PlotRun], path: Path) -> Path | None:
     return _save(fig, path)
 
 
+def constraint_markers(ax: Axes, runs: Sequence[PlotRun]) -> None:
+    """Each section's altitude constraint as a marker at the time the section ended (where the constraint is
+    due): a down triangle where the section descended to it, an up triangle where it climbed, a circle
+    where it was level; the stretches of a planned hold (vertical mode HOLD) shaded red."""
+    from openemss.models.fcs.vertical import VNAV_MODES
+
+    r = _sections(runs)
+    if r is None or r.mission is None:
+        return
+    t, idx = r.data.time_s, np.rint(r.data.get("fcs", "section_index")).astype(int)
+    alt = r.data.get("airframe", "alt_msl_m")
+    first = True
+    for sec in r.mission.sections:
+        target = sec.get("altitude_m")
+        seen = np.flatnonzero(idx == sec.index)
+        if target is None or not seen.size:
+            continue
+        end = min(seen[-1] + 1, len(t) - 1)
+        h0 = float(alt[seen[0]]) if alt is not None else target
+        marker = "v" if target < h0 - 30.0 else ("^" if target > h0 + 30.0 else "o")
+        ax.plot(t[end], target, marker, ms=7, mfc="none", mec="k", mew=1.2, zorder=5,
+                label="altitude constraints" if first else None)
+        first = False
+    mode = r.data.get("fcs", "vnav_mode")
+    if mode is not None:
+        on = np.rint(mode).astype(int) == VNAV_MODES.index("HOLD")
+        edges = np.flatnonzero(np.diff(np.concatenate(([0], on.astype(int), [0]))))
+        for j, (a, b) in enumerate(zip(edges[::2], edges[1::2], strict=True)):
+            ax.axvspan(t[a], t[b - 1], color="C3", alpha=0.25, lw=0, zorder=1, label="planned hold" if j == 0 else None)
+
+
 def _lines(runs: Sequence[PlotRun], path: Path, title: str,
            panels: Sequence[tuple[str, Sequence[tuple[str, str, str, Callable[[np.ndarray], np.ndarray]]]]],
-           shade: bool = False, window: tuple[float, float] | None = None) -> Path | None:
-    """Stacked panels over time. Each panel: (y label, [(role, variable, legend, transform), ...])."""
+           shade: bool = False, window: tuple[float, float] | None = None,
+           decorate: Callable[[Axes, Sequence[PlotRun]], None] | None = None) -> Path | None:
+    """Stacked panels over time. Each panel: (y label, [(role, variable, legend, transform), ...]);
+    ``decorate`` draws more on the first panel."""
     if not any(r.data.get(role, var) is not None for r in runs for _, series in panels for role, var, _, _ in series):
         return None
     fig = Figure(figsize=(10, 2.6 * len(panels) + 0.6))
@@ -139,6 +173,8 @@ def _lines(runs: Sequence[PlotRun], path: Path, title: str,
                 y = r.data.get(role, var)
                 if y is not None:
                     ax.plot(t[keep], fn(y)[keep], _style(i), color=f"C{c}", lw=1.1, label=_label(runs, r, what))
+        if p == 0 and decorate is not None:
+            decorate(ax, runs)
         ax.set_ylabel(ylabel)
         ax.grid(True, alpha=0.3)
         if ax.lines:
@@ -204,7 +240,9 @@ def plot_runs(runs: Sequence[PlotRun], out: Path, window: tuple[float, float] | 
             ("altitude MSL [m]", [("airframe", "alt_msl_m", "flown", _ident), ("fcs", "alt_cmd_m", "commanded",
                                                                                  _ident)]),
             ("Mach [-]", [("airframe", "mach", "flown", _ident), ("fcs", "mach_cmd", "commanded", _ident)]),
-        ], shade=True),
+            ("airbrake, lever [-]", [("airframe", "airbrake_pos_norm", "airbrake", _ident),
+                                     ("fcs", "lever_norm", "thrust lever", _ident)]),
+        ], shade=True, decorate=constraint_markers),
         _lines(runs, out / "fuel_burned.png", "Burned fuel", [
             ("burned fuel [kg]", [("engine", "fuel_burned_kg", "burned fuel", _from_start)])], shade=True),
         _lines(runs, out / "fuel_flow_tt4.png", "Fuel flow and Tt4" + (

@@ -153,8 +153,23 @@ def cmd_summary(args: argparse.Namespace) -> int:
           f"fuel {summary['fuel_burned_kg']:.2f} kg; max Tt4 {summary['max_Tt4_K'] or float('nan'):.0f} K")
     for s in summary["sections"]:
         span = "" if s["start_time_s"] is None else f"{s['start_time_s']:8.1f} to {s['end_time_s']:8.1f} s"
+        c = s.get("conformance")
+        plan = ""
+        if c:
+            a = c["altitude"]
+            worst = a["worst_after_capture_m"]
+            plan = (f"  {a['target_m']:6.0f} m: {a['achieved_m']:7.1f} at the end, worst after capture "
+                    + ("-" if worst is None else f"{worst:+.1f}") + " m")
         print(f"  {s['index']:>2} {str(s['name']):<36} {str(s['type']):<18} {s['status']:<11} {span:<24} "
-              f"{s['fuel_burned_kg']:7.2f} kg")
+              f"{s['fuel_burned_kg']:7.2f} kg{plan}")
+    for h in summary.get("holds", []):
+        print(f"  planned hold in section {h['section']} ({h['name']}): {h['start_time_s']:.1f} to "
+              f"{h['end_time_s']:.1f} s, {h['height_lost_m']:.0f} m lost")
+    ils = summary.get("ils")
+    if ils and ils["gs_capture_altitude_m"] is not None:
+        print(f"  ILS {ils['runway']}: glide slope captured at {ils['gs_capture_altitude_m']:.1f} m "
+              f"({ils['gs_capture_error_m']:+.1f} m from the approach altitude), localizer overshoot "
+              f"{ils['loc_overshoot_m']:.1f} m, glide slope overshoot {ils['gs_overshoot_m']:.1f} m")
     if summary.get("timeseries_note"):
         print(f"  note: {summary['timeseries_note']}")
     hit = [f"{k} x{v['count']} (first at {v['first_time_s']:g} s)" for k, v in summary["limits_hit"].items()

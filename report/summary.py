@@ -21,6 +21,7 @@ import numpy as np
 from openemss.models.fcs.geo import LatLon, local_ne_m
 from openemss.models.fcs.mission import Mission
 
+from .conformance import holds, ils_conformance, section_conformance
 from .rundata import RunData, parameter_float
 
 #: Ground speed below which the aircraft counts as stopped [m/s] (the FCS's ``lateral.v_stop_m_s`` default).
@@ -199,6 +200,21 @@ def _finite(x: Any) -> Any:
     return x
 
 
+def _with_conformance(run: RunData, mission: Mission | None, table: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Add each section's ``conformance`` (:mod:`.conformance`) to the section table: its targets against the
+    flown altitude and speed, from its first sample to its end (the next section's first sample)."""
+    t = run.time_s
+    for row in table:
+        row["conformance"] = None
+        if mission is None or row["start_time_s"] is None or row["index"] >= len(mission.sections):
+            continue
+        i0 = int(np.searchsorted(t, row["start_time_s"]))
+        i1 = min(int(np.searchsorted(t, row["end_time_s"])), len(t) - 1)
+        if i1 > i0:
+            row["conformance"] = section_conformance(run, mission.sections[row["index"]], i0, i1)
+    return table
+
+
 def summarize(run: RunData, mission: Mission | None) -> dict[str, Any]:
     """The summary of a mission run (see the README's Results section for the keys and units).
 
@@ -243,5 +259,7 @@ def summarize(run: RunData, mission: Mission | None) -> dict[str, Any]:
         "max_Tt4_time_s": None if k4 is None else float(t[k4]),
         "limits_hit": limits_hit(run),
         "degraded": degraded(run),
-        "sections": sections_table(t, idx, wf, sections, completed),
+        "sections": _with_conformance(run, mission, sections_table(t, idx, wf, sections, completed)),
+        "holds": holds(run, mission),
+        "ils": ils_conformance(run, mission),
     })

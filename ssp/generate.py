@@ -27,8 +27,8 @@ STEP_S = 0.05  # 20 Hz, the reference system's rate
 # airframe outputs the flight control reads, under the same names on both sides
 AIRFRAME_TO_FCS = ("lat_deg", "lon_deg", "alt_msl_m", "tas_m_s", "gs_m_s", "vs_m_s", "phi_rad", "theta_rad",
                    "psi_rad", "p_rad_s", "q_rad_s", "r_rad_s", "beta_rad", "rho_amb_kg_m3", "mass_kg", "on_ground")
-FCS_TO_AIRFRAME = ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "brakes_norm", "steering_norm",
-                   "gear_down")
+FCS_TO_AIRFRAME = ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "airbrake_norm", "brakes_norm",
+                   "steering_norm", "gear_down")
 ENGINE_TO_AIRFRAME = ("thrust_N", "fuel_flow_kg_s")
 # (start, end): names that differ between the two sides
 RENAMED = (("airframe.alt_msl_m", "engine.alt_m"), ("airframe.mach", "engine.mach"),
@@ -40,10 +40,11 @@ ENGINE_OUT = ("thrust_N", "gross_thrust_N", "fuel_flow_kg_s", "N1_rpm", "N2_rpm"
               "SFC_kg_N_s", "fuel_burned_kg", "surge", "flameout", "overspeed", "solver_failed")
 AIRFRAME_OUT = ("lat_deg", "lon_deg", "alt_msl_m", "alt_agl_m", "tas_m_s", "cas_m_s", "gs_m_s", "mach",
                 "alpha_rad", "beta_rad", "phi_rad", "theta_rad", "psi_rad", "p_rad_s", "q_rad_s", "r_rad_s",
-                "load_factor", "vs_m_s", "p_amb_Pa", "T_amb_K", "rho_amb_kg_m3", "on_ground", "mass_kg", "fuel_kg")
-FCS_OUT = ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "brakes_norm", "steering_norm", "gear_down",
-           "lever_norm", "fuel_flow_cmd_kg_s", "alt_cmd_m", "tas_cmd_m_s", "mach_cmd", "track_cmd_rad",
-           "section_index", "mission_completed", "fuel_limiter")
+                "load_factor", "vs_m_s", "p_amb_Pa", "T_amb_K", "rho_amb_kg_m3", "airbrake_pos_norm", "on_ground",
+                "mass_kg", "fuel_kg")
+FCS_OUT = ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "airbrake_norm", "brakes_norm",
+           "steering_norm", "gear_down", "lever_norm", "fuel_flow_cmd_kg_s", "alt_cmd_m", "tas_cmd_m_s", "mach_cmd",
+           "track_cmd_rad", "section_index", "mission_completed", "fuel_limiter", "vnav_mode", "ils_phase")
 # Flight idle of the Larzac-04-sized engines (the fuel controller's lowest N1c demand, and the TECS lever
 # that demands it, N1c_idle / k_delta): 40 % corrected fan speed runs steadily on the engine model from sea
 # level to 7500 m (its lowest steady N1 there: 18 to 30 %) and gives 0.84 kN at 600 m, Mach 0.2 (a

@@ -7,8 +7,9 @@ JSBSim step, so the mass falls exactly as the integral of the fuel flow.
 
 Controls (normalised): elevator, aileron, rudder in [-1, 1] (elevator > 0 trailing
 edge down, nose down; aileron > 0 rolls right; rudder > 0 yaws the nose right),
-each through a rate-limited JSBSim actuator; flaps in [0, 1]; gear 1 down, 0 up;
-brakes in [0, 1]; nose-wheel steering in [-1, 1] (> 0 turns right).
+each through a rate-limited JSBSim actuator; flaps in [0, 1]; airbrake in [0, 1] (rate limited,
+and blown back above its limiting dynamic pressure); gear 1 down, 0 up; brakes in [0, 1];
+nose-wheel steering in [-1, 1] (> 0 turns right).
 
 References
 ----------
@@ -55,6 +56,7 @@ _STATE_PROPS: tuple[tuple[str, float], ...] = (
     ("velocities/p-rad_sec", 1.0), ("velocities/q-rad_sec", 1.0), ("velocities/r-rad_sec", 1.0),
     ("accelerations/Nz", 1.0), ("velocities/h-dot-fps", FT),
     ("atmosphere/P-psf", PSF), ("atmosphere/T-R", RANKINE), ("atmosphere/rho-slugs_ft3", SLUG_FT3),
+    ("fcs/airbrake-pos-norm", 1.0),
 )
 
 
@@ -87,6 +89,7 @@ class AirframeState:
     load_factor : normal load factor Nz [-] (1 in level flight)
     vs_m_s : vertical speed, positive up [m/s]
     p_Pa, T_K, rho_kg_m3 : ambient static pressure [Pa], temperature [K], density [kg/m^3]
+    airbrake_pos_norm : airbrake position, 0 retracted to 1 fully out [-]
     on_ground : any wheel carries weight
     mass_kg, fuel_kg : total mass, fuel mass [kg]
     """
@@ -113,6 +116,7 @@ class AirframeState:
     p_Pa: float
     T_K: float
     rho_kg_m3: float
+    airbrake_pos_norm: float
     on_ground: bool
     mass_kg: float
     fuel_kg: float
@@ -279,9 +283,10 @@ class Airframe:
     def start_air(self, alt_m: float, tas_m_s: float, heading_deg: float, lat_deg: float = 48.3539,
                   lon_deg: float = 11.7860, alpha_rad: float = 0.0, elevator: float = 0.0, thrust_N: float = 0.0,
                   flaps: float = 0.0, gear_down: bool = False, fuel_kg: float | None = None,
-                  ground_elevation_m: float = 0.0, flight_path_rad: float = 0.0) -> AirframeState:
+                  ground_elevation_m: float = 0.0, flight_path_rad: float = 0.0,
+                  airbrake: float = 0.0) -> AirframeState:
         """Start in wings-level flight at altitude ``alt_m`` [m] MSL and true airspeed ``tas_m_s`` [m/s]
-        (no sideslip, the given angle of attack [rad] and flight-path angle [rad])."""
+        (no sideslip, the given angle of attack [rad] and flight-path angle [rad], airbrake [0, 1])."""
         f = self._fdm
         self._begin(fuel_kg)
         f["ic/lat-geod-deg"] = _check("lat_deg", lat_deg, -89.0, 89.0, " deg")
@@ -314,6 +319,7 @@ class Airframe:
         self._set_controls_at_rest(gear_down=gear_down)
         self.set_surfaces(elevator=elevator)
         self.set_flaps(flaps)
+        self.set_airbrake(airbrake)
         self.set_thrust(thrust_N)
         self._run_ic()
         return self._zero_time()
@@ -321,6 +327,7 @@ class Airframe:
     def _set_controls_at_rest(self, gear_down: bool) -> None:
         self.set_surfaces(0.0, 0.0, 0.0)
         self.set_flaps(0.0)
+        self.set_airbrake(0.0)
         self.set_gear(gear_down)
         self.set_brakes(0.0, 0.0)
         self.set_steering(0.0)
@@ -346,6 +353,10 @@ class Airframe:
     def set_flaps(self, flaps: float) -> None:
         """Flap command [0, 1] (1 = fully down)."""
         self._fdm["fcs/flap-cmd-norm"] = min(max(float(flaps), 0.0), 1.0)
+
+    def set_airbrake(self, airbrake: float) -> None:
+        """Airbrake command [0, 1] (1 = fully out; the actuator limits the rate and blows back at high qbar)."""
+        self._fdm["fcs/airbrake-cmd-norm"] = min(max(float(airbrake), 0.0), 1.0)
 
     def set_gear(self, down: bool | float) -> None:
         """Gear command: True/1 down, False/0 up."""

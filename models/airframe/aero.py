@@ -28,7 +28,8 @@ Origin of each term (see ``README.md`` for the derivation in prose):
   with downwash; tail incidence set for zero elevator at the design CL;
 * damping and control derivatives: tail-volume formulas [5]_ (ch. 2, 3, 5) and
   strip theory for roll damping and aileron power [6]_;
-* ground effect on the drag due to lift: McCormick's factor [7]_.
+* ground effect on the drag due to lift: McCormick's factor [7]_;
+* airbrake: flat plate normal to the flow on the panels' frontal area [11]_.
 
 References
 ----------
@@ -49,6 +50,10 @@ References
    Aircraft* 47(4), 2010, pp. 1356-1367.
 .. [10] Kroo, I., *Aircraft Design: Synthesis and Analysis*, Stanford University, 2001, "Lift-dependent
    drag" (1/e = 1/(u s) + pi A K CD0, K about 0.38).
+.. [11] Hoerner, S. F., *Fluid-Dynamic Drag*, published by the author, 1965, ch. 3 (flat plates
+   normal to the flow) and ch. 8 (obstacles on a wall).
+.. [12] Stephenson, J. D., "The effects of aerodynamic brakes upon the speed characteristics of
+   airplanes", NACA TN 1939, 1949 (measured drag increments of wing and fuselage brakes).
 """
 from __future__ import annotations
 
@@ -403,18 +408,39 @@ class AeroModel:
         delta = np.asarray(flap_norm, dtype=float) * f["max_deg"]
         return f["drag_factor"] * f["chord_ratio"] * self.flapped_area_ratio * np.maximum(delta - 10.0, 0.0)
 
+    # -- airbrake (fuselage side panels) ------------------------------------
+    def airbrake_frontal_area_m2(self, airbrake_norm: ArrayLike = 1.0) -> NDArray:
+        """Frontal (projected) area of the airbrake panels at a deflection [m^2]: n l h sin(delta),
+        delta = airbrake_norm x max_deg, the panels hinged at their leading edges."""
+        ab = self.geom.section("airbrake")
+        delta = np.radians(np.clip(np.asarray(airbrake_norm, dtype=float), 0.0, 1.0) * ab["max_deg"])
+        return ab["panels"] * ab["panel_length_m"] * ab["panel_height_m"] * np.sin(delta)
+
+    def cd_airbrake(self, airbrake_norm: ArrayLike) -> NDArray:
+        """Drag increment of the airbrake [-] on the wing area: eta CD_plate A_frontal / S.
+
+        CD_plate is the drag of a flat plate normal to the flow on its frontal area (1.18 for a
+        plate of aspect ratio 1 to 2, Hoerner [11]_ ch. 3); eta (0.85) allows for the panels standing
+        partly in the fuselage boundary layer (Hoerner [11]_ ch. 8, plates on a wall; NACA TN 1939
+        [12]_ collects measured fuselage brakes for calibration). Lift and pitching moment unchanged:
+        the panels sit at the CG height.
+        """
+        ab = self.geom.section("airbrake")
+        return ab["installation_factor"] * ab["plate_cd"] * self.airbrake_frontal_area_m2(airbrake_norm) / \
+            self.geom.wing.area_m2
+
     def drag_coefficient(self, alpha: float, mach: float, re_cbar: float, flap_norm: float = 0.0,
-                         gear_norm: float = 0.0, h_over_b: float = math.inf) -> float:
+                         gear_norm: float = 0.0, h_over_b: float = math.inf, airbrake_norm: float = 0.0) -> float:
         """The drag polar the JSBSim file implements, at zero elevator and rates [-].
 
-        ``CD = CD0(M, Re) + phi(h/b) k CL_wb^2 + CD_w(M, CL_wb) + CD_sep(alpha) + CD_flap + CD_gear``
+        ``CD = CD0(M, Re) + phi(h/b) k CL_wb^2 + CD_w(M, CL_wb) + CD_sep(alpha) + CD_flap + CD_gear + CD_ab``
         with ``CL_wb = CL_basic(alpha, M) + dCL_flap`` and phi the ground effect (1 far from the ground).
         """
         clw = float(self.cl_basic(alpha, mach)) + flap_norm * float(self.dcl_flap_full(mach))
         phi = 1.0 if math.isinf(h_over_b) else float(self.ground_effect(h_over_b))
         return float(self.cd0(mach, re_cbar) + phi * self.k_induced() * clw ** 2 + self.cd_wave(mach, clw)
                      + self.cd_separation(alpha, DESIGN_MACH) + self.cd_flap_profile(flap_norm)
-                     + gear_norm * self.cd_gear)
+                     + gear_norm * self.cd_gear + self.cd_airbrake(airbrake_norm))
 
     # -- pitch --------------------------------------------------------------
     def cm_basic(self, alpha: ArrayLike, mach: ArrayLike) -> NDArray:

@@ -87,7 +87,7 @@ def _check_range(name: str, value: float, rng: tuple[float, float], unit: str) -
 
 def trim_level(alt_m: float, mach: float, mass_kg: float | None = None, airframe: Airframe | None = None,
                flaps: float = 0.0, gear_down: bool = False, heading_deg: float = 0.0, lat_deg: float = 48.3539,
-               lon_deg: float = 11.7860, flight_path_rad: float = 0.0) -> TrimResult:
+               lon_deg: float = 11.7860, flight_path_rad: float = 0.0, airbrake: float = 0.0) -> TrimResult:
     """Trim UPERA in steady level flight.
 
     Parameters
@@ -110,6 +110,8 @@ def trim_level(alt_m: float, mach: float, mass_kg: float | None = None, airframe
     flight_path_rad : float
         Flight-path angle [rad] of a steady straight climb (> 0) or descent, -0.2 to 0.3;
         0 (default) is level flight.
+    airbrake : float
+        Airbrake position [0, 1] (below its blow-back dynamic pressure the position is the command).
 
     Raises
     ------
@@ -152,7 +154,7 @@ def trim_level(alt_m: float, mach: float, mass_kg: float | None = None, airframe
         for _ in range(2):
             af.start_air(alt, tas, heading_deg, lat_deg, lon_deg, alpha_rad=float(x[0]), elevator=float(x[1]),
                          thrust_N=float(x[2]) * weight, flaps=flaps, gear_down=gear_down, fuel_kg=fuel,
-                         ground_elevation_m=ground, flight_path_rad=gamma)
+                         ground_elevation_m=ground, flight_path_rad=gamma, airbrake=airbrake)
         return np.array([fdm["accelerations/udot-ft_sec2"] * FT / G0,
                          fdm["accelerations/wdot-ft_sec2"] * FT / G0,
                          fdm["accelerations/qdot-rad_sec2"]])

@@ -27,6 +27,8 @@ AIRCRAFT_FILE = AIRCRAFT_DIR / "UPERA.xml"
 MACH_AXIS = np.round(np.arange(0.0, MAX_MACH + 1e-9, 0.05), 4)
 ALPHA_AXIS = np.round(np.arange(-0.50, 0.80 + 1e-9, 0.02), 4)
 RE_AXIS = np.round(10 ** np.linspace(6.0, 8.0, 21), -3)
+AIRBRAKE_AXIS = np.linspace(0.0, 1.0, 11)
+PSF_PA = 47.880258980335840  # [Pa/psf]
 QS = ("<property>aero/qbar-psf</property>", "<property>metrics/Sw-sqft</property>")
 QSC = (*QS, "<property>metrics/cbarw-ft</property>")
 QSB = (*QS, "<property>metrics/bw-ft</property>")
@@ -131,6 +133,8 @@ def _aero_section(a: AeroModel, lat: Lateral) -> str:
               [_table1("fcs/flap-pos-norm", flap_axis, a.cd_flap_profile(flap_axis), ind)]),
         _coef("CDgear", "Landing gear, frontal-area D/q (Raymer table 12.6)", QS,
               [_prop("gear/gear-pos-norm"), f"{ind}<value>{_n(a.cd_gear)}</value>"]),
+        _coef("CDairbrake", "Airbrake: flat plate on the panels' frontal area (Hoerner ch. 3 and 8)", QS,
+              [_table1("fcs/airbrake-pos-norm", AIRBRAKE_AXIS, a.cd_airbrake(AIRBRAKE_AXIS), ind)]),
         "    </axis>",
         "    <axis name=\"SIDE\">",
         _coef("CYb", "Side force due to sideslip: vertical tail (Nelson 2.73) and fuselage (DATCOM)", QS,
@@ -285,8 +289,43 @@ def _fcs_section(a: AeroModel) -> str:
                 f"        <output>{pos}</output>",
                 "      </kinematic>",
                 "    </channel>"]
+    out += _airbrake_channel(a)
     out.append("  </flight_control>")
     return "\n".join(out)
+
+
+def _airbrake_channel(a: AeroModel) -> list[str]:
+    """Airbrake: the command clipped to [0, p_max], then rate limited to full travel in ``full_travel_s``.
+
+    p_max is the actuator's hinge-moment limit. The panels' normal force, and with it the hinge
+    moment, goes as qbar sin(delta). Above ``blowback_qbar_Pa`` the panels blow back to
+    sin(delta) = sin(delta_max) qbar_bb / qbar, so p_max = asin(min(1, qbar_bb / qbar) sin(delta_max)) /
+    delta_max. Their drag, which also goes as qbar sin(delta), then stays what full deflection gives at
+    qbar_bb.
+    """
+    ab = a.geom.section("airbrake")
+    q_psf = ab["blowback_qbar_Pa"] / PSF_PA
+    dmax = math.radians(ab["max_deg"])
+    return ["    <channel name=\"Airbrake\">",
+            "      <fcs_function name=\"fcs/airbrake-max-norm\">",
+            f"        <description>Blow-back limit asin(min(1, {_n(ab['blowback_qbar_Pa'])} Pa / qbar) "
+            f"sin({_n(ab['max_deg'])} deg)) / {_n(ab['max_deg'])} deg</description>",
+            f"        <function><quotient><asin><product><value>{math.sin(dmax):.12g}</value><min><value>1</value>"
+            f"<quotient><value>{_n(q_psf)}</value><max><property>aero/qbar-psf</property><value>0.001</value>"
+            f"</max></quotient></min></product></asin><value>{dmax:.12g}</value></quotient></function>",
+            "      </fcs_function>",
+            "      <pure_gain name=\"fcs/airbrake-cmd-limited\">",
+            "        <input>fcs/airbrake-cmd-norm</input>",
+            "        <gain>1</gain>",
+            "        <clipto><min>0</min><max>fcs/airbrake-max-norm</max></clipto>",
+            "      </pure_gain>",
+            "      <actuator name=\"fcs/airbrake-actuator\">",
+            "        <input>fcs/airbrake-cmd-limited</input>",
+            f"        <rate_limit>{_n(1.0 / ab['full_travel_s'])}</rate_limit>",
+            "        <clipto><min>0</min><max>1</max></clipto>",
+            "        <output>fcs/airbrake-pos-norm</output>",
+            "      </actuator>",
+            "    </channel>"]
 
 
 def aircraft_xml(a: AeroModel | None = None) -> str:

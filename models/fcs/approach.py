@@ -47,7 +47,10 @@ from .guidance import L1Guidance
 from .tunable import Tunable, load_params
 
 __all__ = ["Runway", "IlsDeviation", "ApproachParams", "ApproachCommand", "AutoLand", "LOC_BEYOND_END_M",
-           "ils_deviation", "centreline_steer"]
+           "ils_deviation", "centreline_steer", "APPROACH_PHASES"]
+
+#: Phases of :class:`AutoLand` in the order of their codes (the FCS FMU's Integer output ``ils_phase``; 0: none).
+APPROACH_PHASES = ("", "HOLD", "LOC_ARMED", "LOC", "GS", "FLARE", "DEROTATION", "ROLLOUT", "STOPPED")
 
 #: Localizer antenna beyond the stop end of the runway [m] (typical siting).
 LOC_BEYOND_END_M = 300.0
@@ -116,6 +119,7 @@ class ApproachParams:
     hold_enter_m: float
     hold_exit_m: float
     hold_radius_m: float
+    loc_damping: float
 
     @classmethod
     def from_file(cls, **overrides: float) -> ApproachParams:
@@ -282,7 +286,7 @@ class AutoLand(Tunable[ApproachParams]):
         ils = ils_deviation(rwy, p, pos, alt_m)
         V = max(tas_m_s, 1.0)
         vg = math.hypot(vn_m_s, ve_m_s)
-        lat = self._g.line(rwy.heading_rad, ils.loc_m, vn_m_s, ve_m_s, psi_rad)
+        lat = self._g.line(rwy.heading_rad, ils.loc_m, vn_m_s, ve_m_s, psi_rad, damping=p.loc_damping)
         phi = lat.phi_cmd_rad
         alt_cmd: float | None = None
         gamma: float | None = None

@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .approach import ApproachParams
+from .approach import APPROACH_PHASES, ApproachParams
 from .atmosphere import G0_M_S2
 from .errors import ParameterError
 from .estimation import AirspeedRateEstimator
@@ -23,11 +23,14 @@ from .geo import wrap_pi
 from .guidance import L1Guidance
 from .lateral import LateralController, LateralState
 from .mission import Mission
+from .performance import Performance
 from .pitch import PitchController, turn_pitch_rate
 from .state import AircraftState, EngineState, Targets
 from .state_machine import MissionRunner
 from .tecs import Tecs, TecsInput
 from .tunable import Tunable
+from .vertical import VNAV_MODES
+from .vnav import Vnav
 
 __all__ = ["FcsOutput", "FlightControlSystem", "FUEL_LIMITERS", "OUTPUT_SIGNALS"]
 
@@ -52,7 +55,15 @@ OUTPUT_SIGNALS: dict[str, str] = {
     "xtk_m": "Cross-track error of the active path, right positive (NaN when none) [m]",
     "fuel_limiter": "Regulator the fuel controller selected: 0 the lever's N1c demand, 1 the Tt41 limit, "
                     "2 the N1 limit [-]",
+    "airbrake": "Airbrake command, 0 retracted to 1 fully out [-]",
+    "vnav_mode": "Vertical mode: 0 none (ground), 1 ALT, 2 CLIMB, 3 PATH (managed descent), 4 DECEL, "
+                 "5 HOLD (planned hold at a fix), 6 DESCENT (open), 7 APPROACH [-]",
+    "ils_phase": "Phase of the automatic approach and landing: 0 none, 1 HOLD, 2 LOC_ARMED, 3 LOC, 4 GS, 5 FLARE, "
+                 "6 DEROTATION, 7 ROLLOUT, 8 STOPPED [-]",
 }
+#: Period of the performance model's table look-ups in the energy-rate limits [s] (the polar and the
+#: thrusts change slowly with altitude and Mach; the drag is recomputed every step).
+PERF_REFRESH_S = 0.5
 #: Codes of :attr:`FcsOutput.fuel_limiter`.
 FUEL_LIMITERS = ("demand", "Tt41", "N1")
 
@@ -99,6 +110,12 @@ class FcsOutput:
         Speed target as true airspeed [m/s] (NaN on the ground).
     fuel_limiter : int
         Regulator the fuel controller selected, an index of :data:`FUEL_LIMITERS` [-].
+    airbrake : float
+        Airbrake command [0, 1].
+    vnav_mode : int
+        Vertical mode, an index of :data:`.vertical.VNAV_MODES` [-].
+    ils_phase : int
+        Approach phase, an index of :data:`.approach.APPROACH_PHASES` (0 outside a landing) [-].
     """
 
     elevator: float
@@ -114,6 +131,9 @@ class FcsOutput:
     targets: Targets
     tas_cmd_m_s: float
     fuel_limiter: int = 0
+    airbrake: float = 0.0
+    vnav_mode: int = 0
+    ils_phase: int = 0
 
     def signals(self) -> dict[str, float | int | str | bool]:
         """The outputs as a flat mapping named as :data:`OUTPUT_SIGNALS` (what an FMU exposes)."""
@@ -124,7 +144,8 @@ class FcsOutput:
                 "phi_cmd_rad": self.phi_cmd_rad, "section_index": tg.section_index, "section_name": tg.section_name,
                 "section_phase": tg.phase, "alt_cmd_m": math.nan if tg.alt_cmd_m is None else tg.alt_cmd_m,
                 "tas_cmd_m_s": self.tas_cmd_m_s, "track_cmd_rad": tg.track_cmd_rad, "xtk_m": tg.xtk_m,
-                "fuel_limiter": self.fuel_limiter}
+                "fuel_limiter": self.fuel_limiter, "airbrake": self.airbrake, "vnav_mode": self.vnav_mode,
+                "ils_phase": self.ils_phase}
 
 
 class FlightControlSystem:
@@ -141,10 +162,14 @@ class FlightControlSystem:
         integral starts from it, so the engagement is bumpless.
     """
 
-    def __init__(self, mission: Mission, Wf0_kg_s: float | None = None, elevator0: float = 0.0) -> None:
+    def __init__(self, mission: Mission, Wf0_kg_s: float | None = None, elevator0: float = 0.0,
+                 performance: Performance | None = None) -> None:
         self.guidance = L1Guidance()
-        self.runner = MissionRunner(mission, self.guidance)
         self.tecs = Tecs()
+        self.perf = performance if performance is not None else \
+            Performance(n1c_idle=lambda: self.fuel.parameters.N1c_idle_pct)
+        self.vnav = Vnav(self.perf)
+        self.runner = MissionRunner(mission, self.guidance, vnav=self.vnav, tecs_params=self.tecs.parameters)
         self.pitch = PitchController()
         self.pitch.reset(elevator0)
         self.lateral = LateralController()
@@ -152,12 +177,15 @@ class FlightControlSystem:
         self._approach = _ParamHolder(self.runner)
         self.controllers: dict[str, Tunable] = {"tecs": self.tecs, "pitch": self.pitch, "lateral": self.lateral,
                                                 "guidance": self.guidance, "approach": self._approach,
-                                                "fuel_control": self.fuel}
+                                                "fuel_control": self.fuel, "vnav": self.vnav,
+                                                "performance": self.perf}
         self._tecs_engaged = False
         self._lever: float | None = None
         self._estimator = AirspeedRateEstimator()
         self.controllers["estimation"] = self._estimator
         self._vdot_f: float | None = None  # low-passed airspeed rate estimate [m/s^2]
+        self._perf_t = -math.inf  # time of the last look-up of the performance tables [s]
+        self._perf = (0.0, 0.0, 0.0, 0.0)  # CD0, k, idle and maximum thrust [N] there
 
     # -- parameters -----------------------------------------------------------------------
     def parameter_names(self) -> tuple[str, ...]:
@@ -180,6 +208,8 @@ class FlightControlSystem:
         """Set ``"<controller>.<name>"`` to ``value`` [its unit]."""
         ctl, p = self._split(name)
         ctl.set_parameter(p, value)
+        self.runner.tecs_params = self.tecs.parameters
+        self._perf_t = -math.inf
 
     # -- stepping -------------------------------------------------------------------------
     @property
@@ -205,6 +235,7 @@ class FlightControlSystem:
             tas = self._estimator.tas_m_s if self._estimator.tas_m_s is not None else tas
         tg = self.runner.step(t_s, dt_s, x)
         tas_cmd = math.nan
+        airbrake = 0.0
         if tg.theta_cmd_rad is not None:
             theta_c = tg.theta_cmd_rad
             lever = tg.lever if tg.lever is not None else 0.0
@@ -218,10 +249,15 @@ class FlightControlSystem:
                 self.tecs.reset(lever0 * self.tecs.available_thrust_N(x.alt_m, x.dT_isa_K), W, x.theta_rad)
                 self._tecs_engaged = True
             alt_cmd = tg.alt_cmd_m if tg.gamma_cmd_rad is None else None
-            out = self.tecs.step(dt_s, TecsInput(x.alt_m, tas, vdot, x.gamma_rad, x.mass_kg, x.dT_isa_K),
+            e_min, e_max, ab_max = self._energy_rates(t_s, x, tg)
+            out = self.tecs.step(dt_s, TecsInput(x.alt_m, tas, vdot, x.gamma_rad, x.mass_kg, x.dT_isa_K,
+                                                 e_min, e_max),
                                  tg.speed, alt_cmd if alt_cmd is not None else None,
-                                 tg.gamma_cmd_rad if alt_cmd is None else None, lever_fixed=tg.lever)
+                                 tg.gamma_cmd_rad if alt_cmd is None else None, lever_fixed=tg.lever,
+                                 hdot_ff_m_s=tg.hdot_ff_m_s, priority=tg.priority, airbrake_max_N=ab_max)
             theta_c, lever, tas_cmd = out.theta_cmd_rad, out.lever, out.tas_cmd_m_s
+            if out.airbrake_drag_N > 0.0:
+                airbrake = self.perf.airbrake_position(out.airbrake_drag_N, x.qbar_Pa)
         self._lever = lever
         q_turn = turn_pitch_rate(x.phi_rad, x.tas_m_s) if not x.on_ground else 0.0
         # The ground gains act on the runway and until the climb law takes over after lift-off, so that
@@ -237,4 +273,22 @@ class FlightControlSystem:
             rudder = min(max(-ap.k_psi_steer_1_rad * wrap_pi(x.psi_rad - tg.align_heading_rad), -1.0), 1.0)
         f = self.fuel.step(dt_s, lever, eng.N1c_pct, eng.N1_pct, eng.Tt41_K)
         return FcsOutput(elevator, lat.aileron, rudder, tg.steer, tg.brake, tg.gear_down, lever, f.Wf_cmd_kg_s,
-                         theta_c, lat.phi_cmd_rad, tg, tas_cmd, FUEL_LIMITERS.index(f.limiter))
+                         theta_c, lat.phi_cmd_rad, tg, tas_cmd, FUEL_LIMITERS.index(f.limiter), airbrake,
+                         _MODE_CODE.get(tg.vnav_mode, 0),
+                         _PHASE_CODE.get(tg.phase, 0) if tg.section_type == "Landing" else 0)
+
+    def _energy_rates(self, t_s: float, x: AircraftState, tg: Targets) -> tuple[float, float, float]:
+        """(E_rate_min, E_rate_max, airbrake drag available [N]) from the performance model
+        (:meth:`.performance.Performance.energy_rates`; its table look-ups every PERF_REFRESH_S);
+        NaN below 30 m/s."""
+        if x.on_ground or x.tas_m_s < 30.0:
+            return math.nan, math.nan, 0.0
+        perf = self.perf
+        if t_s - self._perf_t >= PERF_REFRESH_S or t_s < self._perf_t:
+            self._perf = perf.lookup(x.alt_m, perf.mach(x.alt_m, x.tas_m_s, x.dT_isa_K))
+            self._perf_t = t_s
+        return perf.energy_rates(self._perf, x.qbar_Pa, x.mass_kg, x.phi_rad, tg.gear_down, tg.airbrake)
+
+
+_MODE_CODE = {m: i for i, m in enumerate(VNAV_MODES)}
+_PHASE_CODE = {m: i for i, m in enumerate(APPROACH_PHASES)}

@@ -212,10 +212,11 @@ class _Checker:
         if abs(dh) < 1.0:  # a speed change at one altitude: the level-flight thrust check covers it
             return None, None, None
         climb = dE > 0.0
-        inv = []
+        inv, inv_ab = [], []
         for h in (h0, 0.5 * (h0 + h1), h1):
             p = self.point(h, spd, mass, gear_down)
             g = p.climb_gradient(n) if climb else p.descent_gradient(n)
+            g_ab = g if climb else p.descent_gradient(n, self.lim.airbrake_plan_max)
             if g <= 0.0:
                 why = (f"drag {p.drag_in_turn_N(n) / 1e3:.2f} kN exceeds the maximum thrust "
                        f"{p.thrust_max_N / 1e3:.2f} kN" if climb else
@@ -224,8 +225,17 @@ class _Checker:
                 self.findings.append(Finding("infeasible", f"{what}{'climb' if climb else 'descent'} "
                                              f"{h0:.0f} -> {h1:.0f} m: at {h:.0f} m and M {p.mach:.2f} the {why}"))
                 return (None if dist is None else abs(dh) / dist), 0.0, math.inf
-            inv.append(self.ground_speed(p.tas_m_s, h, course) / p.tas_m_s / g)
+            gs_ratio = self.ground_speed(p.tas_m_s, h, course) / p.tas_m_s
+            inv.append(gs_ratio / g)
+            inv_ab.append(gs_ratio / g_ab)
         d_energy = abs(dE) * (inv[0] + 4.0 * inv[1] + inv[2]) / 6.0
+        # A descent that idle cannot make in the distance is planned with the airbrake, up to
+        # vnav.airbrake_plan_max of its travel (the rest is the flight management's margin).
+        d_energy_ab = abs(dE) * (inv_ab[0] + 4.0 * inv_ab[1] + inv_ab[2]) / 6.0
+        airbrake = (not climb and dist is not None and self.lim.airbrake_plan_max > 0.0
+                    and d_energy > dist and d_energy_ab < d_energy)
+        if airbrake:
+            d_energy_idle, d_energy = d_energy, d_energy_ab
         gamma_lim = self.lim.gamma_max_rad if dh > 0 else -self.lim.gamma_min_rad
         gs_air = self.ground_speed(v1, h1, course) / v1
         d_gamma = abs(dh) / math.tan(max(gamma_lim, 1e-3)) * gs_air
@@ -236,12 +246,17 @@ class _Checker:
         need = abs(dh) / max(dist, 1.0)
         by = "thrust" if d_energy >= d_gamma else \
             f"the flight-path limit {math.degrees(gamma_lim):.1f} deg (tecs.gamma_{'max' if dh > 0 else 'min'}_rad)"
-        setting = "at full thrust" if climb else "at idle"
+        setting = "at full thrust" if climb else (
+            f"at idle with the airbrake planned up to {100.0 * self.lim.airbrake_plan_max:.0f} %" if airbrake
+            else "at idle")
         spdtxt = f"M {self.speed(spd, h1)[1]:.2f}"
         self.flag(need, can, lambda v: (
             f"{what}{'climb' if dh > 0 else 'descent'} {h0:.0f} -> {h1:.0f} m over {dist / 1e3:.1f} km needs "
             f"{_pct(need)}; {setting} at {spdtxt} the aircraft makes {_pct(can)} (limited by {by}), i.e. "
             f"{needed / 1e3:.1f} km: {v}"))
+        if airbrake and can >= need:
+            self.findings.append(Finding("note", f"{what}descent {h0:.0f} -> {h1:.0f} m over {dist / 1e3:.1f} km: idle "
+                                         f"alone needs {d_energy_idle / 1e3:.1f} km; planned with the airbrake"))
         return math.copysign(need, dh), math.copysign(can, dh), needed
 
     def level(self, p: PerfPoint, n: float, what: str) -> float:

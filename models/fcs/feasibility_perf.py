@@ -47,6 +47,8 @@ class PerfPoint:
         Net thrust at the lever's maximum and at flight idle [N].
     fuel_max_kg_s, fuel_idle_kg_s : float
         Fuel flow at those settings [kg/s].
+    drag_airbrake_N : float
+        Drag increment of the airbrake fully out there [N] (0 for an aircraft without one).
     """
 
     alt_m: float
@@ -62,6 +64,7 @@ class PerfPoint:
     thrust_idle_N: float
     fuel_max_kg_s: float
     fuel_idle_kg_s: float
+    drag_airbrake_N: float = 0.0
 
     @property
     def weight_N(self) -> float:
@@ -75,9 +78,10 @@ class PerfPoint:
         """Energy gradient at maximum thrust, (T_max - D(n)) / W [-] (per air distance)."""
         return (self.thrust_max_N - self.drag_in_turn_N(n)) / self.weight_N
 
-    def descent_gradient(self, n: float = 1.0) -> float:
-        """Energy loss gradient at idle, (D(n) - T_idle) / W [-] (per air distance)."""
-        return (self.drag_in_turn_N(n) - self.thrust_idle_N) / self.weight_N
+    def descent_gradient(self, n: float = 1.0, airbrake: float = 0.0) -> float:
+        """Energy loss gradient at idle with the airbrake ``airbrake`` [0, 1] out,
+        (D(n) + airbrake dD_airbrake - T_idle) / W [-] (per air distance)."""
+        return (self.drag_in_turn_N(n) + airbrake * self.drag_airbrake_N - self.thrust_idle_N) / self.weight_N
 
 
 class Performance(Protocol):
@@ -108,16 +112,25 @@ class Limits:
     gs_angle_rad: float       #: approach.gs_angle_rad
     tch_m: float              #: approach.tch_m
     hold_enter_m: float       #: approach.hold_enter_m
+    airbrake_plan_max: float = 0.0  #: vnav.airbrake_plan_max (the most airbrake a descent is planned with)
 
     NAMES = {"phi_max_rad": "guidance.phi_max_rad", "fly_by_bank_frac": "guidance.fly_by_bank_frac",
              "gamma_max_rad": "tecs.gamma_max_rad", "gamma_min_rad": "tecs.gamma_min_rad",
              "mach_max": "tecs.mach_max", "v_min_cas_m_s": "tecs.V_min_cas_m_s",
              "gs_angle_rad": "approach.gs_angle_rad", "tch_m": "approach.tch_m",
-             "hold_enter_m": "approach.hold_enter_m"}
+             "hold_enter_m": "approach.hold_enter_m", "airbrake_plan_max": "vnav.airbrake_plan_max"}
 
     @classmethod
     def from_parameters(cls, get: Callable[[str], float]) -> Limits:
-        """From the FCS's parameters, ``get("tecs.gamma_max_rad")`` etc."""
-        return cls(**{k: float(get(v)) for k, v in cls.NAMES.items()})  # type: ignore[arg-type]
+        """From the FCS's parameters, ``get("tecs.gamma_max_rad")`` etc.; an FCS without the airbrake
+        parameter plans none."""
+        vals: dict[str, float] = {}
+        for k, v in cls.NAMES.items():
+            try:
+                vals[k] = float(get(v))
+            except KeyError:
+                if k != "airbrake_plan_max":
+                    raise
+        return cls(**vals)  # type: ignore[arg-type]
 
 

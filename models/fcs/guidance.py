@@ -121,7 +121,8 @@ class L1Guidance(Tunable[GuidanceParams]):
                    p.L1_min_m)
 
     def _command(self, path_brg: float, xtk: float, vn: float, ve: float, ff_m_s2: float,
-                 dist_to_go: float, L1_max_m: float = math.inf, psi_rad: float | None = None) -> PathCommand:
+                 dist_to_go: float, L1_max_m: float = math.inf, psi_rad: float | None = None,
+                 damping: float | None = None) -> PathCommand:
         vg = math.hypot(vn, ve)
         L1 = min(self.l1_m(vg), L1_max_m)
         chi = math.atan2(ve, vn) if vg > 1.0 else path_brg
@@ -132,6 +133,10 @@ class L1Guidance(Tunable[GuidanceParams]):
         eta = wrap_pi(brg_l1 - chi)
         s = math.sin(eta) if abs(eta) <= math.pi / 2 else math.copysign(1.0, eta)
         a = 2.0 * vg * vg * s / L1 + ff_m_s2
+        if damping is not None and damping > _L1_DAMPING and abs(xtk) < L1:
+            # near the line L1 is the PD law y'' = -(2 Vg/L1) y' - 2 (Vg/L1)^2 y: damping 1/sqrt(2); the
+            # cross-track rate's extra term raises it to ``damping``: (2 sqrt(2) damping - 2) Vg/L1
+            a -= (2.0 * math.sqrt(2.0) * damping - 2.0) * vg / L1 * vg * math.sin(wrap_pi(chi - path_brg))
         if psi_rad is not None:
             # the air-relative velocity turns; its part normal to the ground track is cos(crab) of it
             a /= max(math.cos(wrap_pi(psi_rad - chi)), 0.5)
@@ -140,13 +145,16 @@ class L1Guidance(Tunable[GuidanceParams]):
         return PathCommand(phi, path_brg, xtk, dist_to_go, eta)
 
     def line(self, path_brg_rad: float, xtk_m: float, vn_m_s: float, ve_m_s: float,
-             psi_rad: float | None = None, dist_to_go_m: float = math.inf) -> PathCommand:
+             psi_rad: float | None = None, dist_to_go_m: float = math.inf, damping: float | None = None) -> PathCommand:
         """Follow a straight line given by its direction [rad] and the cross-track error [m] (right +).
 
         For paths whose geometry is computed elsewhere, e.g. a runway centre line in the
-        WGS-84 tangent plane of its threshold (:mod:`.approach`).
+        WGS-84 tangent plane of its threshold (:mod:`.approach`). ``damping`` [-], when above L1's own
+        1/sqrt(2), adds cross-track rate feedback near the line for that damping ratio (a localizer
+        captured without overshoot).
         """
-        return self._command(path_brg_rad, xtk_m, vn_m_s, ve_m_s, 0.0, dist_to_go_m, psi_rad=psi_rad)
+        return self._command(path_brg_rad, xtk_m, vn_m_s, ve_m_s, 0.0, dist_to_go_m, psi_rad=psi_rad,
+                             damping=damping)
 
     def leg(self, pos: LatLon, vn_m_s: float, ve_m_s: float, start: LatLon, end: LatLon,
             psi_rad: float | None = None) -> PathCommand:
@@ -189,6 +197,9 @@ class L1Guidance(Tunable[GuidanceParams]):
         return self._command(path_brg, xtk, vn_m_s, ve_m_s, direction * vg2 / radius_m, abs(r - radius_m),
                              self._params.L1_orbit_max_radii * radius_m, psi_rad)
 
+
+#: Damping ratio of the L1 law near its path (Park, Deyst & How 2004: the linearised law) [-].
+_L1_DAMPING = 1.0 / math.sqrt(2.0)
 
 #: Sharpest course change flown by (turn anticipated) with ``wp_fly_by``; sharper ones are flown over [rad].
 FLY_BY_MAX_TURN_RAD = math.radians(120.0)

@@ -2,13 +2,10 @@
 weather files share them; each reader imports this module, neither imports the other)."""
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import Any
 
 from ..common import safe_yaml
 from .errors import MissionError
-
-if TYPE_CHECKING:  # PyYAML is imported where a file is read (the airframe FMU runs without it)
-    import yaml
 
 __all__ = ["Lines", "Context"]
 
@@ -25,15 +22,13 @@ class Lines:
         if root is not None:
             self._walk(root, ())
 
-    def _walk(self, node: yaml.Node, path: tuple) -> None:
-        import yaml
-
+    def _walk(self, node: Any, path: tuple) -> None:
         self.map[path] = node.start_mark.line + 1
-        if isinstance(node, yaml.MappingNode):
+        if node.id == "mapping":  # yaml.MappingNode
             for k, v in node.value:
                 self.map[path + (k.value,)] = k.start_mark.line + 1
                 self._walk(v, path + (k.value,))
-        elif isinstance(node, yaml.SequenceNode):
+        elif node.id == "sequence":  # yaml.SequenceNode
             for i, v in enumerate(node.value):
                 self._walk(v, path + (i,))
 

@@ -15,6 +15,8 @@ Format (see ``missions/munich.yaml`` for a complete example)::
       - {type: TakeOff, runway: EDDM_08R, pitch_deg: 10, climb_speed: {cas_m_s: 80},
          until_height_agl_m: 300}
       - {type: WaypointFollowing, waypoints: [A, B], altitude_m: 5000, speed: {mach: 0.6}}
+      - {type: WaypointFollowing, waypoints: [C, D], altitude_m: 2500, altitude_at: C,
+         speed: {mach: 0.5}}                         # altitude due at C (default: the last)
       - {type: Orbiting, center: C, radius_m: 10000, direction: clockwise, turns: 2,
          altitude_m: 2500, speed: {mach: 0.6}}
       - {type: GTurns, load_factor: 2.0, heading_change_deg: 360, direction: right}
@@ -80,6 +82,8 @@ SECTION_FIELDS: dict[str, dict[str, _F]] = {
         "altitude_m": ("number", True, None, (-400.0, 15000.0), "altitude [m]"),
         "speed": ("speed", True, None, None, "speed"),
         "fly_by": ("bool", False, False, None, "fly-by (true) or fly-over (false) waypoints"),
+        "altitude_at": ("waypoint", False, None, None, "the waypoint of the section the altitude is due at "
+                        "(default: the last); descents are planned to it, the altitude held after it"),
     },
     "Orbiting": {
         "center": ("waypoint", True, None, None, "waypoint at the centre"),
@@ -333,6 +337,11 @@ def parse_mission(text: str, source: str = "<mission>") -> Mission:
                 fields.append((key, _field(kind, rng, s[key], runways, waypoints)))
             except ValueError as e:
                 raise ctx.fail(path + (key,), f"{where} field '{key}': {e}") from None
+        if typ == "WaypointFollowing" and "altitude_at" in s:
+            f = dict(fields)
+            if f["altitude_at"] not in f["waypoints"]:
+                raise ctx.fail(path + ("altitude_at",), f"{where} field 'altitude_at': {s['altitude_at']!r} is not "
+                               f"one of the section's waypoints ({', '.join(map(str, s['waypoints']))})")
         if typ == "GTurns" and ("heading_change_deg" in s) == ("duration_s" in s):
             raise ctx.fail(path, f"{where}: give exactly one of 'heading_change_deg' or 'duration_s'")
         if typ == "Custom":

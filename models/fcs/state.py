@@ -104,8 +104,11 @@ class Targets:
     """What the active mission section asks of the control laws in this step.
 
     Vertical: ``theta_cmd_rad`` (direct pitch, on the ground), else TECS with
-    ``alt_cmd_m`` (altitude) or ``gamma_cmd_rad`` (path); ``lever`` fixes the thrust
-    lever (None: TECS sets it). Lateral: ``phi_cmd_rad``, else ``heading_cmd_rad``;
+    ``alt_cmd_m`` (altitude, with the vertical speed ``hdot_ff_m_s`` of a managed path) or
+    ``gamma_cmd_rad`` (path); ``lever`` fixes the thrust lever (None: TECS sets it);
+    ``priority`` which command TECS keeps when the thrust cannot give both, ``airbrake``
+    whether the airbrake may extend the thrust channel below idle; ``vnav_mode`` the
+    vertical mode (:data:`.vertical.VNAV_MODES`). Lateral: ``phi_cmd_rad``, else ``heading_cmd_rad``;
     ``align_heading_rad`` makes the rudder hold a heading (de-crab, ground roll).
 
     Attributes
@@ -116,6 +119,14 @@ class Targets:
         Active section, its type and its phase.
     alt_cmd_m, gamma_cmd_rad, theta_cmd_rad : float or None
         Vertical targets [m], [rad], [rad].
+    hdot_ff_m_s : float
+        Vertical speed of the commanded altitude (a managed path) [m/s].
+    priority : str or None
+        ``"path"``, ``"speed"`` or None (TECS decides).
+    airbrake : bool
+        The airbrake may be used.
+    vnav_mode : str
+        Vertical mode.
     speed : SpeedCommand or None
         Speed target.
     lever : float or None
@@ -151,3 +162,7 @@ class Targets:
     steer: float = 0.0
     brake: float = 0.0
     gear_down: bool = True
+    hdot_ff_m_s: float = 0.0
+    priority: str | None = None
+    airbrake: bool = False
+    vnav_mode: str = ""

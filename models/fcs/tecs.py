@@ -9,27 +9,49 @@ so ``sin gamma + Vdot/g`` is the *specific total energy rate* (per unit V) and
 ``sin gamma - Vdot/g`` the *energy distribution rate*. Thrust changes the
 first, at constant thrust pitch only trades between height and speed, so:
 
-* commands: gamma_c = clip(k_h (h_c - h) / V, gamma_min, gamma_max) (altitude
-  mode: first-order capture with time constant 1/k_h, no overshoot), or a
-  given gamma_c (path mode, e.g. glide slope, flare); Vdot_c = clip(k_V (V_c - V),
-  +-Vdot_max);
+* commands: gamma_c = clip(gamma_ff + k_h (h_c - h) / V, gamma_min, gamma_max)
+  (altitude mode: first-order capture with time constant 1/k_h, no overshoot;
+  gamma_ff = asin(hdot_ff / V) the feed-forward of a managed vertical path, 0 for
+  a level), or a given gamma_c (path mode, e.g. glide slope, flare);
+  Vdot_c = clip(k_V (V_c - V), +-Vdot_max), changing by at most jerk_max per second
+  (a speed step does not kick the pitch before the thrust can follow);
 * errors: e_g = sin gamma_c - sin gamma, e_v = (Vdot_c - Vdot) / g;
   E_err = e_g + e_v (total), L_err = w_g e_g - w_v e_v (distribution);
 * thrust: T_c / W = k_TP E_err + k_TI Int E_err dt (the integral holds D/W);
 * pitch: theta_c = k_EP L_err + k_EI Int L_err dt (the integral holds the trim alpha).
 
-Weights (w_g, w_v) are (1, 1) normally. When the thrust saturates (maximum in a
-climb, idle in a descent) or below V_min (underspeed protection) the thrust
-channel can no longer supply the energy error: the thrust integral stops and
-the pitch channel takes *speed priority*, (w_g, w_v) = (0, 2): pitch flies the
-speed, the height follows from the energy available. While a climb (descent)
-steeper than gamma_priority is commanded, the speed change asked of pitch is
-limited to what the energy rate gives at level flight, so an idle descent that must
-also slow down does not first climb, and a full-thrust climb that must also
-accelerate does not first descend; at level flight the height pays for the speed. This is how a speed step
-at constant (limiting) thrust is flown by pitch. In *path priority* (flare,
-idle thrust by command), (w_g, w_v) = (2, 0). In underspeed the thrust lever is
-also set to its maximum and the speed command raised to V_min.
+Energy-rate command limiting (Lambregts 2013). The energy rate the thrust can
+give, [E_min, E_max] = [(T_idle - D - D_airbrake) / W, (T_max - D) / W], is an
+input (from the performance model, :mod:`.performance`). A demand sin gamma_c +
+Vdot_c/g outside it (less ``energy_margin``, or a quarter of the headroom over sin gamma_c
+where that is smaller) is cut back before the loops see it, in the channel that
+has no priority:
+
+* *path priority* (altitude hold and capture, a managed path, the glide slope):
+  the acceleration command is cut -- in level flight a speed step at maximum
+  thrust accelerates at what the thrust gives and the height is held;
+* *speed priority* (an open climb or descent: the altitude command asks for more
+  than the flight-path limit, or the caller says so): the flight-path command is
+  cut -- a climb at maximum thrust climbs at what is left after the acceleration,
+  but no less than level (the acceleration is cut beyond), so a climb that must
+  also accelerate does not first descend, nor an idle descent that must also slow
+  down first climb.
+
+If the thrust saturates nevertheless (the model's limits are estimates), the
+weights (w_g, w_v) blend from (1, 1) to (2, 0) (path) or (0, 2) (speed) with the
+time constant ``tau_priority_s``, and back when the thrust comes off its limit
+(with ``priority="path_only"``, a deceleration segment, they blend to the path's in
+any case).
+In underspeed (below V_min) speed has priority at once and the thrust lever goes
+to its maximum, the speed command is raised to V_min; with a fixed lever (take-off,
+flare) pitch flies the path (``gamma_cmd``) or the speed.
+
+Below idle the thrust channel goes on into the airbrake where the caller allows
+it (``airbrake_max_N`` > 0, in descents): the drag it asks for beyond idle is
+``airbrake_drag_N``, through a first-order lag ``tau_airbrake_s`` (the airbrake acts at once
+on the drag, where the engine's thrust lags its spools: without the lag the thrust loop's
+proportional gain would close a one-step loop through it and chatter); the airbrake's drag
+extends the lower energy limit.
 
 Speed commands may be Mach, calibrated or true airspeed: they are turned into
 true airspeed through the ISA (:mod:`.atmosphere`) at the current altitude.
@@ -44,7 +66,8 @@ References
 A. A. Lambregts, "Vertical flight path and speed control autopilot design using
 total energy principles", AIAA paper 83-2239, 1983.
 A. A. Lambregts, "TECS generalized airplane control system design -- an update",
-in Advances in Aerospace Guidance, Navigation and Control, Springer, 2013.
+in Advances in Aerospace Guidance, Navigation and Control, Springer, 2013
+(energy-rate command limiting, speed and path priority).
 B. R. Faleiro, A. A. Lambregts, "Analysis and tuning of a Total Energy Control
 System control law using eigenstructure assignment", Aerospace Science and
 Technology 3(3), 127-140, 1999.
@@ -56,7 +79,7 @@ import math
 from dataclasses import dataclass
 from enum import StrEnum
 
-from .atmosphere import G0_M_S2, cas_from_tas, isa, tas_from_cas, tas_from_mach
+from .atmosphere import G0_M_S2, Atmosphere, cas_from_tas, isa, tas_from_cas, tas_from_mach
 from .errors import FcsError
 from .tunable import Tunable, load_params
 
@@ -81,9 +104,10 @@ class SpeedCommand:
     value: float
     kind: SpeedKind = SpeedKind.TAS
 
-    def tas_m_s(self, alt_m: float, dT_isa_K: float = 0.0) -> float:
-        """The target as true airspeed at altitude ``alt_m`` [m/s]."""
-        atm = isa(alt_m, dT_isa_K)
+    def tas_m_s(self, alt_m: float, dT_isa_K: float = 0.0, atm: Atmosphere | None = None) -> float:
+        """The target as true airspeed at altitude ``alt_m`` [m/s] (``atm``: that altitude's atmosphere, when the
+        caller has it)."""
+        atm = atm if atm is not None else isa(alt_m, dT_isa_K)
         if self.kind is SpeedKind.MACH:
             return tas_from_mach(self.value, atm)
         if self.kind is SpeedKind.CAS:
@@ -110,11 +134,14 @@ class TecsParams:
     thrust_lapse_exp: float
     lever_min: float
     lever_max: float
-    gamma_priority_rad: float
+    energy_margin: float
+    tau_priority_s: float
     V_min_cas_m_s: float
     underspeed_margin: float
     mach_max: float
     tau_Vdot_s: float
+    jerk_max_m_s3: float
+    tau_airbrake_s: float
 
     @classmethod
     def from_file(cls, **overrides: float) -> TecsParams:
@@ -140,6 +167,9 @@ class TecsInput:
         Aircraft mass [kg].
     dT_isa_K : float
         ISA temperature deviation [K].
+    E_rate_min, E_rate_max : float
+        Specific energy rate per unit airspeed, (T - D)/W, that idle (with the airbrake allowed) and
+        maximum thrust give now [-]; NaN: unknown (no command limiting).
     """
 
     alt_m: float
@@ -148,6 +178,8 @@ class TecsInput:
     gamma_rad: float
     mass_kg: float
     dT_isa_K: float = 0.0
+    E_rate_min: float = math.nan
+    E_rate_max: float = math.nan
 
 
 @dataclass(frozen=True, slots=True)
@@ -173,9 +205,13 @@ class TecsOutput:
     distribution_err : float
         L_err [-].
     priority : str
-        ``"normal"``, ``"speed"`` or ``"path"``.
+        ``"normal"``, ``"speed"`` or ``"path"``: the channel the limiting or the saturation favours.
     underspeed : bool
         Underspeed protection active.
+    airbrake_drag_N : float
+        Drag asked of the airbrake beyond idle [N] (0 unless allowed).
+    limited : bool
+        A command was cut to the energy rate the thrust can give.
     """
 
     thrust_cmd_N: float
@@ -188,6 +224,8 @@ class TecsOutput:
     distribution_err: float
     priority: str
     underspeed: bool
+    airbrake_drag_N: float = 0.0
+    limited: bool = False
 
 
 def specific_energy_rate_m_s(tas_m_s: float, Vdot_m_s2: float, gamma_rad: float) -> float:
@@ -204,11 +242,17 @@ class Tecs(Tunable[TecsParams]):
         self._params = params if params is not None else TecsParams.from_file()
         self._iT = 0.0
         self._iL = 0.0
+        self._sigma = 0.0  # blend of the weights towards the priority's [0, 1]
+        self._a_c = 0.0  # acceleration command of the previous step [m/s^2]
+        self._ab = 0.0  # airbrake drag command, filtered [N]
 
     def reset(self, thrust_N: float, weight_N: float, theta_rad: float, gamma_rad: float = 0.0) -> None:
         """Bumpless engagement from the current thrust [N], weight [N], pitch and path angles [rad]."""
         self._iT = thrust_N / weight_N
         self._iL = theta_rad
+        self._sigma = 0.0
+        self._a_c = 0.0
+        self._ab = 0.0
 
     def available_thrust_N(self, alt_m: float, dT_isa_K: float = 0.0) -> float:
         """Estimate of the maximum thrust at altitude, thrust_sls (rho/rho0)^n [N]."""
@@ -216,7 +260,8 @@ class Tecs(Tunable[TecsParams]):
         return p.thrust_sls_N * (isa(alt_m, dT_isa_K).rho_kg_m3 / RHO0_KG_M3) ** p.thrust_lapse_exp
 
     def step(self, dt_s: float, x: TecsInput, speed: SpeedCommand, alt_cmd_m: float | None = None,
-             gamma_cmd_rad: float | None = None, lever_fixed: float | None = None) -> TecsOutput:
+             gamma_cmd_rad: float | None = None, lever_fixed: float | None = None, hdot_ff_m_s: float = 0.0,
+             priority: str | None = None, airbrake_max_N: float = 0.0) -> TecsOutput:
         """One step of the energy loops.
 
         Parameters
@@ -224,7 +269,7 @@ class Tecs(Tunable[TecsParams]):
         dt_s : float
             Step [s].
         x : TecsInput
-            Measured state.
+            Measured state (and the energy rates the thrust can give).
         speed : SpeedCommand
             Speed target (Mach, CAS or TAS); clipped to ``mach_max``.
         alt_cmd_m : float, optional
@@ -234,6 +279,16 @@ class Tecs(Tunable[TecsParams]):
         lever_fixed : float, optional
             Fixed thrust lever (e.g. idle in the flare, take-off power) [-]: the thrust
             channel is bypassed and pitch flies the path (``gamma_cmd_rad`` given) or the speed.
+        hdot_ff_m_s : float
+            Vertical speed of the commanded altitude (a managed path) [m/s], altitude mode.
+        priority : str, optional
+            ``"path"`` or ``"speed"``: which command the energy limits leave alone. Default: speed when
+            the altitude command saturates the flight-path limit (an open climb or descent), else path.
+            ``"path_only"``: path, and the pitch weights blend to the path's (2, 0) also while the thrust
+            is not saturated: pitch holds the path alone and the speed is the thrust's and the airbrake's
+            (a deceleration segment, where the engine's spool-down would otherwise lift the aircraft).
+        airbrake_max_N : float
+            Drag the airbrake may add below idle [N] (0: not allowed).
 
         Returns
         -------
@@ -245,53 +300,96 @@ class Tecs(Tunable[TecsParams]):
         V = max(x.tas_m_s, 1.0)
         atm = isa(x.alt_m, x.dT_isa_K)
         W = x.mass_kg * G0_M_S2
-        V_c = min(speed.tas_m_s(x.alt_m, x.dT_isa_K), p.mach_max * atm.a_m_s)
-        cas = cas_from_tas(V, atm)
-        underspeed = cas < p.V_min_cas_m_s
+        V_c = min(speed.tas_m_s(x.alt_m, x.dT_isa_K, atm), p.mach_max * atm.a_m_s)
+        underspeed = cas_from_tas(V, atm) < p.V_min_cas_m_s
         if underspeed:
             V_c = max(V_c, tas_from_cas(p.V_min_cas_m_s * p.underspeed_margin, atm))
         if alt_cmd_m is not None:
-            g_c = p.k_h_1_s * (alt_cmd_m - x.alt_m) / V
+            ff = min(max(hdot_ff_m_s / V, -1.0), 1.0)
+            g_raw = math.asin(ff) + p.k_h_1_s * (alt_cmd_m - x.alt_m) / V
         else:
-            g_c = float(gamma_cmd_rad)  # type: ignore[arg-type]
-        g_c = min(max(g_c, p.gamma_min_rad), p.gamma_max_rad)
+            g_raw = float(gamma_cmd_rad)  # type: ignore[arg-type]
+        g_c = min(max(g_raw, p.gamma_min_rad), p.gamma_max_rad)
         a_c = min(max(p.k_V_1_s * (V_c - V), -p.Vdot_max_m_s2), p.Vdot_max_m_s2)
+        if not underspeed and p.jerk_max_m_s3 > 0.0:
+            da = p.jerk_max_m_s3 * dt_s
+            a_c = min(max(a_c, self._a_c - da), self._a_c + da)
+        strict = priority == "path_only"
+        if priority is None:
+            priority = "speed" if g_raw != g_c else "path"
+        elif strict:
+            priority = "path"
+        limited = False
+        if lever_fixed is None and not underspeed:
+            # energy-rate command limiting: cut the channel without priority back to what the thrust gives
+            # the margin shrinks with the headroom over the path's own need, so a small but feasible speed
+            # change is still flown (slowly) rather than cut to nothing
+            demand = math.sin(g_c) + a_c / G0_M_S2
+            lim = math.nan
+            hi = x.E_rate_max - min(p.energy_margin, 0.25 * max(x.E_rate_max - math.sin(g_c), 0.0))
+            lo = x.E_rate_min + min(p.energy_margin, 0.25 * max(math.sin(g_c) - x.E_rate_min, 0.0))
+            if demand > hi:
+                lim = hi
+            elif demand < lo:
+                lim = lo
+            if lim == lim:  # not NaN
+                limited = True
+                if priority == "path":
+                    a_c = min(max(G0_M_S2 * (lim - math.sin(g_c)), -p.Vdot_max_m_s2), p.Vdot_max_m_s2)
+                else:
+                    # the flight path is cut, but a climb is not turned into a descent (nor a descent into a
+                    # climb) to pay for a speed change: beyond level flight the acceleration is cut instead
+                    sg = lim - a_c / G0_M_S2
+                    if (g_c > 0.0 and sg < 0.0) or (g_c < 0.0 and sg > 0.0):
+                        sg = 0.0
+                        a_c = min(max(G0_M_S2 * lim, -p.Vdot_max_m_s2), p.Vdot_max_m_s2)
+                    g_c = math.asin(min(max(sg, math.sin(p.gamma_min_rad)), math.sin(p.gamma_max_rad)))
+        self._a_c = a_c
         e_g = math.sin(g_c) - math.sin(x.gamma_rad)
         e_v = (a_c - x.Vdot_m_s2) / G0_M_S2
         E_err = e_g + e_v
 
-        T_avail = self.available_thrust_N(x.alt_m, x.dT_isa_K)
+        T_avail = p.thrust_sls_N * (atm.rho_kg_m3 / RHO0_KG_M3) ** p.thrust_lapse_exp  # available_thrust_N
+        T_idle = p.lever_min * T_avail
+        airbrake = 0.0
         if lever_fixed is not None:
             lever = min(max(lever_fixed, 0.0), 1.0)
             T_c = lever * T_avail
-            priority = "path" if alt_cmd_m is None else "speed"
+            prio = "path" if alt_cmd_m is None else "speed"
             self._iT = T_c / W  # tracks, for a bumpless return to energy control
+            sigma_target = 1.0
+            self._sigma = 1.0
         else:
             T_c = W * (p.k_TP * E_err + self._iT)
-            lever = T_c / T_avail
-            sat_hi = lever >= p.lever_max or underspeed
-            sat_lo = lever <= p.lever_min
-            if not ((sat_hi and E_err > 0) or (sat_lo and E_err < 0)):
+            T_lo = T_idle - max(airbrake_max_N, 0.0)
+            sat_hi = T_c >= p.lever_max * T_avail or underspeed
+            sat_lo = T_c <= T_lo
+            saturated = (sat_hi and E_err > 0) or (sat_lo and E_err < 0)
+            if not saturated:
                 self._iT += p.k_TI_1_s * E_err * dt_s
+            T_c = p.lever_max * T_avail if underspeed else min(max(T_c, T_lo), p.lever_max * T_avail)
+            if T_c < T_idle:
+                airbrake, T_c = T_idle - T_c, T_idle
+            # the airbrake acts at once on the drag (the engine's thrust with its spool lag): filtered to the
+            # thrust's pace, or the proportional gain k_TP closes a one-step loop through it and chatters
+            tau = p.tau_airbrake_s
+            self._ab = airbrake if tau <= 0.0 else self._ab + (airbrake - self._ab) * dt_s / (tau + dt_s)
+            airbrake = self._ab
+            lever = T_c / T_avail
+            prio = "speed" if underspeed else (priority if saturated else "normal")
+            sigma_target = 1.0 if saturated or strict else 0.0
             if underspeed:
-                lever = p.lever_max
-            lever = min(max(lever, p.lever_min), p.lever_max)
-            T_c = lever * T_avail
-            priority = "speed" if (sat_hi and E_err > 0) or (sat_lo and E_err < 0) or underspeed else "normal"
-        if priority == "speed" and alt_cmd_m is not None and not underspeed:
-            # a climb (descent) asked for with the thrust at maximum (idle): pitch flies
-            # the speed, but not against the height -- the speed change is limited to what the energy
-            # rate allows at level flight, E_rate = sin(gamma) + Vdot/g, so gamma keeps its sign
-            E_rate = math.sin(x.gamma_rad) + x.Vdot_m_s2 / G0_M_S2
-            if g_c >= p.gamma_priority_rad and a_c > G0_M_S2 * E_rate:
-                a_c = max(G0_M_S2 * E_rate, 0.0)
-            elif g_c <= -p.gamma_priority_rad and a_c < G0_M_S2 * E_rate:
-                a_c = min(G0_M_S2 * E_rate, 0.0)
-            e_v = (a_c - x.Vdot_m_s2) / G0_M_S2
-        w_g, w_v = {"normal": (1.0, 1.0), "speed": (0.0, 2.0), "path": (2.0, 0.0)}[priority]
+                self._sigma = 1.0
+            elif p.tau_priority_s > 0.0:
+                self._sigma += (sigma_target - self._sigma) * min(dt_s / p.tau_priority_s, 1.0)
+            else:
+                self._sigma = sigma_target
+        wp = (2.0, 0.0) if (prio == "path" or (prio == "normal" and priority == "path")) else (0.0, 2.0)
+        sg = self._sigma
+        w_g, w_v = 1.0 + sg * (wp[0] - 1.0), 1.0 + sg * (wp[1] - 1.0)
         L_err = w_g * e_g - w_v * e_v
         theta_c = p.k_EP * L_err + self._iL
         if p.theta_min_rad < theta_c < p.theta_max_rad or (theta_c >= p.theta_max_rad) != (L_err > 0):
             self._iL += p.k_EI_1_s * L_err * dt_s
         theta_c = min(max(p.k_EP * L_err + self._iL, p.theta_min_rad), p.theta_max_rad)
-        return TecsOutput(T_c, lever, theta_c, g_c, a_c, V_c, E_err, L_err, priority, underspeed)
+        return TecsOutput(T_c, lever, theta_c, g_c, a_c, V_c, E_err, L_err, prio, underspeed, airbrake, limited)

@@ -14,6 +14,7 @@ wheels take W - L, rolling friction 0.02, brakes 0.4 g at full, a 3 m wheelbase 
 model steers (17 deg at full), the heading is tied to the ground track. Engine:
 corrected fan speed N1c [%] follows 400 Wf / (delta sqrt(theta)) with 1 s lag, thrust
 13 kN (rho/rho0)^0.7 (N1c/100)^2, Tt41 = 700 K + 7 K/% N1c, N1 = N1c sqrt(theta).
+Airbrake: drag increment 0.028 x position, the position following ``airbrake_cmd`` at 1/1.5 s.
 No wind unless given (constant, north/east [m/s]).
 """
 
@@ -32,6 +33,7 @@ CL0, CLA, CD0, K_IND, CL_MAX = 0.1, 5.0, 0.025, 0.06, 1.4
 CM0, CMA, CMQ, CMDE, DE_MAX = 0.02, -0.6, -15.0, -1.2, 0.35
 TAU_ROLL, L_DA = 0.3, 6.0
 MU_ROLL, BRAKE_G, WHEELBASE, STEER_MAX = 0.02, 0.4, 3.0, 0.3
+CD_AIRBRAKE, AIRBRAKE_RATE = 0.028, 1.0 / 1.5  # airbrake: drag increment fully out [-], travel rate [1/s]
 
 
 @dataclass
@@ -56,6 +58,8 @@ class Aircraft3Dof:
     fuel_burnt: float = 0.0
     touchdown: tuple[float, float, LatLon] | None = None  # (sink rate, time, position) of the first touchdown
     t: float = 0.0
+    airbrake_cmd: float = 0.0
+    airbrake: float = 0.0
 
     def atm(self):
         return isa(self.h)
@@ -93,7 +97,9 @@ class Aircraft3Dof:
         alpha = (self.theta - self.gamma) / max(cphi, 0.2)
         CL = min(CL0 + CLA * alpha, CL_MAX)
         L = qbar * S * CL
-        D = qbar * S * (CD0 + K_IND * CL * CL)
+        cmd = min(max(self.airbrake_cmd, 0.0), 1.0)
+        self.airbrake += min(max(cmd - self.airbrake, -AIRBRAKE_RATE * dt), AIRBRAKE_RATE * dt)
+        D = qbar * S * (CD0 + K_IND * CL * CL + CD_AIRBRAKE * self.airbrake)
         de = max(-1.0, min(1.0, elevator)) * DE_MAX
         M = qbar * S * CBAR * (CM0 + CMA * alpha + CMQ * self.q * CBAR / (2 * V) + CMDE * de)
         W = self.mass * G

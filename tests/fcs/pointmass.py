@@ -48,14 +48,15 @@ class PointMass:
     def t_avail(self) -> float:
         return T_SLS_N * (isa(self.h).rho_kg_m3 / 1.225) ** 0.7
 
-    def deriv(self, s: np.ndarray, elevator: float, T_cmd: float) -> tuple[np.ndarray, float]:
+    def deriv(self, s: np.ndarray, elevator: float, T_cmd: float,
+              drag_extra_N: float = 0.0) -> tuple[np.ndarray, float]:
         V, gam, h, th, q, x, T = s
         rho = isa(h).rho_kg_m3
         qbar = 0.5 * rho * V * V
         a = th - gam
         CL = CL0 + CLA * a
         L = qbar * S_M2 * CL
-        D = qbar * S_M2 * (CD0 + K_IND * CL * CL)
+        D = qbar * S_M2 * (CD0 + K_IND * CL * CL) + drag_extra_N
         de = max(-1.0, min(1.0, elevator)) * DE_MAX_RAD
         Cm = CM0 + CMA * a + CMQ * q * C_M / (2 * V) + CMDE * de
         Vd = (T * math.cos(a) - D) / self.mass - G * math.sin(gam)
@@ -69,20 +70,27 @@ class PointMass:
     def set(self, s: np.ndarray) -> None:
         self.V, self.gamma, self.h, self.theta, self.q, self.x, self.T = (float(v) for v in s)
 
-    def Vdot(self, elevator: float, T_cmd: float) -> float:
-        return self.deriv(self.state(), elevator, T_cmd)[1]
+    def Vdot(self, elevator: float, T_cmd: float, drag_extra_N: float = 0.0) -> float:
+        return self.deriv(self.state(), elevator, T_cmd, drag_extra_N)[1]
 
     def qbar(self) -> float:
         return 0.5 * isa(self.h).rho_kg_m3 * self.V**2
 
-    def step(self, dt: float, elevator: float, T_cmd: float) -> None:
-        """Classical RK4 with the commands held."""
+    def step(self, dt: float, elevator: float, T_cmd: float, drag_extra_N: float = 0.0) -> None:
+        """Classical RK4 with the commands held (``drag_extra_N``: an airbrake's drag, at once)."""
         s = self.state()
-        k1 = self.deriv(s, elevator, T_cmd)[0]
-        k2 = self.deriv(s + 0.5 * dt * k1, elevator, T_cmd)[0]
-        k3 = self.deriv(s + 0.5 * dt * k2, elevator, T_cmd)[0]
-        k4 = self.deriv(s + dt * k3, elevator, T_cmd)[0]
+        k1 = self.deriv(s, elevator, T_cmd, drag_extra_N)[0]
+        k2 = self.deriv(s + 0.5 * dt * k1, elevator, T_cmd, drag_extra_N)[0]
+        k3 = self.deriv(s + 0.5 * dt * k2, elevator, T_cmd, drag_extra_N)[0]
+        k4 = self.deriv(s + dt * k3, elevator, T_cmd, drag_extra_N)[0]
         self.set(s + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4))
+
+
+def drag_N(V: float, h: float, gamma: float = 0.0, mass: float = M_KG) -> float:
+    """Drag in steady straight flight at flight-path angle gamma (lift W cos gamma, thrust along the path) [N]."""
+    qbar = 0.5 * isa(h).rho_kg_m3 * V * V
+    CL = mass * G * math.cos(gamma) / (qbar * S_M2)
+    return qbar * S_M2 * (CD0 + K_IND * CL * CL)
 
 
 def trimmed(V: float, h: float) -> tuple[PointMass, float]:

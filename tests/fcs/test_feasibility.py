@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import dataclasses
 from dataclasses import dataclass
 
 import pytest
@@ -184,3 +185,31 @@ def test_margin_option_and_counts() -> None:
     c = _check(m, 5000.0)
     assert [s.verdict for s in c.sections] == ["marginal", "ok"] and c.count("marginal") == 1
     assert _check(m, 5000.0, margin=0.05).sections[0].verdict == "ok"  # 8.8 % of margin > 5 %
+
+
+@dataclass
+class WithAirbrake(Analytic):
+    """The analytic aircraft with an airbrake adding ``drag_ab`` [N] fully out."""
+
+    drag_ab: float = 2000.0
+
+    def point(self, alt_m: float, mach: float, mass_kg: float, gear_down: bool = False) -> PerfPoint:
+        return dataclasses.replace(super().point(alt_m, mach, mass_kg, gear_down), drag_airbrake_N=self.drag_ab)
+
+
+@pytest.mark.parametrize(("km", "verdict"), [(25.0, "ok"), (21.0, "marginal"), (17.0, "infeasible")])
+def test_airbrake_planned_where_idle_is_not_enough(km: float, verdict: str) -> None:
+    """5000 -> 2000 m at constant TAS: idle alone, 2000 N of drag, needs 29.42 km (see above); with the
+    airbrake planned up to half of its 2000 N, (2000 + 1000)/19613 = 15.3 %: 19.61 km. An aircraft
+    without an airbrake or an FCS that plans none gets the idle figure."""
+    m = _mission("  - {type: WaypointFollowing, waypoints: [A], altitude_m: 2000, speed: {tas_m_s: 150}}\n",
+                 {"A": _north(km)})
+    lim = dataclasses.replace(LIMITS, airbrake_plan_max=0.5)
+    s = _check(m, 5000.0, perf=WithAirbrake(), limits=lim).sections[0]
+    assert s.verdict == verdict
+    assert s.achievable_gradient == pytest.approx(-3000.0 / W, rel=1e-9)
+    assert s.needed_distance_m == pytest.approx(3000.0 * W / 3000.0, rel=1e-9)
+    noted = any("planned with the airbrake" in f.text and "idle alone needs 29.4 km" in f.text for f in s.findings)
+    assert noted is (verdict != "infeasible")
+    assert _check(m, 5000.0, perf=WithAirbrake()).sections[0].verdict == "infeasible"  # none planned
+    assert _check(m, 5000.0, limits=lim).sections[0].verdict == "infeasible"           # none fitted

@@ -1,13 +1,17 @@
 """Whole missions flown through the FlightControlSystem on the 3-DoF aircraft (aircraft3dof.py).
 
-Stated bounds: the Munich mission completes every section; in the level parts of the
-waypoint and orbit sections (from the first altitude capture within 10 m to the end of the
-section, which includes Mach 0.1 speed steps and 30-deg bank turns; at 7500 m the
-Mach 0.7 -> 0.8 step saturates the thrust and TECS then trades some height for speed by
-design) altitude stays within 50 m of the command, and Mach within 0.01 of it once the
-speed is captured; touchdown in the touchdown zone (150-900 m past the threshold), within 5 m of
-the centre line, sink rate below 2 m/s; stop on the runway. A G-turn holds its load factor
-within 0.1 g; a Levelling section captures its altitude within 10 m.
+Stated bounds: the Munich mission completes every section; it flies its plan (issue 14,
+the FCS given a performance model of this aircraft, perf_models.py): in the level parts of
+the waypoint and orbit sections (vertical mode ALT, from the first capture within 10 m to the
+end of the section, which includes Mach 0.1 speed steps and 30-deg bank turns) altitude
+within 30 m of the command (measured 11 m), and Mach within 0.01 of it once the speed is
+captured; on the managed descent paths (PATH, DECEL) within 40 m of the path (measured 13 m);
+every waypoint section ends within 30 m of its altitude constraint (measured 10 m); no hold is
+planned. Touchdown in the touchdown zone
+(150-900 m past the threshold), within 5 m of the centre line, sink rate below 2 m/s; stop
+on the runway. A G-turn holds its load factor within 0.1 g; a Levelling section captures its
+altitude within 10 m. A descent that cannot be flown in its distance is a planned hold at
+its fix, flagged, that ends at the constraint, and no loop is flown outside it.
 """
 
 from __future__ import annotations
@@ -17,25 +21,34 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from aircraft3dof import Aircraft3Dof
+from aircraft3dof import CD_AIRBRAKE, Aircraft3Dof
+from perf_models import pointmass as pointmass_perf
 
 from openemss.models.fcs.atmosphere import isa
 from openemss.models.fcs.fcs import FlightControlSystem
 from openemss.models.fcs.mission import Mission, load_mission, parse_mission
+from openemss.models.fcs.performance import Performance
 from openemss.models.fcs.tecs import SpeedKind
+from openemss.models.fcs.vertical import VNAV_MODES
 
 ROOT = Path(__file__).resolve().parents[2]
 DT, N_SUB = 0.05, 2
 
 
+def performance() -> Performance:
+    """The FCS's performance model of the 3-DoF aircraft (its own polar, thrust and airbrake)."""
+    return Performance(pointmass_perf(cd_airbrake=CD_AIRBRAKE))
+
+
 def fly(m: Mission, ac: Aircraft3Dof, t_end: float) -> tuple[FlightControlSystem, dict[str, np.ndarray]]:
-    fcs = FlightControlSystem(m, Wf0_kg_s=0.012)
-    keys = ("t", "sec", "h", "mach", "alt_cmd", "mach_cmd", "n", "on_ground")
+    fcs = FlightControlSystem(m, Wf0_kg_s=0.012, performance=performance())
+    keys = ("t", "sec", "h", "mach", "alt_cmd", "mach_cmd", "n", "on_ground", "mode", "airbrake", "psi", "phase")
     log: dict[str, list] = {k: [] for k in keys}
     k = 0
     while not fcs.finished and k * DT < t_end:
         t = k * DT
         out = fcs.step(t, DT, ac.state(), ac.engine())
+        ac.airbrake_cmd = out.airbrake
         for _ in range(N_SUB):
             ac.step(DT / N_SUB, out.elevator, out.aileron, out.steer, out.brake, out.Wf_cmd_kg_s)
         tg = out.targets
@@ -44,7 +57,8 @@ def fly(m: Mission, ac: Aircraft3Dof, t_end: float) -> tuple[FlightControlSystem
         mach_cmd = sp.value if (sp is not None and sp.kind is SpeedKind.MACH) else math.nan
         for key, v in zip(keys, (t, tg.section_index, ac.h, ac.V / a.a_m_s,
                                  tg.alt_cmd_m if tg.alt_cmd_m is not None else math.nan, mach_cmd,
-                                 _load_factor(ac), ac.on_ground), strict=True):
+                                 _load_factor(ac), ac.on_ground, VNAV_MODES[out.vnav_mode], ac.airbrake, ac.psi,
+                                 tg.phase), strict=True):
             log[key].append(v)
         k += 1
     return fcs, {k: np.array(v) for k, v in log.items()}
@@ -75,22 +89,31 @@ def test_munich_mission_runs_to_the_end(munich) -> None:
     assert np.all(np.diff(log["sec"]) >= 0)  # sections in order, one active at every instant
 
 
-def test_munich_level_parts_follow_commanded_profile(munich) -> None:
+def test_munich_flies_its_vertical_plan(munich) -> None:
     m, ac, fcs, log = munich
+    assert fcs.runner.holds == []
     for s in m.sections:
         if s.type not in ("WaypointFollowing", "Orbiting"):
             continue
         sel = log["sec"] == s.index
-        h, cmd, mach, mcmd = log["h"][sel], log["alt_cmd"][sel], log["mach"][sel], log["mach_cmd"][sel]
-        captured = np.flatnonzero(np.abs(h - cmd) < 10.0)
-        if captured.size == 0:
-            continue  # a descent section that ends before reaching its altitude
-        level = slice(captured[0], None)
-        assert np.max(np.abs(h[level] - cmd[level])) < 50.0, s.name
-        if not np.isnan(mcmd[0]):
-            m_ok = np.flatnonzero(np.abs(mach[level] - mcmd[level]) < 0.005)
-            if m_ok.size:
-                assert np.max(np.abs(mach[level][m_ok[0]:] - mcmd[level][m_ok[0]:])) < 0.01, s.name
+        h, cmd, mach, mcmd, mode = (log[k][sel] for k in ("h", "alt_cmd", "mach", "mach_cmd", "mode"))
+        alt = mode == "ALT"
+        captured = np.flatnonzero(alt & (np.abs(h - cmd) < 10.0))
+        if captured.size:
+            level = slice(captured[0], None)
+            lev = alt[level]
+            assert np.max(np.abs(h[level][lev] - cmd[level][lev])) < 30.0, s.name
+            if not np.isnan(mcmd[0]):
+                m_ok = np.flatnonzero(lev & (np.abs(mach[level] - mcmd[level]) < 0.005))
+                if m_ok.size:
+                    tail = slice(m_ok[0], None)
+                    keep = lev[tail]
+                    assert np.max(np.abs(mach[level][tail][keep] - mcmd[level][tail][keep])) < 0.01, s.name
+        path = (mode == "PATH") | (mode == "DECEL")
+        if path.any():
+            assert np.max(np.abs(h[path] - cmd[path])) < 40.0, s.name
+        if s.type == "WaypointFollowing":
+            assert abs(h[-1] - s["altitude_m"]) < 30.0, s.name
 
 
 def test_munich_landing(munich) -> None:
@@ -125,7 +148,7 @@ def test_gturn_load_factor_and_levelling() -> None:
     a = isa(3000.0)
     ac = Aircraft3Dof(LatLon.from_deg(48.0, 11.0), 3000.0, 0.5 * a.a_m_s, 0.0, 0.0, on_ground=False,
                       theta=0.02, N1c=60.0)
-    fcs = FlightControlSystem(m, Wf0_kg_s=0.09)
+    fcs = FlightControlSystem(m, Wf0_kg_s=0.09, performance=performance())
     fcs.set_parameter("lateral.phi_max_rad", 1.1)  # a 2 g turn needs 60 deg of bank
     fcs.set_parameter("guidance.phi_max_rad", 1.1)
     fcs, log = _fly_with(fcs, ac, 1000.0)
@@ -147,6 +170,7 @@ def _fly_with(fcs: FlightControlSystem, ac: Aircraft3Dof, t_end: float):
     k = 0
     while not fcs.finished and k * DT < t_end:
         out = fcs.step(k * DT, DT, ac.state(), ac.engine())
+        ac.airbrake_cmd = out.airbrake
         for _ in range(N_SUB):
             ac.step(DT / N_SUB, out.elevator, out.aileron, out.steer, out.brake, out.Wf_cmd_kg_s)
         for key, v in zip(keys, (k * DT, out.targets.section_index, ac.h, _load_factor(ac)), strict=True):
@@ -234,3 +258,84 @@ def test_qgc_plan_flown_to_the_end(tmp_path: Path) -> None:
     fcs, log = fly(m, ac, 4000.0)
     assert fcs.finished, fcs.runner.active_name
     assert ac.on_ground and ac.V < 1.0
+
+
+HOLD = """
+mission: {name: a descent that cannot be flown in its distance}
+places:
+  waypoints:
+    A: {lat_deg: 48.10, lon_deg: 11.00}
+    B: {lat_deg: 48.10, lon_deg: 11.25}
+    C: {lat_deg: 48.30, lon_deg: 11.25}
+sections:
+  - {type: Levelling, altitude_m: 5000, speed: {mach: 0.5}, heading_deg: 90, tolerance_m: 10, hold_s: 5}
+  - {type: WaypointFollowing, name: steep, waypoints: [A, B], fly_by: true, altitude_m: 1500, speed: {mach: 0.4}}
+  - {type: WaypointFollowing, name: on, waypoints: [C], fly_by: true, altitude_m: 1500, speed: {mach: 0.4}}
+"""
+
+
+def test_impossible_descent_is_a_planned_flagged_hold_at_the_fix() -> None:
+    """3500 m down in about 20 km (a 10-deg path): the planner plans, at the section's start, a hold at B for the
+    height the 6-deg path cannot lose; the section flies its legs, then the hold (phase HOLD, vertical mode
+    HOLD) about B until within 30 m of 1500 m, then ends; the turns flown are those planned within 0.5 (the
+    spiral at idle with up to full airbrake, planned with half); outside the hold the heading turns by less than
+    a full circle (no unplanned loop)."""
+    from openemss.models.fcs.geo import LatLon
+
+    m = parse_mission(HOLD)
+    a = isa(5000.0)
+    ac = Aircraft3Dof(LatLon.from_deg(48.10, 10.80), 5000.0, 0.5 * a.a_m_s, math.pi / 2, 0.0, on_ground=False,
+                      theta=0.03, N1c=60.0)
+    fcs, log = fly(m, ac, 3000.0)
+    assert fcs.finished
+    holds = fcs.runner.holds
+    assert len(holds) == 1 and holds[0].section_index == 1 and holds[0].reason == "planned"
+    hold = holds[0]
+    sec1 = log["sec"] == 1
+    assert hold.planned_at_s == pytest.approx(log["t"][sec1][0], abs=DT)
+    in_hold = sec1 & (log["phase"] == "HOLD")
+    assert in_hold.any() and np.all(log["mode"][in_hold] == "HOLD")
+    assert hold.start_s == pytest.approx(log["t"][in_hold][0], abs=DT) and hold.end_s is not None
+    assert abs(log["h"][sec1][-1] - 1500.0) < 30.0
+    dpsi = np.abs(np.diff(np.unwrap(log["psi"][in_hold])))
+    turns = float(np.sum(dpsi)) / (2 * math.pi)
+    assert turns == pytest.approx(hold.turns_planned, abs=0.5)
+    outside = sec1 & ~in_hold
+    assert abs(float(np.sum(np.diff(np.unwrap(log["psi"][outside]))))) < 2 * math.pi
+    assert float(np.max(log["airbrake"][sec1])) > 0.0  # the descent used the airbrake
+
+
+CLIMB_HOLD = """
+mission: {name: a climb that cannot be flown in its distance}
+places:
+  waypoints:
+    A: {lat_deg: 48.10, lon_deg: 11.00}
+    B: {lat_deg: 48.10, lon_deg: 11.10}
+    C: {lat_deg: 48.25, lon_deg: 11.10}
+sections:
+  - {type: Levelling, altitude_m: 1000, speed: {mach: 0.35}, heading_deg: 90, tolerance_m: 10, hold_s: 5}
+  - {type: WaypointFollowing, name: steep, waypoints: [A, B], fly_by: true, altitude_m: 5000, speed: {mach: 0.4}}
+  - {type: WaypointFollowing, name: on, waypoints: [C], fly_by: true, altitude_m: 5000, speed: {mach: 0.4}}
+"""
+
+
+def test_impossible_climb_is_a_planned_climbing_hold_at_the_fix() -> None:
+    """4000 m up within about 10 km: the top of climb predicted at maximum thrust (perf_models' thrust of
+    this aircraft) lies beyond B, so a climbing hold at B is planned at the section's start (flagged, with the
+    height to climb, -4000 m); the section ends within 30 m of 5000 m after the hold."""
+    from openemss.models.fcs.geo import LatLon
+
+    m = parse_mission(CLIMB_HOLD)
+    a = isa(1000.0)
+    ac = Aircraft3Dof(LatLon.from_deg(48.10, 10.90), 1000.0, 0.35 * a.a_m_s, math.pi / 2, 0.0, on_ground=False,
+                      theta=0.03, N1c=60.0)
+    fcs, log = fly(m, ac, 3000.0)
+    assert fcs.finished
+    holds = fcs.runner.holds
+    assert len(holds) == 1 and holds[0].section_index == 1 and holds[0].reason == "planned"
+    assert holds[0].height_m < 0.0  # a climb
+    sec1 = log["sec"] == 1
+    in_hold = sec1 & (log["phase"] == "HOLD")
+    assert in_hold.any() and np.all(log["mode"][in_hold] == "HOLD")
+    assert abs(log["h"][sec1][-1] - 5000.0) < 30.0
+    assert log["h"][in_hold][0] < 5000.0 - 100.0  # the hold did the rest of the climb

@@ -2,7 +2,8 @@
 
 The engine is the first-order stand-in of aircraft3dof.py (corrected fan speed with a
 1 s lag, thrust 13 kN (rho/rho0)^0.7 (N1c/100)^2), so these runs test the control laws
-on the 6-DoF airframe independently of the engine model. The FCS measures what an FMU
+on the 6-DoF airframe independently of the engine model; the FCS's performance model
+(perf_models.upera_standin) has the shipped UPERA polar and airbrake with that thrust. The FCS measures what an FMU
 would receive: the airframe's state; ground velocity from successive positions (it
 carries the wind); the airspeed rate is left to the FCS, as an FMU leaves it.
 """
@@ -32,11 +33,15 @@ class Run:
     vs: list[float] = field(default_factory=list)
     wf: list[float] = field(default_factory=list)
     nz: list[float] = field(default_factory=list)
+    mode: list[str] = field(default_factory=list)
+    airbrake: list[float] = field(default_factory=list)
+    xtk: list[float] = field(default_factory=list)
 
 
 def fly_upera(af, s, fcs: FlightControlSystem, t_end: float, N1c0: float, dt: float = 0.05) -> Run:
     """Fly ``fcs`` on airframe ``af`` (started, state ``s``) until the mission ends or ``t_end`` [s]."""
     from openemss.models.fcs.tecs import SpeedKind
+    from openemss.models.fcs.vertical import VNAV_MODES
 
     N1c = N1c0
     th_engine = s.T_K / 288.15  # the temperature the engine last stepped in: its N1 output's correction
@@ -73,6 +78,7 @@ def fly_upera(af, s, fcs: FlightControlSystem, t_end: float, N1c0: float, dt: fl
         af.set_gear(out.gear_down)
         af.set_brakes(out.brake)
         af.set_steering(out.steer)
+        af.set_airbrake(out.airbrake)
         af.step(dt)
         s = af.state()
         tg = out.targets
@@ -89,6 +95,9 @@ def fly_upera(af, s, fcs: FlightControlSystem, t_end: float, N1c0: float, dt: fl
         run.vs.append(s.vs_m_s)
         run.wf.append(out.Wf_cmd_kg_s)
         run.nz.append(s.load_factor)
+        run.mode.append(VNAV_MODES[out.vnav_mode])
+        run.airbrake.append(s.airbrake_pos_norm)
+        run.xtk.append(tg.xtk_m)
         k += 1
     _ = isa  # the ISA of the FCS is what the laws use; the airframe has its own
     return run

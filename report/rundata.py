@@ -18,6 +18,7 @@ from xml.etree import ElementTree
 
 import numpy as np
 
+from openemss.models.common import safe_yaml
 from openemss.models.fcs.errors import FcsError
 from openemss.models.fcs.mission import Mission, parse_mission
 
@@ -195,7 +196,8 @@ def _mission_source(run: RunData) -> tuple[str, str] | None:
     ``mission_file`` parameter resolved as the FCS does (absolute, or relative to the FMU's
     resources folder)."""
     for copy in sorted(run.folder.glob(MISSION_COPY + ".*")):
-        return copy.read_text(encoding="utf-8"), str(copy)
+        text = _text(copy)
+        return (text, str(copy)) if text is not None else None
     fcs = run.roles.fcs
     if fcs is None:
         return None
@@ -210,14 +212,24 @@ def read_fmu_file(value: str | None, fmu: Path | None) -> tuple[str, str] | None
         return None
     path = Path(value)
     if path.is_absolute():
-        return (path.read_text(encoding="utf-8"), str(path)) if path.is_file() else None
+        text = _text(path) if path.is_file() else None
+        return (text, str(path)) if text is not None else None
     if fmu is None:
         return None
     member = str(PurePosixPath("resources") / PurePosixPath(*path.parts))
     try:
         with zipfile.ZipFile(fmu) as z:
             return z.read(member).decode("utf-8"), f"{fmu}!{member}"
-    except (OSError, KeyError, zipfile.BadZipFile):
+    except (OSError, KeyError, zipfile.BadZipFile, UnicodeDecodeError):
+        return None
+
+
+def _text(path: Path) -> str | None:
+    """The text of a (mission) file through the project's one reader; None when it cannot be read
+    (not UTF-8, too large): the FCS, which reads it too, reports why."""
+    try:
+        return safe_yaml.read_text(path, "mission file")
+    except safe_yaml.YamlError:
         return None
 
 

@@ -71,6 +71,7 @@ def _check(root: yaml.Node, source: str, max_nodes: int) -> None:
 
     floats = yaml.SafeLoader("")
     size: dict[int, int] = {}  # id(node) -> expanded node count, once computed
+    keys: dict[int, str] = {}  # id(value node) -> its key, to name a bad value
     float_tag = "tag:yaml.org,2002:float"
     # iterative post-order walk: (node, children pushed?)
     stack: list[tuple[yaml.Node, bool]] = [(root, False)]
@@ -81,7 +82,9 @@ def _check(root: yaml.Node, source: str, max_nodes: int) -> None:
         if isinstance(node, yaml.ScalarNode):
             if nid not in size:
                 if node.tag == float_tag and not math.isfinite(floats.construct_yaml_float(node)):
-                    raise YamlError(f"{_where(source, node)}: {node.value!r} is not a finite number")
+                    key = keys.get(nid)
+                    named = f"'{key}': " if key is not None else ""
+                    raise YamlError(f"{_where(source, node)}: {named}{node.value!r} is not a finite number")
                 size[nid] = 1
             continue
         children = [c for pair in node.value for c in pair] if isinstance(node, yaml.MappingNode) else list(node.value)
@@ -93,6 +96,9 @@ def _check(root: yaml.Node, source: str, max_nodes: int) -> None:
             open_.add(nid)
             if isinstance(node, yaml.MappingNode):
                 seen: dict[tuple[str, str], int] = {}
+                for k, v in node.value:
+                    if isinstance(k, yaml.ScalarNode):
+                        keys.setdefault(id(v), k.value)
                 for k, _ in node.value:
                     if isinstance(k, yaml.ScalarNode):
                         key = (k.tag, k.value)

@@ -1,4 +1,4 @@
-"""No import cycles inside a model package (issue 18): every relative import, at module level or inside
+"""No import cycles inside a model package (issue 18): every relative import that runs, at module level or inside
 a function (a lazy import hides a cycle, it does not remove it), makes an edge of the package's graph."""
 from __future__ import annotations
 
@@ -10,11 +10,26 @@ import pytest
 MODELS = Path(__file__).resolve().parents[1] / "models"
 
 
+def _runtime_nodes(tree: ast.AST) -> list[ast.AST]:
+    """Every node but those under ``if TYPE_CHECKING:`` (imports for type hints only, never run)."""
+    out: list[ast.AST] = []
+    todo = [tree]
+    while todo:
+        node = todo.pop()
+        out.append(node)
+        for child in ast.iter_child_nodes(node):
+            if isinstance(child, ast.If) and ast.unparse(child.test) in ("TYPE_CHECKING", "typing.TYPE_CHECKING"):
+                todo.extend(child.orelse)
+                continue
+            todo.append(child)
+    return out
+
+
 def _graph(pkg: Path) -> dict[str, set[str]]:
     g: dict[str, set[str]] = {}
     for f in sorted(pkg.glob("*.py")):
         edges = g.setdefault(f.stem, set())
-        for node in ast.walk(ast.parse(f.read_text(encoding="utf-8"), filename=str(f))):
+        for node in _runtime_nodes(ast.parse(f.read_text(encoding="utf-8"), filename=str(f))):
             if isinstance(node, ast.ImportFrom) and node.level == 1:
                 if node.module:
                     edges.add(node.module.split(".")[0])
@@ -44,6 +59,11 @@ def _cycle(g: dict[str, set[str]]) -> list[str] | None:
         if colour.get(v) is None and (c := visit(v)):
             return c
     return None
+
+
+def test_type_checking_imports_are_not_edges() -> None:
+    tree = ast.parse("from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from .a import X\nfrom .b import Y\n")
+    assert [n.module for n in _runtime_nodes(tree) if isinstance(n, ast.ImportFrom) and n.level == 1] == ["b"]
 
 
 def test_the_search_finds_a_cycle() -> None:

@@ -28,8 +28,8 @@ Format (see ``missions/munich.yaml`` for a complete example)::
 
 A speed is a mapping with exactly one of ``mach`` [-], ``cas_m_s`` or ``tas_m_s``
 [m/s]. Every section may have a ``name``. The fields of each section type, with
-their units, ranges and defaults, are the table :data:`SECTION_FIELDS`; the
-completion criterion of each type is in :mod:`.state_machine`.
+their units, ranges and defaults, and the completion criterion of each type
+are declared by its class in :mod:`.sections` (:data:`SECTION_FIELDS` is their view).
 
 Validation collects nothing silently: the first problem raises a
 :class:`MissionError` whose message names the file and line (from the YAML
@@ -54,6 +54,7 @@ from ..common import safe_yaml
 from .errors import MissionError
 from .geo import LatLon
 from .marks import Context as _Ctx
+from .sections import REGISTRY, Field
 from .marks import Lines as _Lines
 from .tecs import SpeedCommand, SpeedKind
 from .weather import WEATHER_KEYS, Weather, parse_weather
@@ -61,64 +62,10 @@ from .weather import WEATHER_KEYS, Weather, parse_weather
 __all__ = ["SECTION_TYPES", "SECTION_FIELDS", "Section", "Mission", "load_mission", "parse_mission",
            "speed_from_mapping"]
 
-# (kind, required, default, (min, max) or choices, unit/help)
-_F = tuple[str, bool, Any, Any, str]
-SECTION_FIELDS: dict[str, dict[str, _F]] = {
-    "Rolling": {
-        "runway": ("runway", True, None, None, "runway of the take-off roll"),
-        "lever": ("number", False, 1.0, (0.0, 1.0), "thrust lever [-]"),
-        "rotate_cas_m_s": ("number", True, None, (20.0, 150.0), "ends at this calibrated airspeed [m/s]"),
-    },
-    "TakeOff": {
-        "runway": ("runway", True, None, None, "runway (centre line and elevation)"),
-        "lever": ("number", False, 1.0, (0.0, 1.0), "thrust lever [-]"),
-        "pitch_deg": ("number", False, 10.0, (2.0, 20.0), "rotation pitch attitude [deg]"),
-        "rotation_rate_deg_s": ("number", False, 3.0, (0.5, 10.0), "rotation rate [deg/s]"),
-        "climb_speed": ("speed", True, None, None, "initial climb speed"),
-        "until_height_agl_m": ("number", False, 300.0, (20.0, 3000.0), "ends at this height above the runway [m]"),
-    },
-    "WaypointFollowing": {
-        "waypoints": ("waypoints", True, None, None, "names of waypoints, in order"),
-        "altitude_m": ("number", True, None, (-400.0, 15000.0), "altitude [m]"),
-        "speed": ("speed", True, None, None, "speed"),
-        "fly_by": ("bool", False, False, None, "fly-by (true) or fly-over (false) waypoints"),
-        "altitude_at": ("waypoint", False, None, None, "the waypoint of the section the altitude is due at "
-                        "(default: the last); descents are planned to it, the altitude held after it"),
-    },
-    "Orbiting": {
-        "center": ("waypoint", True, None, None, "waypoint at the centre"),
-        "radius_m": ("number", True, None, (200.0, 100000.0), "radius [m]"),
-        "direction": ("choice", False, "clockwise", ("clockwise", "counterclockwise"), "direction"),
-        "turns": ("number", True, None, (0.1, 100.0), "turns after capture [-]"),
-        "altitude_m": ("number", True, None, (-400.0, 15000.0), "altitude [m]"),
-        "speed": ("speed", True, None, None, "speed"),
-    },
-    "GTurns": {
-        "load_factor": ("number", True, None, (1.02, 6.0), "load factor of the level turn [g]"),
-        "direction": ("choice", False, "right", ("right", "left"), "turn direction"),
-        "heading_change_deg": ("number", False, None, (1.0, 3600.0), "ends after this heading change [deg]"),
-        "duration_s": ("number", False, None, (1.0, 36000.0), "or after this time [s]"),
-        "altitude_m": ("number", False, None, (-400.0, 15000.0), "altitude [m] (default: at entry)"),
-        "speed": ("speed", False, None, None, "speed (default: at entry)"),
-    },
-    "Levelling": {
-        "altitude_m": ("number", True, None, (-400.0, 15000.0), "altitude to capture [m]"),
-        "speed": ("speed", True, None, None, "speed"),
-        "heading_deg": ("number", False, None, (0.0, 360.0), "true heading to hold [deg] (default: at entry)"),
-        "tolerance_m": ("number", False, 10.0, (0.1, 500.0), "altitude band counted as captured [m]"),
-        "hold_s": ("number", False, 20.0, (0.0, 3600.0), "time to stay in the band [s]"),
-    },
-    "Landing": {
-        "runway": ("runway", True, None, None, "landing runway"),
-        "approach_altitude_m": ("number", True, None, (0.0, 6000.0), "altitude held until glide slope capture [m]"),
-        "approach_speed": ("speed", True, None, None, "final approach speed"),
-    },
-    "Custom": {
-        "duration_s": ("number", True, None, (0.1, 36000.0), "duration [s]"),
-        "commands": ("commands", True, None, None, "time points {t_s, lever, pitch_deg, bank_deg}, held between"),
-    },
-}
-SECTION_TYPES: tuple[str, ...] = tuple(SECTION_FIELDS)
+#: The fields of each section type (a view on :data:`.sections.REGISTRY`, where each type's class
+#: declares them): field -> (kind, required, default, (min, max) or choices, unit and help).
+SECTION_FIELDS: dict[str, dict[str, Field]] = {name: cls.fields for name, cls in REGISTRY.items()}
+SECTION_TYPES: tuple[str, ...] = tuple(REGISTRY)
 _CUSTOM_KEYS = {"t_s": (0.0, 36000.0), "lever": (0.0, 1.0), "pitch_deg": (-20.0, 30.0), "bank_deg": (-80.0, 80.0)}
 _RUNWAY_KEYS = {"threshold_lat_deg": (-90.0, 90.0), "threshold_lon_deg": (-180.0, 180.0),
                 "heading_deg": (0.0, 360.0), "elevation_m": (-400.0, 5000.0),
@@ -315,12 +262,12 @@ def parse_mission(text: str, source: str = "<mission>") -> Mission:
     for i, s in enumerate(secs):
         path = ("sections", i)
         if not isinstance(s, dict) or "type" not in s:
-            raise ctx.fail(path, f"section {i}: expected a mapping with a 'type' ({', '.join(SECTION_TYPES)})")
+            raise ctx.fail(path, f"section {i}: expected a mapping with a 'type' ({', '.join(REGISTRY)})")
         typ = s["type"]
-        if typ not in SECTION_FIELDS:
+        if typ not in REGISTRY:
             raise ctx.fail(path + ("type",), f"section {i}: unknown section type {typ!r}; "
-                           f"allowed: {', '.join(SECTION_TYPES)}")
-        spec = SECTION_FIELDS[typ]
+                           f"allowed: {', '.join(REGISTRY)}")
+        spec = REGISTRY[typ].fields
         where = f"section {i} ({typ})"
         extra = set(s) - set(spec) - {"type", "name"}
         if extra:
@@ -337,17 +284,10 @@ def parse_mission(text: str, source: str = "<mission>") -> Mission:
                 fields.append((key, _field(kind, rng, s[key], runways, waypoints)))
             except ValueError as e:
                 raise ctx.fail(path + (key,), f"{where} field '{key}': {e}") from None
-        if typ == "WaypointFollowing" and "altitude_at" in s:
-            f = dict(fields)
-            if f["altitude_at"] not in f["waypoints"]:
-                raise ctx.fail(path + ("altitude_at",), f"{where} field 'altitude_at': {s['altitude_at']!r} is not "
-                               f"one of the section's waypoints ({', '.join(map(str, s['waypoints']))})")
-        if typ == "GTurns" and ("heading_change_deg" in s) == ("duration_s" in s):
-            raise ctx.fail(path, f"{where}: give exactly one of 'heading_change_deg' or 'duration_s'")
-        if typ == "Custom":
-            cmds = dict(fields)["commands"]
-            if cmds[0][0] != 0.0:
-                raise ctx.fail(path + ("commands",), f"{where} field 'commands': the first command must be at t_s = 0")
+        problem = REGISTRY[typ].check(dict(fields), s)
+        if problem is not None:
+            key, what = problem
+            raise ctx.fail(path + ((key,) if key else ()), f"{where}{f' field {key!r}' if key else ''}: {what}")
         sections.append(Section(i, typ, str(s.get("name", typ)), tuple(fields)))
     return Mission(str(head["name"]), str(head.get("description", "")), tuple(runways.items()),
                    tuple(waypoints.items()), tuple(sections), source, parse_weather(doc, ctx.fail, source))

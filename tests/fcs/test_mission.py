@@ -165,3 +165,43 @@ def test_readme_documents_every_section_and_field() -> None:
         assert f"### {typ}" in text
         for f in fields:
             assert f"`{f}`" in text, (typ, f)
+
+
+def test_a_section_type_is_one_registered_class() -> None:
+    """Fields, step and completion of a type live in its class (models/fcs/sections.py), registered once:
+    a type added by subclassing is read from a mission file and flown, with no other change."""
+    import math
+
+    from openemss.models.fcs.geo import LatLon
+    from openemss.models.fcs.sections import REGISTRY, SectionType, register
+    from openemss.models.fcs.state import AircraftState
+    from openemss.models.fcs.state_machine import MissionRunner
+
+    for name, cls in REGISTRY.items():
+        assert cls.type_name == name and cls.fields and cls.completion, name
+    with pytest.raises(ValueError, match="taken"):
+        register(type("Again", (SectionType,), {"type_name": "Rolling"}))
+
+    class Glide(SectionType):
+        type_name = "Glide"
+        completion = "``duration_s`` elapsed"
+        speed_field = None
+        fields = {"duration_s": ("number", True, None, (0.1, 100.0), "duration [s]")}
+
+        def step(self, t_s, dt_s, x):  # noqa: ANN001, ANN201
+            self.done = t_s - self.t0 >= self.sec["duration_s"]
+            return self.targets(phase="GLIDE", theta_cmd_rad=0.0, lever=0.0, phi_cmd_rad=0.0, gear_down=False)
+
+    register(Glide)
+    try:
+        m = parse_mission("mission: {name: g}\nsections:\n  - {type: Glide, duration_s: 1.0}\n", "g.yaml")
+        with pytest.raises(MissionError, match=r"g.yaml:3: section 0 \(Glide\): unknown field 'x'"):
+            parse_mission("mission: {name: g}\nsections:\n  - {type: Glide, duration_s: 1.0, x: 2}\n", "g.yaml")
+        run = MissionRunner(m)
+        x = AircraftState(pos=LatLon.from_deg(48.0, 11.0), alt_m=1000.0, tas_m_s=100.0, Vdot_m_s2=0.0, gamma_rad=0.0,
+                          vn_m_s=100.0, ve_m_s=0.0, psi_rad=0.0, phi_rad=0.0, theta_rad=0.0, p_rad_s=0.0, q_rad_s=0.0,
+                          r_rad_s=0.0, beta_rad=0.0, qbar_Pa=5000.0, mass_kg=2000.0, on_ground=False)
+        phases = [run.step(0.1 * k, 0.1, x).phase for k in range(12)]
+        assert phases[0] == "GLIDE" and run.finished and math.isclose(run.history[-1][0], 1.0)
+    finally:
+        del REGISTRY["Glide"]

@@ -71,3 +71,11 @@ def oscillator(tmp_path: Path, fmu_dir: Path) -> Path:
     for f in ("ForceDrivenMass.fmu", "DisplacementDrivenMass.fmu"):
         shutil.copy2(fmu_dir / f, folder / "resources" / f)
     return folder
+
+
+# AeroSandbox (through casadi) crashed the interpreter twice in some 20 full runs, in garbage collection
+# while or after tests/airframe/test_asb_estimate.py ran: a segfault there would end the whole suite.
+# That module runs in a process of its own (tests/airframe/test_asb_isolated.py), unless asked here.
+import os as _os  # noqa: E402
+
+collect_ignore = [] if _os.environ.get("EMSS_ASB_IN_PROCESS") else ["airframe/test_asb_estimate.py"]

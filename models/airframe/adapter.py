@@ -473,3 +473,27 @@ class Airframe:
     def fdm(self):  # noqa: ANN201
         """The underlying ``jsbsim.FGFDMExec`` (for diagnostics; SI conversion is the caller's then)."""
         return self._fdm
+
+    def close(self) -> None:
+        """Release JSBSim: the property nodes first, then the FDM.
+
+        A JSBSim property node must not outlive the FDM whose property tree it points into: freed in the
+        other order (as the attributes of a collected object can be, in a garbage-collected cycle), the
+        node's release touches the freed tree and crashes the interpreter (JSBSim issue 201, PR 1000).
+        Called by ``__del__``, so that the order holds however the adapter goes.
+        """
+        d = self.__dict__
+        for k in [k for k, v in d.items() if _holds_node(v)]:
+            d[k] = None
+        d["_fdm"] = None
+
+    def __del__(self) -> None:
+        if self.__dict__.get("_fdm") is not None:
+            self.close()
+
+
+def _holds_node(v: object) -> bool:
+    """True for a JSBSim property node or a tuple holding one (at any depth)."""
+    if isinstance(v, tuple):
+        return any(_holds_node(x) for x in v)
+    return type(v).__name__ == "FGPropertyNode"

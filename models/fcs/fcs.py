@@ -25,6 +25,7 @@ from .lateral import LateralController, LateralState
 from .mission import Mission
 from .performance import Performance
 from .pitch import PitchController, turn_pitch_rate
+from .records import fast_init
 from .state import AircraftState, EngineState, Targets
 from .state_machine import MissionRunner
 from .tecs import Tecs, TecsInput
@@ -84,6 +85,7 @@ class _ParamHolder(Tunable[ApproachParams]):
 _GROUND_PITCH_PHASES = frozenset({"ROLL", "ROTATE", "LIFTOFF"})
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class FcsOutput:
     """Commands of one FCS step and the targets behind them (for recording and plots).

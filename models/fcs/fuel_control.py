@@ -53,6 +53,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from .errors import ParameterError
+from .records import fast_init
 from .tunable import Tunable, load_params
 
 __all__ = ["FuelControlParams", "FuelControlOutput", "FuelController"]
@@ -106,6 +107,7 @@ class FuelControlParams:
         return load_params(cls, PARAM_FILE, "fuel_control", **overrides)
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class FuelControlOutput:
     """Result of one fuel-controller step.

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 
 from .atmosphere import G0_M_S2
 from .geo import wrap_pi
+from .records import fast_init
 from .tunable import Tunable, load_params
 
 __all__ = ["LateralParams", "LateralState", "LateralOutput", "LateralController"]
@@ -53,6 +54,7 @@ class LateralParams:
         return load_params(cls, "lateral.yaml", "lateral", **overrides)
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class LateralState:
     """Measured lateral-directional state.
@@ -86,6 +88,7 @@ class LateralState:
     qbar_Pa: float
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class LateralOutput:
     """Surface commands and the bank command that produced them.

@@ -81,6 +81,7 @@ from enum import StrEnum
 
 from .atmosphere import G0_M_S2, Atmosphere, cas_from_tas, isa, tas_from_cas, tas_from_mach
 from .errors import FcsError
+from .records import fast_init
 from .tunable import Tunable, load_params
 
 __all__ = ["TecsParams", "SpeedKind", "SpeedCommand", "TecsInput", "TecsOutput", "Tecs",
@@ -149,6 +150,7 @@ class TecsParams:
         return load_params(cls, "tecs.yaml", "tecs", **overrides)
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class TecsInput:
     """Measured longitudinal state.
@@ -182,6 +184,7 @@ class TecsInput:
     E_rate_max: float = math.nan
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class TecsOutput:
     """TECS commands and internal signals (all recorded for plots).

@@ -33,6 +33,7 @@ import math
 from dataclasses import dataclass
 
 from .atmosphere import G0_M_S2
+from .clip import clip
 from .errors import FcsError
 from .geo import (
     LatLon,
@@ -149,7 +150,7 @@ class L1Guidance(Tunable[GuidanceParams]):
             # the air-relative velocity turns; its part normal to the ground track is cos(crab) of it
             a /= max(math.cos(wrap_pi(psi_rad - chi)), 0.5)
         lim = self._params.phi_max_rad
-        phi = min(max(math.atan(a / G0_M_S2), -lim), lim)
+        phi = clip(math.atan(a / G0_M_S2), -lim, lim)
         return PathCommand(phi, path_brg, xtk, dist_to_go, eta)
 
     def line(self, path_brg_rad: float, xtk_m: float, vn_m_s: float, ve_m_s: float,

@@ -94,3 +94,15 @@ def test_batched_get_set_match_pythonfmu_for_any_order() -> None:
     assert Fmi2Slave.get_real(s, ins) == [float(k) for k in range(len(ins))]
     s.set_boolean([vr["on_ground"]], [False])
     assert Fmi2Slave.get_boolean(s, [vr["on_ground"]]) == [False]
+
+
+def test_clip_is_min_of_max() -> None:
+    from openemss.models.fcs.clip import clip
+
+    values = [-2.0, -1.0, -0.0, 0.0, 0.5, 1.0, 3.0, math.nan, math.inf, -math.inf, 0, 1]
+    for x in values:
+        for lo in values:
+            for hi in values:
+                ref, got = min(max(x, lo), hi), clip(x, lo, hi)
+                assert (math.isnan(ref) and math.isnan(got)) or (ref == got and math.copysign(1.0, ref) ==
+                                                                  math.copysign(1.0, got) and type(ref) is type(got))

@@ -31,6 +31,7 @@ which a master's initial fixed-point iteration could not see settle).
 from __future__ import annotations
 
 import math
+from operator import itemgetter
 from importlib import resources as _resources
 from pathlib import Path
 
@@ -88,6 +89,12 @@ OUTPUTS: tuple[tuple[str, str], ...] = (
 _N_REAL = len(OUTPUTS)
 _N_IN = len(INPUTS)
 _IDX = {name: i for i, (name, _) in enumerate(OUTPUTS)}
+
+
+def _indices(vrs: list[int], base: int, n: int) -> list[int] | None:
+    """Indices ``vr - base`` of value references in ``[base, base + n)``; None if any lies outside."""
+    idx = [vr - base for vr in vrs]
+    return idx if all(0 <= j < n for j in idx) else None
 
 
 def _parameter_docs(package: str) -> dict[str, str]:
@@ -164,6 +171,10 @@ class Fcs(Fmi2Slave):
             self.register_variable(Real(name, causality=inp, description=desc, getter=lambda j=j: self._u[j],
                                         setter=lambda x, j=j: self._u.__setitem__(j, float(x))))
         self.on_ground = True
+        self._set_vrs: list[int] = []
+        self._set_idx: list[int] | None = None
+        self._set_all = False
+        self._on_ground_vrs = [len(self.vars)]
         self.register_variable(Boolean("on_ground", causality=inp, variability=discrete,
                                        description="A wheel carries weight [-]"))
         # -- outputs, read from cached values
@@ -173,6 +184,9 @@ class Fcs(Fmi2Slave):
         self._out0 = len(self.vars)
         for i, (name, desc) in enumerate(OUTPUTS):
             self.register_variable(Real(name, causality=out, description=desc, getter=lambda i=i: self._y[i]))
+        self._get_vrs: list[int] = []
+        self._get_pick = None
+        vr_gear = len(self.vars)
         self._gear_down = True
         self._section_index = 0
         self._section_name = ""
@@ -200,30 +214,66 @@ class Fcs(Fmi2Slave):
                                        getter=lambda: self._fuel_limiter))
         self._vnav_mode = 0
         self._ils_phase = 0
+        # the discrete outputs' value references in the order of registration (the batched gets' fast path)
+        self._bool_out_vrs = [vr_gear, vr_gear + 4]  # gear_down, mission_completed
+        self._int_out_vrs = [vr_gear + 1, vr_gear + 5, vr_gear + 6, vr_gear + 7]  # section_index, ..., ils_phase
         self.register_variable(Integer("vnav_mode", causality=out, variability=discrete,
                                        description=OUTPUT_SIGNALS["vnav_mode"], getter=lambda: self._vnav_mode))
         self.register_variable(Integer("ils_phase", causality=out, variability=discrete,
                                        description=OUTPUT_SIGNALS["ils_phase"], getter=lambda: self._ils_phase))
+        assert [self.vars[vr].name for vr in self._bool_out_vrs + self._int_out_vrs + self._on_ground_vrs] == [
+            "gear_down", "mission_completed", "section_index", "fuel_limiter", "vnav_mode", "ils_phase", "on_ground"]
         self._prev_pos: LatLon | None = None
         self._prev_h = 0.0
 
-    # -- batched Real access: inputs and outputs by index, the rest through pythonfmu's variables --
+    # -- batched access: inputs and outputs by index, the rest through pythonfmu's variables --
+    # pythonfmu's own get_/set_ methods look each variable up and call its getter or setter. A master asks
+    # for the same value references every step: the batch's indices into the cached lists are resolved
+    # when the references change (one list comparison per call otherwise), and served in one pass.
     def set_real(self, vrs: list[int], values: list[float]) -> None:
-        u, base, n = self._u, self._in0, _N_IN
-        for vr, x in zip(vrs, values, strict=True):
-            j = vr - base
-            if 0 <= j < n:
+        if vrs != self._set_vrs:
+            self._set_vrs, self._set_idx = list(vrs), _indices(vrs, self._in0, _N_IN)
+            self._set_all = self._set_idx == list(range(_N_IN))
+        idx, u = self._set_idx, self._u
+        if idx is None:
+            for vr, x in zip(vrs, values, strict=True):
+                j = vr - self._in0
+                if 0 <= j < _N_IN:
+                    u[j] = x
+                else:
+                    super().set_real([vr], [x])
+        elif self._set_all:
+            u[:] = values
+        else:
+            for j, x in zip(idx, values, strict=True):
                 u[j] = x
-            else:
-                super().set_real([vr], [x])
 
     def get_real(self, vrs: list[int]) -> list[float]:
-        y, base, n = self._y, self._out0, _N_REAL
-        out = []
-        for vr in vrs:
-            j = vr - base
-            out.append(y[j] if 0 <= j < n else super().get_real([vr])[0])
-        return out
+        if vrs != self._get_vrs:
+            self._get_vrs, idx = list(vrs), _indices(vrs, self._out0, _N_REAL)
+            self._get_pick = None if idx is None else (itemgetter(*idx) if len(idx) > 1 else
+                                                       (lambda y, j=idx[0]: (y[j],)))
+        pick, y = self._get_pick, self._y
+        if pick is not None:
+            return list(pick(y))
+        base, n = self._out0, _N_REAL
+        return [y[vr - base] if 0 <= vr - base < n else super(Fcs, self).get_real([vr])[0] for vr in vrs]
+
+    def set_boolean(self, vrs: list[int], values: list[bool]) -> None:
+        if vrs == self._on_ground_vrs:
+            self.on_ground = values[0]
+        else:
+            super().set_boolean(vrs, values)
+
+    def get_boolean(self, vrs: list[int]) -> list[bool]:
+        if vrs == self._bool_out_vrs:
+            return [self._gear_down, self._completed]
+        return super().get_boolean(vrs)
+
+    def get_integer(self, vrs: list[int]) -> list[int]:
+        if vrs == self._int_out_vrs:
+            return [self._section_index, self._fuel_limiter, self._vnav_mode, self._ils_phase]
+        return super().get_integer(vrs)
 
     # -- gains ------------------------------------------------------------------------------
     def _get_gain(self, name: str, default: float | bool) -> float | bool:

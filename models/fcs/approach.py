@@ -42,6 +42,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from .clip import clip
 from .geo import LatLon, from_local_ne, local_ne_m, wrap_pi
 from .guidance import L1Guidance
 from .tunable import Tunable, load_params
@@ -171,7 +172,7 @@ def centreline_steer(rwy: Runway, p: ApproachParams, pos: LatLon, psi_rad: float
     """Nose-wheel steering [-1, 1] (> 0 right) that holds the centre line of ``rwy``."""
     _, cross = rwy.local(pos)
     steer = -(p.k_y_steer_1_m * cross + p.k_psi_steer_1_rad * wrap_pi(psi_rad - rwy.heading_rad))
-    return min(max(steer, -1.0), 1.0)
+    return clip(steer, -1.0, 1.0)
 
 
 @dataclass(frozen=True, slots=True)

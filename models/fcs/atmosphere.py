@@ -42,12 +42,21 @@ def isa(alt_m: float, dT_isa_K: float = 0.0) -> Atmosphere:
     FcsError
         If the altitude is outside [-1000, 20000] m or the deviation leaves the standard's temperatures.
     """
+    last = _LAST
+    if alt_m == last[0] and dT_isa_K == last[1]:  # the FCS asks several times per step for the same altitude
+        return last[2]
     if not (ALT_MIN_M <= alt_m <= ALT_MAX_M):
         raise FcsError(f"isa: altitude {alt_m:.1f} m outside the valid range [{ALT_MIN_M}, {ALT_MAX_M}] m")
     try:
-        return _atm.isa(alt_m, dT_isa_K)
+        atm = _atm.isa(alt_m, dT_isa_K)
     except _atm.AtmosphereRangeError as exc:
         raise FcsError(str(exc)) from None
+    last[:] = (alt_m, dT_isa_K, atm)
+    return atm
+
+
+#: The last (altitude, deviation, atmosphere) of :func:`isa` (an Atmosphere is frozen: it may be shared).
+_LAST: list = [math.nan, math.nan, None]
 
 
 def tas_from_mach(mach: float, atm: Atmosphere) -> float:

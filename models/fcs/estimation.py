@@ -77,10 +77,10 @@ def air_path_direction(phi_rad: float, theta_rad: float, psi_rad: float, beta_ra
     R = math.hypot(A, B)
     alpha = math.atan2(A, B) + math.asin(max(-1.0, min(1.0, K / R))) if R > 1e-9 else 0.0
     ca, sa = math.cos(alpha) * cb, math.sin(alpha) * cb
-    xb = (ct * cp, ct * sp, -st)
-    yb = (sf * st * cp - cf * sp, sf * st * sp + cf * cp, sf * ct)
-    zb = (cf * st * cp + sf * sp, cf * st * sp - sf * cp, cf * ct)
-    n, e, d = (ca * x + sb * y + sa * z for x, y, z in zip(xb, yb, zb, strict=True))
+    # ca x_b + sb y_b + sa z_b, component by component (north, east, down)
+    n = ca * (ct * cp) + sb * (sf * st * cp - cf * sp) + sa * (cf * st * cp + sf * sp)
+    e = ca * (ct * sp) + sb * (sf * st * sp + cf * cp) + sa * (cf * st * sp - sf * cp)
+    d = ca * -st + sb * (sf * ct) + sa * (cf * ct)
     return n, e, -d
 
 
@@ -139,7 +139,9 @@ class AirspeedRateEstimator(Tunable[EstimationParams]):
         # the difference of two step-averaged velocities is the acceleration about one step ago: projected
         # on the air path of then (with the path of now, the turn rate times a step would turn some of a
         # turn's centripetal acceleration into a speed change)
-        vdot_i = sum((a - b) * c for a, b, c in zip(vg, self._vg_prev, self._path_prev, strict=True)) / dt_s
+        (pn, pe, pu), (un, ue, uu) = self._vg_prev, self._path_prev
+        # summed from 0.0 as sum() did (the same rounding, the sign of a zero included)
+        vdot_i = (0.0 + (vn_m_s - pn) * un + (ve_m_s - pe) * ue + (vu_m_s - pu) * uu) / dt_s
         self._vg_prev, self._path_prev = vg, u_now
         tau = self._params.tau_cross_s
         if tau <= 0.0:

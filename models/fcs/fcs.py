@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 from .approach import APPROACH_PHASES, ApproachParams
 from .atmosphere import G0_M_S2
+from .clip import clip
 from .errors import ParameterError
 from .estimation import AirspeedRateEstimator
 from .fuel_control import FuelController
@@ -25,6 +26,7 @@ from .lateral import LateralController, LateralState
 from .mission import Mission
 from .performance import Performance
 from .pitch import PitchController, turn_pitch_rate
+from .records import fast_init
 from .state import AircraftState, EngineState, Targets
 from .state_machine import MissionRunner
 from .tecs import Tecs, TecsInput
@@ -84,6 +86,7 @@ class _ParamHolder(Tunable[ApproachParams]):
 _GROUND_PITCH_PHASES = frozenset({"ROLL", "ROTATE", "LIFTOFF"})
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class FcsOutput:
     """Commands of one FCS step and the targets behind them (for recording and plots).
@@ -245,7 +248,7 @@ class FlightControlSystem:
             if not self._tecs_engaged:
                 # bumpless: from the last lever, or at the start the lever that demands the engine's N1c
                 lever0 = self._lever if self._lever is not None else \
-                    min(max(eng.N1c_pct / max(self.fuel.parameters.k_delta_pct, 1e-6), 0.0), 1.0)
+                    clip(eng.N1c_pct / max(self.fuel.parameters.k_delta_pct, 1e-6), 0.0, 1.0)
                 self.tecs.reset(lever0 * self.tecs.available_thrust_N(x.alt_m, x.dT_isa_K), W, x.theta_rad)
                 self._tecs_engaged = True
             alt_cmd = tg.alt_cmd_m if tg.gamma_cmd_rad is None else None
@@ -270,7 +273,7 @@ class FlightControlSystem:
         rudder = lat.rudder
         if tg.align_heading_rad is not None:
             ap = self.runner.approach_params
-            rudder = min(max(-ap.k_psi_steer_1_rad * wrap_pi(x.psi_rad - tg.align_heading_rad), -1.0), 1.0)
+            rudder = clip(-ap.k_psi_steer_1_rad * wrap_pi(x.psi_rad - tg.align_heading_rad), -1.0, 1.0)
         f = self.fuel.step(dt_s, lever, eng.N1c_pct, eng.N1_pct, eng.Tt41_K)
         return FcsOutput(elevator, lat.aileron, rudder, tg.steer, tg.brake, tg.gear_down, lever, f.Wf_cmd_kg_s,
                          theta_c, lat.phi_cmd_rad, tg, tas_cmd, FUEL_LIMITERS.index(f.limiter), airbrake,

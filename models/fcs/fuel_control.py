@@ -52,7 +52,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from .clip import clip
 from .errors import ParameterError
+from .records import fast_init
 from .tunable import Tunable, load_params
 
 __all__ = ["FuelControlParams", "FuelControlOutput", "FuelController"]
@@ -106,6 +108,7 @@ class FuelControlParams:
         return load_params(cls, PARAM_FILE, "fuel_control", **overrides)
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class FuelControlOutput:
     """Result of one fuel-controller step.
@@ -190,7 +193,7 @@ class FuelController(Tunable[FuelControlParams]):
         FuelControlOutput
         """
         p = self._params
-        d = min(max(delta, 0.0), 1.0)
+        d = clip(delta, 0.0, 1.0)
         N1c_dem = max(p.k_delta_pct * d, p.N1c_idle_pct)
         e = (N1c_dem - N1c_pct, p.Tt41_max_K - Tt41_K, p.N1_max_pct - N1_pct)
         e0 = e if self._e_prev is None else self._e_prev
@@ -201,10 +204,10 @@ class FuelController(Tunable[FuelControlParams]):
         d_N = p.kp_N1_kg_s_pct * (e[2] - e0[2]) + p.ki_N1_kg_s2_pct * dt_s * e[2]
         if d_N < dWf:
             dWf, limiter = d_N, "N1"
-        dWf = min(max(dWf, -p.stp_max_kg_s), p.stp_max_kg_s)
+        dWf = clip(dWf, -p.stp_max_kg_s, p.stp_max_kg_s)
         # bounds, approached at the same limited rate if the command was outside them
-        target = min(max(self._Wf + dWf, p.Wf_min_kg_s), p.Wf_max_kg_s)
-        dWf = min(max(target - self._Wf, -p.stp_max_kg_s), p.stp_max_kg_s)
+        target = clip(self._Wf + dWf, p.Wf_min_kg_s, p.Wf_max_kg_s)
+        dWf = clip(target - self._Wf, -p.stp_max_kg_s, p.stp_max_kg_s)
         Wf_new = self._Wf + dWf
         self._Wf = Wf_new
         self._e_prev = e

@@ -30,6 +30,7 @@ import math
 from dataclasses import dataclass
 
 from .errors import GeometryError
+from .records import fast_init
 
 __all__ = [
     "R_EARTH_M", "WGS84_A_M", "WGS84_F", "LatLon",
@@ -47,6 +48,7 @@ WGS84_F: float = 1.0 / 298.257223563
 _TWO_PI = 2.0 * math.pi
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class LatLon:
     """A point on the Earth.
@@ -142,14 +144,16 @@ def cross_track_m(start: LatLon, end: LatLon, p: LatLon, radius_m: float = R_EAR
     return radius_m * math.asin(max(-1.0, min(1.0, math.sin(d13) * math.sin(t13 - t12))))
 
 
-def track_position_m(start: LatLon, end: LatLon, p: LatLon, radius_m: float = R_EARTH_M) -> tuple[float, float]:
+def track_position_m(start: LatLon, end: LatLon, p: LatLon, radius_m: float = R_EARTH_M,
+                     course_rad: float | None = None) -> tuple[float, float]:
     """(cross-track, along-track) of ``p`` on the great circle ``start`` -> ``end`` [m]: the values of
     :func:`cross_track_m` and :func:`along_track_m`, sharing their distance and bearings (one call per
-    guidance step instead of two)."""
+    guidance step instead of two). ``course_rad``: ``initial_bearing_rad(start, end)`` when the caller
+    has it (a leg flown for many steps) [rad]."""
     d13 = central_angle_rad(start, p)
     if d13 == 0.0:
         return 0.0, 0.0
-    dt = initial_bearing_rad(start, p) - initial_bearing_rad(start, end)
+    dt = initial_bearing_rad(start, p) - (initial_bearing_rad(start, end) if course_rad is None else course_rad)
     dxt = math.asin(max(-1.0, min(1.0, math.sin(d13) * math.sin(dt))))
     c = math.cos(dxt)
     dat = math.acos(max(-1.0, min(1.0, math.cos(d13) / c))) if c > 0 else 0.0

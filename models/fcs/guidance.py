@@ -33,6 +33,7 @@ import math
 from dataclasses import dataclass
 
 from .atmosphere import G0_M_S2
+from .clip import clip
 from .errors import FcsError
 from .geo import (
     LatLon,
@@ -44,6 +45,7 @@ from .geo import (
     track_position_m,
     wrap_pi,
 )
+from .records import fast_init
 from .tunable import Tunable, load_params
 
 __all__ = ["GuidanceParams", "PathCommand", "L1Guidance", "WaypointSequencer", "OrbitTracker"]
@@ -71,6 +73,7 @@ class GuidanceParams:
         return load_params(cls, "lateral.yaml", "guidance", **overrides)
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class PathCommand:
     """Guidance result.
@@ -103,10 +106,16 @@ class L1Guidance(Tunable[GuidanceParams]):
 
     def __init__(self, params: GuidanceParams | None = None) -> None:
         self._params = params if params is not None else GuidanceParams.from_file()
+        #: the last leg flown: (start, end, length [m], initial course [rad])
+        self._leg: tuple[LatLon | None, LatLon | None, float, float] = (None, None, 0.0, 0.0)
+        self._tan_phi: tuple[GuidanceParams | None, float] = (None, 0.0)  # (parameters, tan of the bank limit)
 
     def turn_radius_m(self, vg_m_s: float) -> float:
         """Radius of a level turn at the bank limit, Vg^2 / (g tan phi_max) [m]."""
-        return vg_m_s * vg_m_s / (G0_M_S2 * math.tan(max(self._params.phi_max_rad, 1e-3)))
+        cached = self._tan_phi
+        if cached[0] is not self._params:  # once per parameter set (a new set replaces the old one)
+            cached = self._tan_phi = (self._params, math.tan(max(self._params.phi_max_rad, 1e-3)))
+        return vg_m_s * vg_m_s / (G0_M_S2 * cached[1])
 
     def l1_m(self, vg_m_s: float) -> float:
         """L1 distance for ground speed ``vg_m_s`` [m].
@@ -141,7 +150,7 @@ class L1Guidance(Tunable[GuidanceParams]):
             # the air-relative velocity turns; its part normal to the ground track is cos(crab) of it
             a /= max(math.cos(wrap_pi(psi_rad - chi)), 0.5)
         lim = self._params.phi_max_rad
-        phi = min(max(math.atan(a / G0_M_S2), -lim), lim)
+        phi = clip(math.atan(a / G0_M_S2), -lim, lim)
         return PathCommand(phi, path_brg, xtk, dist_to_go, eta)
 
     def line(self, path_brg_rad: float, xtk_m: float, vn_m_s: float, ve_m_s: float,
@@ -172,12 +181,16 @@ class L1Guidance(Tunable[GuidanceParams]):
             True heading [rad]; with it the command allows for the wind's crab angle
             (the acceleration normal to the track is cos(crab) of the air-relative one).
         """
-        leg_len = distance_m(start, end)
-        if leg_len == 0.0:
-            raise FcsError(f"guidance: leg from ({start.lat_deg:.6f}, {start.lon_deg:.6f}) deg to itself; "
-                           "a leg needs two distinct points")
-        xtk, atk = track_position_m(start, end, pos)
-        foot = destination(start, initial_bearing_rad(start, end), atk)
+        leg = self._leg
+        if leg[0] is not start or leg[1] is not end:  # the leg's length and course, once per leg
+            leg_len = distance_m(start, end)
+            if leg_len == 0.0:
+                raise FcsError(f"guidance: leg from ({start.lat_deg:.6f}, {start.lon_deg:.6f}) deg to itself; "
+                               "a leg needs two distinct points")
+            leg = self._leg = (start, end, leg_len, initial_bearing_rad(start, end))
+        leg_len, course = leg[2], leg[3]
+        xtk, atk = track_position_m(start, end, pos, course_rad=course)
+        foot = destination(start, course, atk)
         path_brg = (initial_bearing_rad(foot, end) if leg_len - atk > 1.0 else final_bearing_rad(start, end))
         return self._command(path_brg, xtk, vn_m_s, ve_m_s, 0.0, leg_len - atk, psi_rad=psi_rad)
 
@@ -238,6 +251,7 @@ class WaypointSequencer:
         self._wps = list(waypoints)
         self._then = then
         self._dpsi: tuple[int, float | None] = (-1, None)  # course change at the active waypoint, by index
+        self._tan_fly_by: tuple[GuidanceParams | None, float] = (None, 0.0)  # tan of the fly-by bank, by parameters
         self._prev = start
         self.index = 0
         if central_angle_rad(start, self._wps[0]) == 0.0:  # starting on the first waypoint
@@ -273,7 +287,9 @@ class WaypointSequencer:
         if dpsi is not None:
             vg = math.hypot(vn_m_s, ve_m_s)
             gp = self._g.parameters
-            r = vg * vg / (G0_M_S2 * math.tan(gp.fly_by_bank_frac * max(gp.phi_max_rad, 1e-3)))
+            if self._tan_fly_by[0] is not gp:  # once per parameter set
+                self._tan_fly_by = (gp, math.tan(gp.fly_by_bank_frac * max(gp.phi_max_rad, 1e-3)))
+            r = vg * vg / (G0_M_S2 * self._tan_fly_by[1])
             # a turn sharper than FLY_BY_MAX_TURN_RAD is flown over, as FMSs do: its anticipation would
             # exceed several turn radii and cut the waypoint off altogether
             lead = r * math.tan(abs(dpsi) / 2) if abs(dpsi) <= FLY_BY_MAX_TURN_RAD else 0.0

@@ -24,7 +24,9 @@ import math
 from dataclasses import dataclass
 
 from .atmosphere import G0_M_S2
+from .clip import clip
 from .geo import wrap_pi
+from .records import fast_init
 from .tunable import Tunable, load_params
 
 __all__ = ["LateralParams", "LateralState", "LateralOutput", "LateralController"]
@@ -53,6 +55,7 @@ class LateralParams:
         return load_params(cls, "lateral.yaml", "lateral", **overrides)
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class LateralState:
     """Measured lateral-directional state.
@@ -86,6 +89,7 @@ class LateralState:
     qbar_Pa: float
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class LateralOutput:
     """Surface commands and the bank command that produced them.
@@ -122,7 +126,7 @@ class LateralController(Tunable[LateralParams]):
         """Bank command that turns the shorter way to heading (or track) ``psi_cmd_rad`` [rad]."""
         p = self._params
         lim = p.phi_max_rad if phi_max_rad is None else min(phi_max_rad, p.phi_max_rad)
-        return min(max(p.k_psi_1_s * wrap_pi(psi_cmd_rad - psi_rad), -lim), lim)
+        return clip(p.k_psi_1_s * wrap_pi(psi_cmd_rad - psi_rad), -lim, lim)
 
     def step(self, dt_s: float, x: LateralState, phi_cmd_rad: float | None = None,
              heading_cmd_rad: float | None = None, track_cmd_rad: float | None = None) -> LateralOutput:
@@ -151,13 +155,13 @@ class LateralController(Tunable[LateralParams]):
                 phi_cmd_rad = self.phi_for_heading(heading_cmd_rad, x.psi_rad)
             else:
                 phi_cmd_rad = 0.0
-        s = min(max(p.qbar_ref_Pa / max(x.qbar_Pa, 1.0), p.gain_sched_min), p.gain_sched_max)
+        s = clip(p.qbar_ref_Pa / max(x.qbar_Pa, 1.0), p.gain_sched_min, p.gain_sched_max)
         e = phi_cmd_rad - x.phi_rad
         u_p = s * (p.k_phi_1_rad * e - p.k_p_s_rad * x.p_rad_s)
         u = u_p + self._i_phi
         if abs(e) < p.phi_i_band_rad and (-1.0 < u < 1.0 or (u >= 1.0) != (e > 0)):
-            self._i_phi = min(max(self._i_phi + s * p.k_phi_i_1_rad_s * e * dt_s, -p.phi_i_limit), p.phi_i_limit)
-        aileron = min(max(u_p + self._i_phi, -1.0), 1.0)
+            self._i_phi = clip(self._i_phi + s * p.k_phi_i_1_rad_s * e * dt_s, -p.phi_i_limit, p.phi_i_limit)
+        aileron = clip(u_p + self._i_phi, -1.0, 1.0)
         r_c = G0_M_S2 * math.sin(x.phi_rad) * math.cos(x.theta_rad) / max(x.tas_m_s, 1.0)
-        rudder = min(max(s * (p.k_beta_1_rad * x.beta_rad - p.k_r_s_rad * (x.r_rad_s - r_c)), -1.0), 1.0)
+        rudder = clip(s * (p.k_beta_1_rad * x.beta_rad - p.k_r_s_rad * (x.r_rad_s - r_c)), -1.0, 1.0)
         return LateralOutput(aileron, rudder, phi_cmd_rad)

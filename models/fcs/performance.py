@@ -39,6 +39,7 @@ from dataclasses import dataclass
 from importlib import resources
 
 from .atmosphere import G0_M_S2, isa, mach_from_tas
+from .clip import clip
 from .errors import FcsError
 from .tunable import Tunable, load_params
 
@@ -197,7 +198,7 @@ class Performance(Tunable[PerformanceParams]):
     def airbrake_drag_N(self, qbar_Pa: float, position: float = 1.0) -> float:
         """Drag of the airbrake at ``position`` [0, 1] and dynamic pressure [Pa], blow-back included [N]."""
         d = self.data
-        p = min(max(position, 0.0), 1.0)
+        p = clip(position, 0.0, 1.0)
         full = d.cd_airbrake * self._params.airbrake_factor * d.S_m2
         return min(full * qbar_Pa * math.sin(p * d.airbrake_max_rad) / math.sin(d.airbrake_max_rad),
                    full * d.airbrake_blowback_qbar_Pa)

@@ -22,6 +22,7 @@ import math
 from dataclasses import dataclass
 
 from .atmosphere import G0_M_S2
+from .clip import clip
 from .tunable import Tunable, load_params
 
 __all__ = ["PitchParams", "PitchController", "turn_pitch_rate"]
@@ -85,7 +86,7 @@ class PitchController(Tunable[PitchParams]):
             (gain switching on weight on wheels).
         """
         p = self._params
-        s = min(max(p.qbar_ref_Pa / max(qbar_Pa, 1.0), p.gain_sched_min), p.gain_sched_max)
+        s = clip(p.qbar_ref_Pa / max(qbar_Pa, 1.0), p.gain_sched_min, p.gain_sched_max)
         e = theta_cmd_rad - theta_rad
         if on_ground:
             k_th, k_q, k_i = p.k_theta_ground_1_rad, p.k_q_ground_s_rad, p.k_theta_i_ground_1_rad_s
@@ -94,8 +95,8 @@ class PitchController(Tunable[PitchParams]):
         u_p = s * (k_th * e - k_q * (q_rad_s - q_turn_rad_s))
         u = u_p + self._integ
         if -1.0 < u < 1.0 or (u >= 1.0) != (e > 0):
-            self._integ = min(max(self._integ + s * k_i * e * dt_s, -p.trim_limit), p.trim_limit)
-        u = min(max(u_p + self._integ, -1.0), 1.0)
+            self._integ = clip(self._integ + s * k_i * e * dt_s, -p.trim_limit, p.trim_limit)
+        u = clip(u_p + self._integ, -1.0, 1.0)
         return -u
 
 

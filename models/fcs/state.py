@@ -11,11 +11,13 @@ import math
 from dataclasses import dataclass
 
 from .geo import LatLon
+from .records import fast_init
 from .tecs import SpeedCommand
 
 __all__ = ["AircraftState", "EngineState", "Targets"]
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class AircraftState:
     """Measured aircraft state.
@@ -80,6 +82,7 @@ class AircraftState:
         return math.hypot(self.vn_m_s, self.ve_m_s)
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class EngineState:
     """Measured engine quantities the fuel controller needs.
@@ -99,6 +102,7 @@ class EngineState:
     Tt41_K: float
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class Targets:
     """What the active mission section asks of the control laws in this step.

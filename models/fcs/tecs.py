@@ -80,7 +80,9 @@ from dataclasses import dataclass
 from enum import StrEnum
 
 from .atmosphere import G0_M_S2, Atmosphere, cas_from_tas, isa, tas_from_cas, tas_from_mach
+from .clip import clip
 from .errors import FcsError
+from .records import fast_init
 from .tunable import Tunable, load_params
 
 __all__ = ["TecsParams", "SpeedKind", "SpeedCommand", "TecsInput", "TecsOutput", "Tecs",
@@ -149,6 +151,7 @@ class TecsParams:
         return load_params(cls, "tecs.yaml", "tecs", **overrides)
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class TecsInput:
     """Measured longitudinal state.
@@ -182,6 +185,7 @@ class TecsInput:
     E_rate_max: float = math.nan
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class TecsOutput:
     """TECS commands and internal signals (all recorded for plots).
@@ -305,15 +309,15 @@ class Tecs(Tunable[TecsParams]):
         if underspeed:
             V_c = max(V_c, tas_from_cas(p.V_min_cas_m_s * p.underspeed_margin, atm))
         if alt_cmd_m is not None:
-            ff = min(max(hdot_ff_m_s / V, -1.0), 1.0)
+            ff = clip(hdot_ff_m_s / V, -1.0, 1.0)
             g_raw = math.asin(ff) + p.k_h_1_s * (alt_cmd_m - x.alt_m) / V
         else:
             g_raw = float(gamma_cmd_rad)  # type: ignore[arg-type]
-        g_c = min(max(g_raw, p.gamma_min_rad), p.gamma_max_rad)
-        a_c = min(max(p.k_V_1_s * (V_c - V), -p.Vdot_max_m_s2), p.Vdot_max_m_s2)
+        g_c = clip(g_raw, p.gamma_min_rad, p.gamma_max_rad)
+        a_c = clip(p.k_V_1_s * (V_c - V), -p.Vdot_max_m_s2, p.Vdot_max_m_s2)
         if not underspeed and p.jerk_max_m_s3 > 0.0:
             da = p.jerk_max_m_s3 * dt_s
-            a_c = min(max(a_c, self._a_c - da), self._a_c + da)
+            a_c = clip(a_c, self._a_c - da, self._a_c + da)
         strict = priority == "path_only"
         if priority is None:
             priority = "speed" if g_raw != g_c else "path"
@@ -335,15 +339,15 @@ class Tecs(Tunable[TecsParams]):
             if lim == lim:  # not NaN
                 limited = True
                 if priority == "path":
-                    a_c = min(max(G0_M_S2 * (lim - math.sin(g_c)), -p.Vdot_max_m_s2), p.Vdot_max_m_s2)
+                    a_c = clip(G0_M_S2 * (lim - math.sin(g_c)), -p.Vdot_max_m_s2, p.Vdot_max_m_s2)
                 else:
                     # the flight path is cut, but a climb is not turned into a descent (nor a descent into a
                     # climb) to pay for a speed change: beyond level flight the acceleration is cut instead
                     sg = lim - a_c / G0_M_S2
                     if (g_c > 0.0 and sg < 0.0) or (g_c < 0.0 and sg > 0.0):
                         sg = 0.0
-                        a_c = min(max(G0_M_S2 * lim, -p.Vdot_max_m_s2), p.Vdot_max_m_s2)
-                    g_c = math.asin(min(max(sg, math.sin(p.gamma_min_rad)), math.sin(p.gamma_max_rad)))
+                        a_c = clip(G0_M_S2 * lim, -p.Vdot_max_m_s2, p.Vdot_max_m_s2)
+                    g_c = math.asin(clip(sg, math.sin(p.gamma_min_rad), math.sin(p.gamma_max_rad)))
         self._a_c = a_c
         e_g = math.sin(g_c) - math.sin(x.gamma_rad)
         e_v = (a_c - x.Vdot_m_s2) / G0_M_S2
@@ -353,7 +357,7 @@ class Tecs(Tunable[TecsParams]):
         T_idle = p.lever_min * T_avail
         airbrake = 0.0
         if lever_fixed is not None:
-            lever = min(max(lever_fixed, 0.0), 1.0)
+            lever = clip(lever_fixed, 0.0, 1.0)
             T_c = lever * T_avail
             prio = "path" if alt_cmd_m is None else "speed"
             self._iT = T_c / W  # tracks, for a bumpless return to energy control
@@ -367,7 +371,7 @@ class Tecs(Tunable[TecsParams]):
             saturated = (sat_hi and E_err > 0) or (sat_lo and E_err < 0)
             if not saturated:
                 self._iT += p.k_TI_1_s * E_err * dt_s
-            T_c = p.lever_max * T_avail if underspeed else min(max(T_c, T_lo), p.lever_max * T_avail)
+            T_c = p.lever_max * T_avail if underspeed else clip(T_c, T_lo, p.lever_max * T_avail)
             if T_c < T_idle:
                 airbrake, T_c = T_idle - T_c, T_idle
             # the airbrake acts at once on the drag (the engine's thrust with its spool lag): filtered to the
@@ -391,5 +395,5 @@ class Tecs(Tunable[TecsParams]):
         theta_c = p.k_EP * L_err + self._iL
         if p.theta_min_rad < theta_c < p.theta_max_rad or (theta_c >= p.theta_max_rad) != (L_err > 0):
             self._iL += p.k_EI_1_s * L_err * dt_s
-        theta_c = min(max(p.k_EP * L_err + self._iL, p.theta_min_rad), p.theta_max_rad)
+        theta_c = clip(p.k_EP * L_err + self._iL, p.theta_min_rad, p.theta_max_rad)
         return TecsOutput(T_c, lever, theta_c, g_c, a_c, V_c, E_err, L_err, prio, underspeed, airbrake, limited)

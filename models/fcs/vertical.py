@@ -34,6 +34,7 @@ from dataclasses import dataclass
 from .atmosphere import G0_M_S2
 from .geo import LatLon, distance_m, final_bearing_rad, initial_bearing_rad, wrap_pi
 from .guidance import FLY_BY_MAX_TURN_RAD, GuidanceParams
+from .records import fast_init
 from .state import AircraftState
 from .tecs import SpeedCommand, SpeedKind
 from .vnav import ClimbPlan, DescentPlan, Vnav
@@ -106,6 +107,7 @@ class RouteDistance:
         return dist_to_go_m + self._remaining[index] - self.lead_m
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class VerticalTargets:
     """What the vertical guidance asks of TECS in one step (see :class:`~.state.Targets`)."""

@@ -209,25 +209,37 @@ def _proposed(bound: BoundSystem, hook: str) -> str | None:
     return None
 
 
+def _each_hook(hook_name: str, *args: object) -> list[tuple[list[object], str | None]]:
+    """Call every plugin's ``hook_name(*args)``: per plugin that has it, (what it returned, as a list; None)
+    or ([], one line saying how it failed). A failing hook never stops the run."""
+    label = hook_name.replace("_", "-")
+    out: list[tuple[list[object], str | None]] = []
+    for module in plugins():
+        hook = getattr(module, hook_name, None)
+        if hook is None:
+            continue
+        try:
+            out.append((list(hook(*args)), None))
+        except (EmssError, *USER_ERRORS) as exc:
+            out.append(([], f"{label} hook '{plugin_name(module)}' failed: {exc}"))
+        except Exception as exc:
+            if os.environ.get("EMSS_DEBUG"):
+                raise
+            out.append(([], f"{label} hook '{plugin_name(module)}' failed: internal error: "
+                            f"{type(exc).__name__}: {exc} (set EMSS_DEBUG=1 for the traceback)"))
+    return out
+
+
 def _pre_run(bound: BoundSystem) -> list[str]:
     """Every plugin's pre-run hook on the bound system: the warning lines they return, and one line per
     hook that failed (a failed check never stops the run)."""
     components = {c.name: c.fmu_path for c in bound.components}
     parameters = {f"{bound.components[p.component].name}.{p.variable.name}": p.value for p in bound.parameters}
     lines: list[str] = []
-    for module in plugins():
-        hook = getattr(module, "pre_run", None)
-        if hook is None:
-            continue
-        try:
-            lines.extend(str(line) for line in hook(components, parameters))
-        except (EmssError, *USER_ERRORS) as exc:
-            lines.append(f"pre-run hook '{plugin_name(module)}' failed: {exc}")
-        except Exception as exc:
-            if os.environ.get("EMSS_DEBUG"):
-                raise
-            lines.append(f"pre-run hook '{plugin_name(module)}' failed: internal error: {type(exc).__name__}: {exc} "
-                         "(set EMSS_DEBUG=1 for the traceback)")
+    for result, failure in _each_hook("pre_run", components, parameters):
+        lines.extend(str(line) for line in result)
+        if failure is not None:
+            lines.append(failure)
     return lines
 
 
@@ -235,19 +247,10 @@ def _post_run(out: Path, error: BaseException | None) -> tuple[list[Path], list[
     """Run every plugin's post-run hook on the results folder: (files written, one line per failure)."""
     written: list[Path] = []
     failures: list[str] = []
-    for module in plugins():
-        hook = getattr(module, "post_run", None)
-        if hook is None:
-            continue
-        try:
-            written.extend(Path(f) for f in hook(out, error))
-        except (EmssError, *USER_ERRORS) as exc:
-            failures.append(f"post-run hook '{plugin_name(module)}' failed: {exc}")
-        except Exception as exc:
-            if os.environ.get("EMSS_DEBUG"):
-                raise
-            failures.append(f"post-run hook '{plugin_name(module)}' failed: internal error: "
-                            f"{type(exc).__name__}: {exc} (set EMSS_DEBUG=1 for the traceback)")
+    for result, failure in _each_hook("post_run", out, error):
+        written.extend(Path(str(f)) for f in result)
+        if failure is not None:
+            failures.append(failure)
     return written, failures
 
 

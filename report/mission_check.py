@@ -36,7 +36,7 @@ from xml.etree import ElementTree
 
 from openemss.models.fcs.errors import FcsError
 from openemss.models.fcs.feasibility import MissionCheck, check_mission
-from openemss.models.fcs.feasibility_perf import Limits
+from openemss.models.fcs.feasibility_perf import Limits, from_dotted
 from openemss.models.fcs.geo import LatLon
 from openemss.models.fcs.mission import Mission, load_mission, parse_mission
 from openemss.models.fcs.weather import Turbulence, Weather, WindLayer, WindProfile, parse_weather_text
@@ -214,7 +214,7 @@ def run_check(mission: Mission, setup: CheckSetup, margin: float = 0.2) -> Missi
     """The feasibility of ``mission`` on the system ``setup`` (performance from the shipped models)."""
     from .model_performance import FuelControlLimits, ModelPerformance
 
-    fuel = FuelControlLimits(**{k: setup.parameters[v] for k, v in FuelControlLimits.NAMES.items()})
+    fuel = from_dotted(FuelControlLimits, setup.parameters.__getitem__)
     perf = ModelPerformance(setup.engine, fuel, setup.engine_limits, setup.isa_dev_K, setup.flaps)
     wind = setup.weather.wind if setup.weather is not None else None
     return check_mission(mission, perf, setup.limits, setup.mass_kg, start=setup.start, wind=wind,

@@ -17,12 +17,12 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Protocol
+from typing import Any, Protocol
 
 from .atmosphere import G0_M_S2
 from .errors import FcsError
 
-__all__ = ["PerfPoint", "Performance", "PerformanceError", "Limits"]
+__all__ = ["PerfPoint", "Performance", "PerformanceError", "Limits", "from_dotted"]
 
 
 class PerformanceError(FcsError):
@@ -99,6 +99,20 @@ class Performance(Protocol):
         """Fuel flow for a thrust [kg/s]."""
 
 
+def from_dotted(cls: type[Any], get: Callable[[str], float], optional: tuple[str, ...] = ()) -> Any:
+    """An instance of the dataclass ``cls`` whose fields are parameters of the system, named in its
+    ``NAMES`` (field -> dotted parameter name) and read with ``get``; the ``optional`` fields keep their
+    defaults where ``get`` raises KeyError."""
+    vals: dict[str, float] = {}
+    for k, v in cls.NAMES.items():
+        try:
+            vals[k] = float(get(v))
+        except KeyError:
+            if k not in optional:
+                raise
+    return cls(**vals)
+
+
 @dataclass(frozen=True, slots=True)
 class Limits:
     """The flight control's limits the check applies (its parameters, by their dotted names)."""
@@ -124,13 +138,6 @@ class Limits:
     def from_parameters(cls, get: Callable[[str], float]) -> Limits:
         """From the FCS's parameters, ``get("tecs.gamma_max_rad")`` etc.; an FCS without the airbrake
         parameter plans none."""
-        vals: dict[str, float] = {}
-        for k, v in cls.NAMES.items():
-            try:
-                vals[k] = float(get(v))
-            except KeyError:
-                if k != "airbrake_plan_max":
-                    raise
-        return cls(**vals)  # type: ignore[arg-type]
+        return from_dotted(cls, get, optional=("airbrake_plan_max",))
 
 

@@ -20,6 +20,8 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, NoReturn
 
+from . import algorithm_registry
+from .algorithm import step_order
 from .build import PACKAGE_ROOT, ensure_built
 from .errors import ConfigurationError, EmssError, Problem, SystemStructureError
 from .execution import DEFAULT_RATE_HZ, MAX_RATE_HZ, MAX_STEP_MULTIPLE, MIN_RATE_HZ, Execution
@@ -36,6 +38,7 @@ from .results import (
     stop_on_signals,
 )
 from .ssp import load_system
+from .ssp_model import SystemDef
 from .system import BoundSystem, bind_system
 
 #: The job ``emss run`` runs without a SYSTEM argument: the project's coupled system in ssp/, which
@@ -91,8 +94,10 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--rate", type=float, metavar="HZ",
                      help=f"communication rate [Hz], {MIN_RATE_HZ} to {MAX_RATE_HZ} "
                           f"(default: the SSD's OSP FixedStepAlgorithm annotation, else {DEFAULT_RATE_HZ})")
-    run.add_argument("--algorithm", choices=("jacobi", "gauss-seidel"), default="jacobi",
-                     help="master algorithm (default: jacobi)")
+    run.add_argument("--algorithm", choices=algorithm_registry.names(), default=algorithm_registry.DEFAULT,
+                     help="master algorithm: " + "; ".join(f"{e.name}: {e.summary}" for e in
+                                                           algorithm_registry.REGISTRY.values())
+                          + f" (default: {algorithm_registry.DEFAULT})")
     run.add_argument("--step-multiple", nargs="+", action="extend", default=[], metavar="COMPONENT=N",
                      help="let a component step every N-th macro step")
     run.add_argument("--out", type=folder_name, help="output folder (default: results/<system>-<time>); one run at a "
@@ -254,12 +259,14 @@ def _post_run(out: Path, error: BaseException | None) -> tuple[list[Path], list[
     return written, failures
 
 
-def _load(system: Path, params: Sequence[Path], settings: Sequence[str] = (),
+def _load(system: Path | SystemDef, params: Sequence[Path], settings: Sequence[str] = (),
           folder: Path | None = None) -> BoundSystem:
-    """Bind the system with its parameter sets; ``settings`` (``component.variable=value``) are typed by
-    the variables they set, written as one more parameter set into ``folder`` (the results, so a run
-    records what it was given) and applied last."""
-    bound = bind_system(load_system(system), list(params))
+    """Bind the system (read once, here or by the caller) with its parameter sets; ``settings``
+    (``component.variable=value``) are typed by the variables they set, written as one more parameter
+    set into ``folder`` (the results, so a run records what it was given) and applied last."""
+    sysdef = system if isinstance(system, SystemDef) else load_system(system)
+    model_descriptions: dict[Path, Any] = {}
+    bound = bind_system(sysdef, list(params), model_descriptions)
     if not settings:
         return bound
     from lxml import etree
@@ -281,7 +288,7 @@ def _load(system: Path, params: Sequence[Path], settings: Sequence[str] = (),
     target.parent.mkdir(parents=True, exist_ok=True)
     atomic_write(target, etree.tostring(ParameterSet("cli_parameters", values).element(), xml_declaration=True,
                                         encoding="UTF-8", pretty_print=True))
-    return bind_system(load_system(system), [*params, target])
+    return bind_system(sysdef, [*params, target], model_descriptions)
 
 
 def _typed(text: str, type_name: str, item: str) -> bool | int | float | str:
@@ -350,17 +357,18 @@ def _ensure_project_fmus(system: Path) -> None:
 def cmd_run(args: argparse.Namespace) -> int:
     system = args.system if args.system is not None else _default_system()
     _ensure_project_fmus(system)
+    sysdef = load_system(system)  # the one reading of the SSD in this command
     if args.out is None:  # the default folder is named after the system: that name must be one path component
-        name = check_name(str(load_system(system).name), "the system's name (the SSD's System name; or give --out)")
+        name = check_name(str(sysdef.name), "the system's name (the SSD's System name; or give --out)")
         out = Path("results") / f"{name}-{time.strftime('%Y%m%d-%H%M%S')}"
     else:
         out = args.out
     with ResultsFolder(out) as _:  # locked for this run, cleared of an earlier run's files
-        return _run(args, system, out)
+        return _run(args, system, sysdef, out)
 
 
-def _run(args: argparse.Namespace, system: Path, out: Path) -> int:
-    bound = _load(system, args.params, args.set, out)
+def _run(args: argparse.Namespace, system: Path, sysdef: SystemDef, out: Path) -> int:
+    bound = _load(sysdef, args.params, args.set, out)
     sysdef = bound.definition
     stop = args.stop_time if args.stop_time is not None else sysdef.stop_time_s
     if stop is None:
@@ -462,7 +470,7 @@ def _stats_table(stats: dict[str, dict[str, float]]) -> str:
 
 def _describe(bound: BoundSystem) -> dict[str, Any]:
     sysdef = bound.definition
-    ex_order = Execution(bound, rate_hz=None).order
+    ex_order = step_order(bound)
     names = [c.name for c in bound.components]
     return {
         "name": sysdef.name,

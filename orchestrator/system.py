@@ -143,16 +143,20 @@ def _link(conn: FlatConnection, comps: dict[str, tuple[int, ComponentModel]], ss
         return None
 
 
-def bind_system(sysdef: SystemDef, parameter_files: list[Path] | tuple[Path, ...] = ()) -> BoundSystem:
+def bind_system(sysdef: SystemDef, parameter_files: list[Path] | tuple[Path, ...] = (),
+                model_descriptions: dict[Path, ModelDescription] | None = None) -> BoundSystem:
     """Resolve a system against its FMUs; ``parameter_files`` (.ssv, system-level names) override the SSD.
 
     Raises
     ------
     SystemStructureError
         With every problem found in the SSD, the FMUs and the parameter files.
+
+    ``model_descriptions`` (FMU path -> its model description) is filled with the FMUs read, and
+    read from: binding the same system again with other parameter files reads no FMU twice.
     """
     problems: list[Problem] = list(sysdef.problems)
-    cache: dict[Path, ModelDescription] = {}
+    cache = model_descriptions if model_descriptions is not None else {}
     names: set[str] = set()
     models: list[ComponentModel] = []
     for c in sysdef.components:

@@ -103,3 +103,10 @@ def test_every_orchestrator_module_has_a_part() -> None:
     on_disk = {f.stem for f in ORCHESTRATOR.glob("*.py")}
     assert on_disk - set(PARTS) == set(), "give the new module its part in PARTS (and in orchestrator/README.md)"
 
+
+
+def test_orchestrator_imports_go_one_way_down_the_parts() -> None:
+    upward = [f"{m} ({PARTS[m]}) imports {e} ({PARTS[e]})" for m, edges in sorted(_graph(ORCHESTRATOR).items())
+              for e in sorted(edges) if m in PARTS and e in PARTS and PART_LEVEL[PARTS[e]] > PART_LEVEL[PARTS[m]]
+              or (m in PARTS and e in PARTS and PART_LEVEL[PARTS[e]] == PART_LEVEL[PARTS[m]] and PARTS[e] != PARTS[m])]
+    assert upward == []

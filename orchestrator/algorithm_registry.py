@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 from .algorithm import Algorithm, GaussSeidel, Jacobi, step_order
 from .errors import ConfigurationError
+from .iterative import ATOL, MAX_ITERATIONS, RTOL, IterativeGaussSeidel
 from .system_model import BoundSystem
 
 
@@ -71,9 +72,25 @@ def create(name: str, system: BoundSystem, multiples: Sequence[int], where: str 
     return entry.make(system, multiples)
 
 
+def _input_names(system: BoundSystem) -> list[list[str]]:
+    """Per component, ``component.variable`` of its connected inputs in exchange order (by type)."""
+    out: list[list[str]] = [[] for _ in system.components]
+    for t in ("Real", "Integer", "Boolean"):
+        for ln in system.links:
+            if ln.target_var.type_name == t:
+                out[ln.target].append(f"{system.components[ln.target].name}.{ln.target_var.name}")
+    return out
+
+
 DEFAULT = register(AlgorithmEntry(
     "jacobi", "every component steps from the inputs of the last exchange, then all outputs are exchanged",
     lambda system, multiples: Jacobi(multiples))).name
 register(AlgorithmEntry(
     "gauss-seidel", "components step one after the other in connection order, each taking the newest outputs",
     lambda system, multiples: GaussSeidel(multiples, step_order(system))))
+register(AlgorithmEntry(
+    "gauss-seidel-iterative", "Gauss-Seidel with every loop stepped again until its inputs agree "
+    f"(rtol {RTOL:g}, atol {ATOL:g}, at most {MAX_ITERATIONS} sweeps); needs FMUs that can get and set their state",
+    lambda system, multiples: IterativeGaussSeidel(multiples, step_order(system), [c.name for c in system.components],
+                                                   _input_names(system)),
+    needs_fmu_state=True))

@@ -201,8 +201,16 @@ class GaussSeidel(Algorithm):
         self.order = order
 
     def step(self, coupling: Coupling, k: int) -> None:
+        self.sweep(coupling, k, self.order.order)
+        # Inputs as seen at the new time, so observers record them consistently with the outputs
+        # (each component takes its own inputs again before its next step).
+        if coupling.observed:
+            coupling.transfer_all()
+
+    def sweep(self, coupling: Coupling, k: int, components: Sequence[int]) -> None:
+        """Step ``components`` one after the other, each taking the newest outputs of those before it."""
         m = self.multiples
-        for i in self.order.order:
+        for i in components:
             n = m[i]
             if n == 1:  # the usual case: take inputs, step, publish outputs in one go
                 coupling.transfer_to(i)
@@ -214,7 +222,3 @@ class GaussSeidel(Algorithm):
                 coupling.step_component(i, k)
             if (k + 1) % n == 0:
                 coupling.get_outputs(i)
-        # Inputs as seen at the new time, so observers record them consistently with the outputs
-        # (each component takes its own inputs again before its next step).
-        if coupling.observed:
-            coupling.transfer_all()

@@ -79,34 +79,27 @@ class IterativeGaussSeidel(GaussSeidel):
         self.input_names = tuple(tuple(x) for x in input_names)
         self.rtol, self.atol, self.max_iterations = rtol, atol, max_iterations
         in_cycle = {i: c for c in order.cycles for i in c}
-        # The stepping plan: single components, and each loop once, at the place of its first member.
-        plan: list[int | tuple[int, ...]] = []
+        # The stepping plan: runs of components outside loops (swept once, as in Gauss-Seidel) and each
+        # loop once, at the place of its first member.
+        plan: list[tuple[bool, tuple[int, ...]]] = []  # (is a loop, components)
         for i in order.order:
             if i not in in_cycle:
-                plan.append(i)
+                if plan and not plan[-1][0]:
+                    plan[-1] = (False, plan[-1][1] + (i,))
+                else:
+                    plan.append((False, (i,)))
             elif in_cycle[i][0] == i:
-                plan.append(in_cycle[i])
+                plan.append((True, in_cycle[i]))
         self.plan = tuple(plan)
         self.iterations: list[int] = []  # sweeps of the last macro step, per loop (for tests and reports)
 
     def step(self, coupling: Coupling, k: int) -> None:
-        m = self.multiples
         self.iterations = []
-        for item in self.plan:
-            if isinstance(item, tuple):
-                self.iterations.append(self._iterate(coupling, item, k))
-                continue
-            n = m[item]
-            if n == 1:
-                coupling.transfer_to(item)
-                coupling.advance(item, k)
-                continue
-            if k % n == 0:
-                coupling.transfer_to(item)
-                coupling.set_inputs(item)
-                coupling.step_component(item, k)
-            if (k + 1) % n == 0:
-                coupling.get_outputs(item)
+        for is_loop, components in self.plan:
+            if is_loop:
+                self.iterations.append(self._iterate(coupling, components, k))
+            else:
+                self.sweep(coupling, k, components)
         if coupling.observed:
             coupling.transfer_all()
 

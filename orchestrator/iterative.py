@@ -117,16 +117,17 @@ class IterativeGaussSeidel(GaussSeidel):
                 coupling.transfer_to(i)
                 used[p] = np.concatenate([v.astype(np.float64) for v in coupling.inputs_of(i)])
                 coupling.advance(i, k)
-            worst = (0.0, "")
+            worst, worst_excess = (0.0, ""), 0.0
             for p, i in enumerate(cycle):
                 coupling.transfer_to(i)
                 new = np.concatenate([v.astype(np.float64) for v in coupling.inputs_of(i)])
-                excess = np.abs(new - used[p]) - (self.atol + self.rtol * np.abs(new))
-                if excess.size and excess.max() > worst[0]:
+                change = np.abs(new - used[p])
+                excess = np.nan_to_num(change - (self.atol + self.rtol * np.abs(new)), nan=np.inf)  # NaN never agrees
+                if excess.size and excess.max() > worst_excess:
                     j = int(excess.argmax())
                     label = self.input_names[i][j] if i < len(self.input_names) and j < len(
                         self.input_names[i]) else f"{self.names[i]} input {j}"
-                    worst = (float(np.abs(new - used[p])[j]), label)
+                    worst, worst_excess = (float(change[j]), label), float(excess[j])
             if not worst[1]:
                 return sweep
         loop = " -> ".join(self.names[i] for i in cycle)

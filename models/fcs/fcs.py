@@ -252,10 +252,12 @@ class FlightControlSystem:
                 self.tecs.reset(lever0 * self.tecs.available_thrust_N(x.alt_m, x.dT_isa_K), W, x.theta_rad)
                 self._tecs_engaged = True
             alt_cmd = tg.alt_cmd_m if tg.gamma_cmd_rad is None else None
+            if alt_cmd is not None and tg.hdot_ff_m_s != 0.0:  # held targets: the path's altitude moves on
+                alt_cmd += tg.hdot_ff_m_s * (t_s - self.runner.targets_time_s)
             e_min, e_max, ab_max = self._energy_rates(t_s, x, tg)
             out = self.tecs.step(dt_s, TecsInput(x.alt_m, tas, vdot, x.gamma_rad, x.mass_kg, x.dT_isa_K,
                                                  e_min, e_max),
-                                 tg.speed, alt_cmd if alt_cmd is not None else None,
+                                 tg.speed, alt_cmd,
                                  tg.gamma_cmd_rad if alt_cmd is None else None, lever_fixed=tg.lever,
                                  hdot_ff_m_s=tg.hdot_ff_m_s, priority=tg.priority, airbrake_max_N=ab_max)
             theta_c, lever, tas_cmd = out.theta_cmd_rad, out.lever, out.tas_cmd_m_s

@@ -62,6 +62,7 @@ class MissionRunner:
         self.flown_by: LatLon | None = None
         self.approach_params = approach_params if approach_params is not None else ApproachParams.from_file()
         self.active_index = 0
+        self._n_sections = len(mission.sections)
         self._exec: SectionType | None = None
         self.history: list[tuple[float, int, str]] = []
         #: time the held targets were computed [s] (a managed path's altitude moves on from there)
@@ -72,7 +73,7 @@ class MissionRunner:
     @property
     def finished(self) -> bool:
         """All sections completed."""
-        return self.active_index >= len(self.mission.sections)
+        return self.active_index >= self._n_sections
 
     @property
     def active_name(self) -> str:

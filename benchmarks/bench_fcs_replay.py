@@ -139,7 +139,8 @@ def _export(rev: str, work: Path) -> Path:
 
 def _child(run: Path, row: str, steps: int | None, path: Path) -> float:
     env = dict(os.environ, PYTHONPATH=str(path))
-    cmd = [sys.executable, str(Path(__file__)), "--run", str(run), "--replay-only", row, "--root", str(path / "openemss")]
+    cmd = [sys.executable, str(Path(__file__)), "--run", str(run), "--replay-only", row,
+           "--root", str(path / "openemss")]
     if steps is not None:
         cmd += ["--steps", str(steps)]
     done = subprocess.run(cmd, capture_output=True, text=True, env=env)

@@ -20,6 +20,8 @@ Custom             ``duration_s`` elapsed
 =================  ==============================================================
 
 A new section type is a subclass of :class:`SectionType` with ``@register``: nothing else names it.
+The navigation types (waypoints, orbits, turns, levelling) set :attr:`SectionType.outer_rate`: the state
+machine steps them every ``guidance.outer_period_s`` and holds their targets in between.
 """
 
 from __future__ import annotations

@@ -1,8 +1,9 @@
 """The FCS alone over a whole mission: its inputs recorded in one coupled run, replayed into the FCS.
 
-The Munich mission is run once (``emss run --record 'fcs.*'``: the FCS's 19 inputs at every 50 ms
-step, and its parameters from ``run.json``), or a recorded run is given (``--run DIR``, a folder of
-``emss run`` holding ``timeseries.csv`` with the ``fcs.*`` inputs and ``run.json``). The FCS is then
+The Munich mission is run once (``emss run --record fcs.lat_deg,...,fcs.on_ground``: the FCS's 19
+inputs at every 50 ms step, and its parameters from ``run.json``), or a recorded run is given
+(``--run DIR``, a folder of ``emss run`` holding ``timeseries.csv`` with the FCS's inputs, as the default
+recording of every connector has them, and ``run.json``). The FCS is then
 stepped alone over those inputs, open loop, in this process: the FMU's slave class of
 ``fmus/fcs.py`` called directly (``set_real`` of the inputs, ``set_boolean`` of ``on_ground``,
 ``do_step``, ``get_real`` of the outputs), without pythonfmu's C layer and without the engine and
@@ -58,10 +59,13 @@ ROWS = {"every": ("outer loops every step", {"guidance.outer_period_s": 0.0}), "
 
 def record_run(work: Path) -> Path:
     """Run the project's Munich mission with every FCS variable recorded; returns the run's folder."""
+    from openemss.fmus.fcs import INPUTS
+
     out = work / "run"
+    inputs = ",".join(f"fcs.{name}" for name, _ in INPUTS) + ",fcs.on_ground"
     cmd = [sys.executable, "-m", "openemss.orchestrator.cli", "run", str(ROOT / "ssp"), "--out", str(out),
-           "--record", "fcs.*", "--until", "fcs.mission_completed == 1", "--no-post-run"]
-    print("recording the FCS's inputs: " + " ".join(cmd[2:]), flush=True)
+           "--record", inputs, "--until", "fcs.mission_completed == 1", "--no-post-run"]
+    print("recording the FCS's inputs: emss run ssp --record fcs.<inputs> --no-post-run ...", flush=True)
     done = subprocess.run(cmd, capture_output=True, text=True)
     if done.returncode != 0:
         raise SystemExit(f"bench_fcs_replay: the recording run failed: {done.stderr.strip().splitlines()[-1:]}")
@@ -73,6 +77,9 @@ def load_run(run: Path) -> tuple[list[float], list[list[float]], list[bool], dic
     run.json) of a recorded run."""
     from openemss.fmus.fcs import INPUTS
 
+    for name in ("run.json", "timeseries.csv"):
+        if not (run / name).is_file():
+            raise SystemExit(f"bench_fcs_replay: --run {run}: no {name}; give the folder of a finished emss run")
     meta = json.loads((run / "run.json").read_text(encoding="utf-8"))
     params = {k[4:]: v for k, v in meta.get("parameters", {}).items() if k.startswith("fcs.")}
     with open(run / "timeseries.csv", newline="", encoding="utf-8") as f:
@@ -83,7 +90,7 @@ def load_run(run: Path) -> tuple[list[float], list[list[float]], list[bool], dic
             i_t, i_g = head.index("time_s"), head.index("fcs.on_ground")
         except ValueError as exc:
             raise SystemExit(f"bench_fcs_replay: {run / 'timeseries.csv'} lacks an FCS input ({exc}); record "
-                             "the run with --record 'fcs.*'") from None
+                             "every connector (emss run's default) or the FCS's inputs") from None
         t, u, g = [], [], []
         for r in rows:
             t.append(float(r[i_t]))
@@ -152,7 +159,8 @@ def _child(run: Path, row: str, steps: int | None, path: Path) -> float:
 def main(argv: list[str] | None = None) -> int:
     global ROOT
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--run", type=Path, help="a recorded run (emss run --record 'fcs.*'); default: record one")
+    ap.add_argument("--run", type=Path, help="the folder of a finished emss run of the mission, every connector "
+                                             "recorded (the default); default: record one")
     ap.add_argument("--repeat", type=int, default=3, help="rounds, best kept (default 3)")
     ap.add_argument("--steps", type=int, help="replay the first N steps only (default: all)")
     ap.add_argument("--baseline", metavar="REV", help="also replay the FCS of this git revision (e.g. main)")

@@ -100,7 +100,7 @@ class Engine(Fmi2Slave):
         lim, valve = EngineLimits(), BleedValve()
         self.N1_max_pct, self.N2_max_pct, self.FAR_lean = lim.N1_max_pct, lim.N2_max_pct, lim.FAR_lean
         self.Wf_Pt3_min_frac, self.Wf_decel_max_frac_s = lim.Wf_Pt3_min_frac, lim.Wf_decel_max_frac_s
-        self.bleed_threshold_N2_pct, self.bleed_band_pct = valve.threshold_N2_pct, valve.band_pct
+        self.bleed_threshold_N1c_pct, self.bleed_band_pct = valve.threshold_N1c_pct, valve.band_pct
         self.bleed_stroke_s, self.bleed_open_frac = valve.stroke_s, valve.open_frac
         self.offtake_hp_max_W, self.offtake_lp_max_W = lim.offtake_hp_max_W, lim.offtake_lp_max_W
         self.assist_hp_max_W, self.assist_lp_max_W = lim.assist_hp_max_W, lim.assist_lp_max_W
@@ -118,8 +118,9 @@ class Engine(Fmi2Slave):
                                                "fraction of the design point's, 0 = none [-]"),
                            ("Wf_decel_max_frac_s", "Fuel system decel limit: fastest decrease of the burned fuel "
                                                    "flow, fraction of the design fuel flow per second [1/s]"),
-                           ("bleed_threshold_N2_pct", "Handling bleed switching speed, centre of the band [%]"),
-                           ("bleed_band_pct", "Handling bleed hysteresis band width in N2 [%]"),
+                           ("bleed_threshold_N1c_pct", "Handling bleed switching speed, corrected N1, centre of "
+                                                       "the band [%]"),
+                           ("bleed_band_pct", "Handling bleed hysteresis band width in corrected N1 [%]"),
                            ("bleed_stroke_s", "Handling bleed valve full-stroke time [s]"),
                            ("bleed_open_frac", "Handling bleed flow over HPC inlet flow when open [-]"),
                            ("offtake_hp_max_W", "Largest power taken from the HP shaft port; beyond it the "
@@ -213,7 +214,7 @@ class Engine(Fmi2Slave):
                                             offtake_lp_max_W=self.offtake_lp_max_W,
                                             assist_hp_max_W=self.assist_hp_max_W,
                                             assist_lp_max_W=self.assist_lp_max_W),
-                        valve=BleedValve(self.bleed_threshold_N2_pct, self.bleed_band_pct, self.bleed_stroke_s,
+                        valve=BleedValve(self.bleed_threshold_N1c_pct, self.bleed_band_pct, self.bleed_stroke_s,
                                          self.bleed_open_frac),
                         distortion_target=self.distortion_target, critical_angle_deg=self.critical_angle_deg,
                         linear_input_frac=self.linear_input_frac,

@@ -160,7 +160,7 @@ class TurbofanParams(_Common):
     hpc_stages, handling_bleed_stage : int
         Number of HPC stages and the stage behind which the handling bleed is taken.
     handling_bleed_frac : float
-        Handling bleed W/W25 [-] into the bypass (0 at design: it opens below ~60 % N2).
+        Handling bleed W/W25 [-] into the bypass (0 at design: it opens below ~60 % corrected N1).
     customer_bleed_frac : float
         Customer bleed W/W25 from the HPC exit, overboard [-].
     eta_hpt, eta_lpt : float

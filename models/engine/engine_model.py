@@ -23,9 +23,10 @@ Robustness (what a mission needs from an engine that is driven by a controller):
   clipped to ``[-assist_*_max_W, offtake_*_max_W]`` of :class:`EngineLimits`; a clipped
   port sets the ``shaft_power_limited`` flag (an event, logged on its rising edge), and
   the power the spool actually got is published as ``offtake_*_applied_W``.
-* The handling bleed (HPC stage into the bypass) is a valve with hysteresis: it is
-  commanded open when N2 falls below ``threshold - band/2`` and closed when N2 rises
-  above ``threshold + band/2``, and strokes at a finite rate, so it cannot chatter.
+* The handling bleed (HPC stage into the bypass) is a valve with hysteresis on the
+  corrected fan speed N1c (:class:`BleedValve`): it is commanded open when N1c falls
+  below ``threshold - band/2`` and closed when it rises above ``threshold + band/2``,
+  and strokes at a finite rate, so it cannot chatter.
 
 Inlet distortion (parallel compressor, :mod:`.distortion`) is switched by an input at
 any step; it applies to the fan face, the HPC face or both (``distortion_target``).
@@ -47,11 +48,13 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+from .atmosphere import free_stream
 from .cycle_design import design
 from .design_params import TurbofanParams, load_params, preset_path
 from .distortion import Distortion
 from .engine_signals import FLAGS, OUTPUTS, BleedValve, EngineInputs, EngineLimits, condition_from_ambient
 from .errors import ModelError, OutOfRangeError
+from .flow import T_STD_K
 from .offdesign import OffDesignPoint, TurbofanMaps, TurbofanOffDesign, scaled_maps
 from .transient import TransientState, TurbofanTransient
 
@@ -159,7 +162,7 @@ class EngineModel:
         # the fuel system's stops in this design's units: minimum Wf/Pt3 [kg/(s Pa)], decel rate [kg/s^2]
         self.Wf_Pt3_min_kg_s_Pa = limits.Wf_Pt3_min_frac * self.dp.Wf_kg_s / self.dp.stations["3"].Pt_Pa
         self.Wf_decel_max_kg_s2 = limits.Wf_decel_max_frac_s * self.dp.Wf_kg_s
-        self.od = TurbofanOffDesign(self.dp, maps, valve.open_frac, valve.threshold_N2_pct)
+        self.od = TurbofanOffDesign(self.dp, maps, valve.open_frac, valve.threshold_N1c_pct)
         self.tr = TurbofanTransient(self.od, I_lp_kg_m2, I_hp_kg_m2)
         self.p, self.dt_internal_s, self.method, self.tol = p, dt_internal_s, method, tol
         self._Nc1_d = self.dp.components["fan_outer"].Nc_rpm
@@ -182,6 +185,7 @@ class EngineModel:
         self.state: TransientState | None = None
         self._key: tuple[float, ...] | None = None
         self._clipped: set[str] = set()
+        self._theta: tuple[object, float] = (None, 1.0)        # (flight condition, sqrt(Tt2 / 288.15 K))
 
     # ------------------------------------------------------------------ inputs
     def _clip(self, kind: str, v: float, lo: float, hi: float) -> float:
@@ -238,9 +242,15 @@ class EngineModel:
         pt: OffDesignPoint = self.od.solve(u.alt_m, u.Mach, u.dT_isa_K, customer_bleed_frac=kw["customer_bleed_frac"],
                                            offtake_hp_W=kw["offtake_hp_W"], offtake_lp_W=kw["offtake_lp_W"],
                                            distortion_fan=dist[0], distortion_hpc=dist[1], **setting)
-        self.N1_rpm, self.N2_rpm = pt.N1_rpm, pt.N2_rpm
-        self.valve_open_cmd = pt.N2_pct < self.valve.threshold_N2_pct
+        self.valve_open_cmd = pt.N1c_pct < self.valve.threshold_N1c_pct
         self.valve_pos = 1.0 if self.valve_open_cmd else 0.0
+        hb = self.valve_pos * self.valve.open_frac
+        if pt.handling_bleed_frac != hb:        # inside the steady schedule's ramp: steady with the on/off valve
+            pt = self.od.solve(u.alt_m, u.Mach, u.dT_isa_K, customer_bleed_frac=kw["customer_bleed_frac"],
+                               offtake_hp_W=kw["offtake_hp_W"], offtake_lp_W=kw["offtake_lp_W"],
+                               distortion_fan=dist[0], distortion_hpc=dist[1], guess=pt, handling_bleed_frac=hb,
+                               **setting)
+        self.N1_rpm, self.N2_rpm = pt.N1_rpm, pt.N2_rpm
         self.t_s, self.fuel_burned_kg, self.events, self.failures = 0.0, 0.0, 0, 0
         self.state, self._key = None, None
         self.tr._cache = None
@@ -321,12 +331,28 @@ class EngineModel:
             return None
         return self.tr.fuel_sensitivity(self.state)
 
-    def _valve(self, h: float) -> None:
+    def _sqrt_theta2(self, kw: dict[str, object]) -> float | None:
+        """sqrt(Tt2 / 288.15 K) at the flight condition of `kw` (cached), None outside the atmosphere's range."""
+        cond = (kw["alt_m"], kw["Mach"], kw["dT_isa_K"])
+        if self._theta[0] != cond:
+            try:
+                fc = self.od.fast
+                Tt0 = float(fc.free_stream(cond)[0]) if fc is not None else \
+                    free_stream(*cond, self.od.gas).Tt0_K  # type: ignore[arg-type]
+            except ModelError:
+                return None
+            self._theta = (cond, math.sqrt(Tt0 / T_STD_K))
+        return self._theta[1]
+
+    def _valve(self, h: float, kw: dict[str, object]) -> None:
         v = self.valve
-        N2_pct = 100.0 * self.N2_rpm / self.p.N2_rpm
-        if self.valve_open_cmd and N2_pct > v.threshold_N2_pct + 0.5 * v.band_pct:
+        sq = self._sqrt_theta2(kw)
+        if sq is None:                          # no flight condition: the valve holds (the match will fail)
+            return
+        N1c_pct = 100.0 * self.N1_rpm / sq / self._Nc1_d
+        if self.valve_open_cmd and N1c_pct > v.threshold_N1c_pct + 0.5 * v.band_pct:
             self.valve_open_cmd = False
-        elif not self.valve_open_cmd and N2_pct < v.threshold_N2_pct - 0.5 * v.band_pct:
+        elif not self.valve_open_cmd and N1c_pct < v.threshold_N1c_pct - 0.5 * v.band_pct:
             self.valve_open_cmd = True
         target = 1.0 if self.valve_open_cmd else 0.0
         rate = h / v.stroke_s
@@ -381,7 +407,7 @@ class EngineModel:
                 if pred_ok and N1 > 0.0 and N2 > 0.0:
                     pos, N1_old, N2_old, cmd_old = self.valve_pos, self.N1_rpm, self.N2_rpm, self.valve_open_cmd
                     self.N1_rpm, self.N2_rpm = N1, N2
-                    self._valve(hh)
+                    self._valve(hh, kw)
                     res = self._evaluate_limited(t1, N1, N2, Wf, u, kw)
                     if res is None:
                         self.N1_rpm, self.N2_rpm, self.valve_pos, self.valve_open_cmd = N1_old, N2_old, pos, cmd_old

@@ -160,21 +160,28 @@ class EngineLimits:
 
 @dataclass(frozen=True)
 class BleedValve:
-    """Handling bleed valve with hysteresis.
+    """Handling bleed valve with hysteresis, scheduled on the corrected fan speed.
+
+    The valve is commanded open when N1c = N1 / sqrt(Tt2 / 288.15 K) falls below
+    ``threshold_N1c_pct - band_pct / 2`` and closed when it rises above ``threshold_N1c_pct +
+    band_pct / 2`` (percent of the design's corrected N1), as the reference engine's valve
+    (the Larzac 04 blows air off behind its second HPC stage into the bypass "under a relative
+    speed of 60 %" of the LP spool; its measured Tt7 departs from the reference study's model
+    below about 11 000 rpm of N1, 64 % N1).
 
     Attributes
     ----------
-    threshold_N2_pct : float
-        Centre of the switching band [% of design N2].
+    threshold_N1c_pct : float
+        Centre of the switching band [% of design corrected N1].
     band_pct : float
-        Width of the hysteresis band [% of design N2].
+        Width of the hysteresis band [% of design corrected N1].
     stroke_s : float
         Time for a full stroke [s].
     open_frac : float
         Bleed flow over HPC inlet flow when fully open [-].
     """
 
-    threshold_N2_pct: float = 60.0
+    threshold_N1c_pct: float = 60.0
     band_pct: float = 2.0
     stroke_s: float = 0.5
     open_frac: float = 0.10

@@ -46,9 +46,9 @@ _NTERM = len(TURBOFAN_SHAFTS)
 _T_HPT, _T_HPC, _T_PHP, _T_LPT, _T_FO, _T_FI, _T_BO, _T_PLP = (
     TERM_INDEX[n] for n in ("hpt", "hpc", "port_hp", "lpt", "fan_outer", "fan_inner", "booster", "port_lp"))
 # indices into the engine parameter vector e
-(_W2, _PRh, _PRl, _Wf, _N1d, _N2d, _BPRd, _PI, _KIN, _EIN, _D2124, _D2425, _HBF, _HBO, _HBN2, _STG, _NSTG,
+(_W2, _PRh, _PRl, _Wf, _N1d, _N2d, _BPRd, _PI, _KIN, _EIN, _D2124, _D2425, _HBF, _HBO, _HBN1C, _STG, _NSTG,
  _ETAB, _DPB, _TT4D, _D4445, _D57, _BYB, _D1317, _CVC, _CDC, _CVB, _CDB, _EMH, _EML, _WC4, _WC45, _A8, _A18,
- _PHP, _PLP, _FN, _TT4R) = range(38)
+ _PHP, _PLP, _FN, _TT4R, _NC1D, _HBW) = range(40)
 
 
 @jit
@@ -181,7 +181,7 @@ def cycle(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: np.
 
     fs: free stream (Tt0 [K], Pt0 [Pa], V0 [m/s], p_amb [Pa], Mach [-], ram recovery [-]);
     ctl: demand kind (0 Wf, 1 N1, 2 N1c, 3 Tt4, 4 Fn), demand value, customer bleed [-],
-    HP and LP offtakes [W], handling bleed override (NaN: the N2 schedule);
+    HP and LP shaft ports [W] (signed), handling bleed override (NaN: the corrected-N1 schedule);
     e: engine parameters (indices ``_W2`` ...); bl: bleeds (frac_W, frac_P, frac_work, sink, sink_frac_P);
     fan, hpc, hpt, lpt: (xg, yg, ihx, ihy, cells, lim, scalars, surge x, surge w) of the scaled maps, scalars
     (s_Wc, s_PR, s_eff, s_Nc, Nc_min clamp, Nc_max clamp).
@@ -228,7 +228,7 @@ def cycle(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: np.
             b[i, j] = bl[i, j]
     nb = nb0
     if math.isnan(ctl[5]):
-        s = (e[_HBN2] + 0.01 - N2 / e[_N2d]) / 0.02
+        s = (e[_HBN1C] + 0.5 * e[_HBW] - N1c / e[_NC1D]) / e[_HBW]
         s = 0.0 if s < 0.0 else (1.0 if s > 1.0 else s)
         hb = max(e[_HBF], e[_HBO] * (s * s * (3.0 - 2.0 * s)))
     else:
@@ -425,10 +425,10 @@ class FastCycle:
             return None
         e = np.array([ref["W2"], ref["PRh"], ref["PRl"], ref["Wf"], p.N1_rpm, p.N2_rpm, p.BPR, p.inlet_pi,
                       od.k_inner, od.eff_ratio_inner, p.dPqP_21_24, p.dPqP_24_25, p.handling_bleed_frac, od.hb_open,
-                      od.hb_N2, p.handling_bleed_stage, p.hpc_stages, p.eta_burner, p.dPqP_burner, od.dp.Tt4_K,
+                      od.hb_N1c, p.handling_bleed_stage, p.hpc_stages, p.eta_burner, p.dPqP_burner, od.dp.Tt4_K,
                       p.dPqP_44_45, p.dPqP_5_7, p.bypass_bleed_frac, p.dPqP_13_17, p.Cv_core, p.Cd_core,
                       p.Cv_bypass, p.Cd_bypass, p.eta_mech_hp, p.eta_mech_lp, ref["Wc4"], ref["Wc45"], ref["A8"],
-                      ref["A18"], ref["P_hp"], ref["P_lp"], ref["Fn"], ref["Tt4"]], dtype=float)
+                      ref["A18"], ref["P_hp"], ref["P_lp"], ref["Fn"], ref["Tt4"], ref["Nc1"], od.hb_ramp], dtype=float)
         gc = np.zeros((2, 6, 8))
         for k, iv in enumerate((g._lo, g._hi)):
             for s, c in enumerate(iv):

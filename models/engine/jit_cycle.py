@@ -411,7 +411,6 @@ class FastCycle:
     def build(cls, od: Any) -> FastCycle | None:
         """Pack the design, gas and maps of `od` into arrays, or None (see the class docstring)."""
         from .combustion import h_fuel_liquid
-        from .gas import T_MAX_K, T_MIN_K, _h, _phi
         if not K.AVAILABLE or od.nb:
             return None
         p, m, ref, g = od.p, od.maps, od.ref, od.gas
@@ -429,15 +428,8 @@ class FastCycle:
                       p.dPqP_44_45, p.dPqP_5_7, p.bypass_bleed_frac, p.dPqP_13_17, p.Cv_core, p.Cd_core,
                       p.Cv_bypass, p.Cd_bypass, p.eta_mech_hp, p.eta_mech_lp, ref["Wc4"], ref["Wc45"], ref["A8"],
                       ref["A18"], ref["P_hp"], ref["P_lp"], ref["Fn"], ref["Tt4"], ref["Nc1"], od.hb_ramp], dtype=float)
-        gc = np.zeros((2, 6, 8))
-        for k, iv in enumerate((g._lo, g._hi)):
-            for s, c in enumerate(iv):
-                gc[k, s, :len(c)] = c
-        lo, hi = g._lo, g._hi
-        gs = np.array([g._T_mid, g.FAR_stoich, _h(lo[2], T_MIN_K), _h(lo[3], T_MIN_K), _h(hi[2], T_MAX_K),
-                       _h(hi[3], T_MAX_K), _phi(lo[4], T_MIN_K), _phi(lo[5], T_MIN_K), _phi(hi[4], T_MAX_K),
-                       _phi(hi[5], T_MAX_K), g._RA, g._RB, g.LHV_J_kg, h_fuel_liquid(p.T_fuel_K, g)])
-        assert np.allclose(gs[2:10], g._h_bounds + g._phi_bounds, rtol=0.0, atol=0.0)
+        gc, gs0 = g.kernel_arrays()                 # the gas's own arrays: its properties are these kernels
+        gs = np.append(gs0, h_fuel_liquid(p.T_fuel_K, g))
         bl = np.array([[b.frac_W, b.frac_P, b.frac_work, _SINK[b.sink], b.sink_frac_P] for b in p.bleeds],
                       dtype=float).reshape(-1, 5)
         return cls(e, gc, gs, bl, maps, g)  # type: ignore[arg-type]

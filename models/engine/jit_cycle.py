@@ -28,10 +28,13 @@ from typing import Any
 import numpy as np
 
 from . import jit_kernels as K
+from .compressor import compress_exit
+from .flow import mix_state
 from .jit_freestream import atm_array
 from .jit_freestream import free_stream as compiled_free_stream
 from .jit_kernels import jit
 from .shaft import TERM_INDEX, TURBOFAN_SHAFTS, spool_balance, term_arrays
+from .turbine import expand_h
 
 __all__ = ["OUT", "FastCycle"]
 
@@ -54,24 +57,21 @@ _T_HPT, _T_HPC, _T_PHP, _T_LPT, _T_FO, _T_FI, _T_BO, _T_PLP = (
 @jit
 def _compress(gc: np.ndarray, gs: np.ndarray, W: float, T: float, P: float, f: float, ht: float, PR: float,
               eta: float, err: np.ndarray) -> tuple[float, float, float]:
-    """Exit (Tt [K], ht [J/kg], Pt [Pa]) of :func:`.compressor.compressor` without bleeds."""
+    """Exit (Tt [K], ht [J/kg], Pt [Pa]) of :func:`.compressor.compressor` without bleeds, with its checks."""
     if not (PR >= 1.0) or not (0.0 < eta <= 1.0):
         err[0] = 1
         return T, ht, P
-    Tis = K.T_isentropic(gc, gs, T, PR, f, T * PR ** 0.2857, err)
-    ho = ht + (K.h(gc, gs, Tis, f, err) - ht) / eta
     if not (W >= 0.0 and math.isfinite(W)) or not (P * PR > 0.0 and math.isfinite(P * PR)):
         err[0] = 1
-    To = K.T_from_h(gc, gs, ho, f, T + (Tis - T) / eta, err)
+    To, ho = compress_exit(gc, gs, T, f, ht, PR, eta, err)
     return To, ho, P * PR
 
 
 @jit
 def _expand(gc: np.ndarray, gs: np.ndarray, T: float, f: float, ht: float, P_from: float, P_to: float,
             eta: float, err: np.ndarray) -> float:
-    """Exit enthalpy [J/kg] of :func:`.turbine._expand`."""
-    Tis = K.T_isentropic(gc, gs, T, P_to / P_from, f, T * (P_to / P_from) ** 0.25, err)
-    return ht - eta * (ht - K.h(gc, gs, Tis, f, err))
+    """Exit enthalpy [J/kg] of :func:`.turbine._expand` (:func:`.turbine.expand_h`)."""
+    return expand_h(gc, gs, T, f, ht, P_from, P_to, eta, err)
 
 
 @jit
@@ -96,23 +96,8 @@ def _nozzle(gc: np.ndarray, gs: np.ndarray, W: float, T: float, P: float, f: flo
 @jit
 def _mix_T(gc: np.ndarray, gs: np.ndarray, W: np.ndarray, T: np.ndarray, f: np.ndarray, ht: np.ndarray, n: int,
            err: np.ndarray) -> tuple[float, float, float, float]:
-    """(W, Tt, FAR, ht) of :func:`.flow.mix` of the first n streams."""
-    Ws = air = fuel = H = WT = 0.0
-    for i in range(n):
-        Ws += W[i]
-    if not Ws > 0.0:
-        err[0] = 1
-        return 1.0, 300.0, 0.0, 0.0
-    for i in range(n):
-        air += W[i] / (1.0 + f[i])
-    for i in range(n):
-        fuel += W[i] * f[i] / (1.0 + f[i])
-    for i in range(n):
-        H += W[i] * ht[i]
-    for i in range(n):
-        WT += W[i] * T[i]
-    F = fuel / air
-    return Ws, K.T_from_h(gc, gs, H / Ws, F, WT / Ws, err), F, H / Ws
+    """(W, Tt, FAR, ht) of :func:`.flow.mix` of the first n streams (:func:`.flow.mix_state`)."""
+    return mix_state(gc, gs, W, T, f, ht, n, err)
 
 
 @jit

@@ -30,6 +30,7 @@ import numpy as np
 from . import jit_kernels as K
 from .compressor import compress_exit
 from .flow import mix_state
+from .nozzle import convergent_throat
 from .jit_freestream import atm_array
 from .jit_freestream import free_stream as compiled_free_stream
 from .jit_kernels import jit
@@ -77,20 +78,12 @@ def _expand(gc: np.ndarray, gs: np.ndarray, T: float, f: float, ht: float, P_fro
 @jit
 def _nozzle(gc: np.ndarray, gs: np.ndarray, W: float, T: float, P: float, f: float, ht: float, Pa: float,
             Cv: float, err: np.ndarray) -> tuple[float, float]:
-    """(gross thrust [N], effective area [m2]) of :func:`.nozzle.convergent_nozzle`."""
+    """(gross thrust [N], effective area [m2]) of :func:`.nozzle.convergent_nozzle` (:func:`.nozzle.convergent_throat`)."""
     if P < Pa:
         err[0] = 1
         return 0.0, 1.0
-    Ts, p_pt = K.static_from_total(gc, gs, T, 1.0, f, err)
-    Ps = P * p_pt
-    choked = Pa <= Ps
-    if not choked:
-        Ts = K.T_isentropic(gc, gs, T, Pa / P, f, T, err)
-        Ps = Pa
-    V = math.sqrt(max(2.0 * (ht - K.h(gc, gs, Ts, f, err)), 0.0))
-    R_ = K.R(gs, f)
-    A = W / (Ps / (R_ * Ts) * V) if V > 0.0 else math.inf
-    return Cv * W * V + ((Ps - Pa) * A if choked else 0.0), A
+    res = convergent_throat(gc, gs, W, T, P, f, ht, Pa, Cv, err)
+    return res[5], res[3]
 
 
 @jit

@@ -23,25 +23,15 @@ import pytest
 
 from openemss.models.engine import shaft
 from openemss.models.engine.cycle_design import DesignPoint, design
-from openemss.models.engine.design_params import load_params, preset_path, replace
+from openemss.models.engine.design_params import replace
 from openemss.models.engine.engine_model import FLAGS, OUTPUTS, EngineInputs, EngineLimits, EngineModel
 from openemss.models.engine.errors import OutOfRangeError
-from openemss.models.engine.offdesign import TurbofanOffDesign, scaled_maps
+from openemss.models.engine.offdesign import TurbofanOffDesign
 from openemss.models.engine.transient import TurbofanTransient
 from test_offdesign import closure
 
 P_PORT_W = 150e3          # a port power of 4 % (HP) to 6 % (LP) of the design spool powers
 _LIMITED = [n for n, _ in FLAGS].index("shaft_power_limited")
-
-
-@pytest.fixture(scope="module")
-def dp() -> DesignPoint:
-    return design(load_params(preset_path("larzac04_sls")))
-
-
-@pytest.fixture(scope="module")
-def od(dp: DesignPoint) -> TurbofanOffDesign:
-    return TurbofanOffDesign(dp, scaled_maps(dp))
 
 
 def _H(st, k: str) -> float:  # type: ignore[no-untyped-def]
@@ -50,8 +40,9 @@ def _H(st, k: str) -> float:  # type: ignore[no-untyped-def]
 
 @pytest.mark.parametrize("spool", ["hp", "lp"])
 @pytest.mark.parametrize("P_X", [P_PORT_W, -P_PORT_W, 0.0])
-def test_steady_shaft_balance_by_hand(od: TurbofanOffDesign, spool: str, P_X: float) -> None:
+def test_steady_shaft_balance_by_hand(larzac_od: TurbofanOffDesign, spool: str, P_X: float) -> None:
     """Turbine power = (compressor power + P_X) / eta_mech from the stations (enthalpy flows), 1e-8."""
+    od = larzac_od
     kw = {"offtake_hp_W": P_X if spool == "hp" else 0.0, "offtake_lp_W": P_X if spool == "lp" else 0.0}
     pt = od.solve(3000.0, 0.5, N1_pct=90.0, **kw)
     p, st = od.p, pt.stations
@@ -69,7 +60,8 @@ def test_steady_shaft_balance_by_hand(od: TurbofanOffDesign, spool: str, P_X: fl
     assert pt.powers_W["mech_lp"] == pytest.approx((1.0 - p.eta_mech_lp) * P_lpt, rel=1e-8)
 
 
-def test_an_offtake_needs_more_fuel_an_assist_less(od: TurbofanOffDesign) -> None:
+def test_an_offtake_needs_more_fuel_an_assist_less(larzac_od: TurbofanOffDesign) -> None:
+    od = larzac_od
     base = od.solve(3000.0, 0.5, N1_pct=90.0)
     take = od.solve(3000.0, 0.5, N1_pct=90.0, offtake_lp_W=P_PORT_W, guess=base)
     give = od.solve(3000.0, 0.5, N1_pct=90.0, offtake_lp_W=-P_PORT_W, guess=base)
@@ -78,16 +70,19 @@ def test_an_offtake_needs_more_fuel_an_assist_less(od: TurbofanOffDesign) -> Non
 
 
 @pytest.mark.parametrize("P_X", [P_PORT_W, -P_PORT_W])
-def test_energy_closes_with_the_port(od: TurbofanOffDesign, dp: DesignPoint, P_X: float) -> None:
+def test_energy_closes_with_the_port(larzac_od: TurbofanOffDesign, larzac_dp: DesignPoint, P_X: float) -> None:
     """Whole engine: air and fuel energy in = jets, overboard, losses and the port's power out (1e-9)."""
+    od = larzac_od
+    dp = larzac_dp
     pt = od.solve(3000.0, 0.5, N1_pct=90.0, offtake_hp_W=0.4 * P_X, offtake_lp_W=0.6 * P_X)
     dm, de = closure(pt, dp, offtake_W=P_X)
     assert abs(dm) < 1e-9 and abs(de) < 1e-9
 
 
 @pytest.mark.parametrize("P_X", [P_PORT_W, -P_PORT_W])
-def test_compiled_and_python_residuals_agree_with_a_port(od: TurbofanOffDesign, P_X: float) -> None:
+def test_compiled_and_python_residuals_agree_with_a_port(larzac_od: TurbofanOffDesign, P_X: float) -> None:
     """The one spool balance (shaft.spool_balance) compiled in the kernel and called from Python."""
+    od = larzac_od
     fc = od.fast
     if fc is None:
         pytest.skip("numba not available")
@@ -129,8 +124,9 @@ def test_shaft_functions_take_signed_ports() -> None:
         shaft.net_power(1.0, [1.0], math.nan)
 
 
-def test_design_with_an_assist(dp: DesignPoint) -> None:
+def test_design_with_an_assist(larzac_dp: DesignPoint) -> None:
     """A design point with an LP motor: the LPT delivers (P_fan - P_assist) / eta_mech."""
+    dp = larzac_dp
     p = replace(dp.params, offtake_lp_W=-P_PORT_W)
     d = design(p)
     c = d.components
@@ -140,8 +136,9 @@ def test_design_with_an_assist(dp: DesignPoint) -> None:
 
 
 @pytest.mark.parametrize("spool", ["hp", "lp"])
-def test_port_changes_the_acceleration_by_the_spool_equation(od: TurbofanOffDesign, spool: str) -> None:
+def test_port_changes_the_acceleration_by_the_spool_equation(larzac_od: TurbofanOffDesign, spool: str) -> None:
     """Same speeds and fuel: dN/dt(P_X) - dN/dt(0) = -P_X / (I omega) * 30/pi, the gas path unchanged."""
+    od = larzac_od
     tr = TurbofanTransient(od)
     pt = od.solve(3000.0, 0.5, N1_pct=85.0)
     kw = {f"offtake_{spool}_W": -P_PORT_W}
@@ -154,9 +151,10 @@ def test_port_changes_the_acceleration_by_the_spool_equation(od: TurbofanOffDesi
     assert s1.point.Fn_N == pytest.approx(s0.point.Fn_N, rel=1e-7)
 
 
-def test_energy_of_a_spool_run_up_by_an_assist(od: TurbofanOffDesign) -> None:
+def test_energy_of_a_spool_run_up_by_an_assist(larzac_od: TurbofanOffDesign) -> None:
     """LP motor switched on at fixed fuel: the integral of the net power (turbine, fan, losses and the
     motor) equals the change of 1/2 I omega^2 (Heun's trapezoid, 2e-3), and N1 rises."""
+    od = larzac_od
     tr = TurbofanTransient(od)
     a = od.solve(N1_pct=80.0)
     dt, n = 0.005, 300

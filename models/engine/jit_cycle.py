@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from . import jit_kernels as K
+from .combustion import burner_exit_T
 from .compressor import compress_exit
 from .flow import mix_state
 from .nozzle import convergent_throat
@@ -258,9 +259,7 @@ def cycle(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: np.
     f4 = 0.0 + Wf / (W31 / (1.0 + 0.0))
     if not (0.0 <= f4 <= gs[1]):
         return 1
-    ha3, hf3 = K.h_parts(gc, gs, T3, err)
-    q = (f4 - 0.0) * (e[_ETAB] * gs[12] + gs[13])
-    Tt4 = K.T_from_h(gc, gs, (ha3 + 0.0 * hf3 + q) / (1.0 + f4), f4, e[_TT4D], err) if Wf > 0 else T3
+    Tt4 = burner_exit_T(gc, gs, T3, 0.0, f4, e[_ETAB], gs[13], e[_TT4D], err) if Wf > 0 else T3
     W4 = W31 + W31 / (1.0 + 0.0) * (f4 - 0.0)
     P4 = P3 * (1.0 - e[_DPB])
     h4 = K.h(gc, gs, Tt4, f4, err)

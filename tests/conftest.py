@@ -73,6 +73,21 @@ def oscillator(tmp_path: Path, fmu_dir: Path) -> Path:
     return folder
 
 
+@pytest.fixture(scope="session")
+def larzac_dp():  # noqa: ANN201
+    """The Larzac 04 preset's design point (SLS, ISA), shared by the engine tests."""
+    from openemss.models.engine.cycle_design import design
+    from openemss.models.engine.design_params import load_params, preset_path
+    return design(load_params(preset_path("larzac04_sls")))
+
+
+@pytest.fixture(scope="session")
+def larzac_od(larzac_dp):  # noqa: ANN001, ANN201
+    """Its off-design model on the shipped (extended) maps."""
+    from openemss.models.engine.offdesign import TurbofanOffDesign, scaled_maps
+    return TurbofanOffDesign(larzac_dp, scaled_maps(larzac_dp))
+
+
 # Two test modules run in a process of their own (tests/airframe/test_isolated.py), unless asked here: the
 # suite segfaulted in garbage collection after them (5 times in some 30 full runs; in the airframe and common
 # tests alone, 1 run in 3 with test_airframe_weather.py, none in 4 without it). That module drives the

@@ -22,11 +22,28 @@ B. J. McBride, M. J. Zehe, S. Gordon, NASA/TP-2002-211556, 2002 (Jet-A(L) enthal
 
 from __future__ import annotations
 
+import math
+
+import numpy as np
+
+from . import jit_kernels as K
 from .errors import OutOfRangeError
 from .gas import DEFAULT_GAS, FUEL_LIQUID_SPECIES, GasModel
+from .jit_kernels import jit
 from .thermo import T_REF_K
 
-__all__ = ["h_fuel_liquid", "far_burner", "T_burner_exit"]
+__all__ = ["h_fuel_liquid", "far_burner", "T_burner_exit", "burner_exit_T"]
+
+
+@jit
+def burner_exit_T(gc: np.ndarray, gs: np.ndarray, Tt3_K: float, FAR_in: float, FAR_out: float, eta_b: float,
+                  h_fuel_J_kg: float, T_guess_K: float, err: np.ndarray) -> float:
+    """Burner exit total temperature [K] from the energy balance of :func:`T_burner_exit` (h_fuel_J_kg: the
+    liquid fuel's enthalpy, :func:`h_fuel_liquid`; gs[12] the LHV): the one implementation, compiled
+    (:mod:`.jit_cycle`) and called by :func:`T_burner_exit`; ``err[0]`` set where the gas tables end."""
+    ha3, hf3 = K.h_parts(gc, gs, Tt3_K, err)
+    q = (FAR_out - FAR_in) * (eta_b * gs[12] + h_fuel_J_kg)
+    return K.T_from_h(gc, gs, (ha3 + FAR_in * hf3 + q) / (1.0 + FAR_out), FAR_out, T_guess_K, err)
 
 
 def h_fuel_liquid(T_fuel_K: float, gas: GasModel = DEFAULT_GAS) -> float:
@@ -130,6 +147,12 @@ def T_burner_exit(Tt3_K: float, FAR_out: float, eta_b: float = 1.0, FAR_in: floa
         raise OutOfRangeError(
             f"combustion.T_burner_exit: FAR_out={FAR_out!r} is outside the valid range "
             f"FAR_in={FAR_in!r} to {gas.FAR_stoich:.6f}")
-    ha3, hf3 = gas.h_parts(Tt3_K)
-    q = (FAR_out - FAR_in) * (eta_b * gas.LHV_J_kg + h_fuel_liquid(T_fuel_K, gas))
-    return gas.T_from_h((ha3 + FAR_in * hf3 + q) / (1.0 + FAR_out), FAR_out, T_guess_K)
+    gas.h_parts(Tt3_K)                               # raises with its message if Tt3 is out of range
+    err = np.zeros(1, np.int64)
+    gc, gs = gas.kernel_arrays()
+    T4 = float(burner_exit_T(gc, gs, Tt3_K, FAR_in, FAR_out, eta_b, h_fuel_liquid(T_fuel_K, gas),
+                             math.nan if T_guess_K is None else T_guess_K, err))
+    if err[0]:
+        raise OutOfRangeError(f"combustion.T_burner_exit: the exit enthalpy at Tt3={Tt3_K!r} K, FAR_out={FAR_out!r}, "
+                              f"eta_b={eta_b!r} lies beyond the gas tables ({K.T_MIN} K to {K.T_MAX} K)")
+    return T4

@@ -28,12 +28,30 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+import numpy as np
+
+from . import jit_kernels as K
 from .bleed import BleedSpec, bleed_station
 from .errors import OutOfRangeError
-from .flow import FlowStation, flow_hP
+from .flow import FlowStation, check_flow
 from .gas import DEFAULT_GAS, GasModel
+from .jit_kernels import jit
 
-__all__ = ["CompressorResult", "compressor", "efficiency_poly_to_isentropic"]
+__all__ = ["CompressorResult", "compressor", "compress_exit", "efficiency_poly_to_isentropic"]
+
+
+@jit
+def compress_exit(gc: np.ndarray, gs: np.ndarray, Tt_K: float, FAR: float, ht_J_kg: float, PR: float, eta_is: float,
+                  err: np.ndarray) -> tuple[float, float]:
+    """Exit (Tt [K], ht [J/kg]) of a compression by `PR` [-] at isentropic efficiency `eta_is` [-]: the one
+    implementation, compiled (:mod:`.jit_cycle`) and called by :func:`compressor`.
+
+    ht_out = ht_in + (h(T_is) - ht_in) / eta_is, T_is the isentropic exit temperature; ``err[0]`` is set where a
+    temperature leaves the gas tables (:mod:`.jit_kernels`).
+    """
+    T_is = K.T_isentropic(gc, gs, Tt_K, PR, FAR, Tt_K * PR ** 0.2857, err)
+    ht_out = ht_J_kg + (K.h(gc, gs, T_is, FAR, err) - ht_J_kg) / eta_is
+    return K.T_from_h(gc, gs, ht_out, FAR, Tt_K + (T_is - Tt_K) / eta_is, err), ht_out
 
 
 @dataclass(frozen=True, slots=True)
@@ -92,9 +110,14 @@ def compressor(fs_in: FlowStation, PR: float, eta_is: float, bleeds: Sequence[Bl
     if not (0.0 < eta_is <= 1.0):
         raise OutOfRangeError(f"compressor: eta_is={eta_is!r} is outside the valid range (0, 1]")
     f = fs_in.FAR
-    Tt_is = gas.T_isentropic(fs_in.Tt_K, PR, f, fs_in.Tt_K * PR ** 0.2857)
-    ht_out = fs_in.ht_J_kg + (gas.h(Tt_is, f) - fs_in.ht_J_kg) / eta_is
-    full = flow_hP(fs_in.W_kg_s, ht_out, fs_in.Pt_Pa * PR, f, gas, fs_in.Tt_K + (Tt_is - fs_in.Tt_K) / eta_is)
+    check_flow("compressor", fs_in.W_kg_s, fs_in.Pt_Pa * PR)
+    err = np.zeros(1, np.int64)
+    gc, gs = gas.kernel_arrays()
+    Tt_out, ht_out = compress_exit(gc, gs, fs_in.Tt_K, f, fs_in.ht_J_kg, PR, eta_is, err)
+    if err[0]:
+        raise OutOfRangeError(f"compressor: compressing Tt={fs_in.Tt_K!r} K, FAR={f!r} by PR={PR!r} at eta_is="
+                              f"{eta_is!r} leaves the gas tables ({K.T_MIN} K to {K.T_MAX} K)")
+    full = FlowStation(fs_in.W_kg_s, float(Tt_out), fs_in.Pt_Pa * PR, f, float(ht_out))
     streams = tuple(bleed_station(b, fs_in, full, gas) for b in bleeds)
     W_inter = sum(s.W_kg_s for b, s in zip(bleeds, streams, strict=True) if not b.at_exit)
     W_all = sum(s.W_kg_s for s in streams)

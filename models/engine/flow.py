@@ -26,10 +26,14 @@ import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 
+import numpy as np
+
+from . import jit_kernels as K
 from .errors import OutOfRangeError
 from .gas import DEFAULT_GAS, GasModel
+from .jit_kernels import jit
 
-__all__ = ["T_STD_K", "P_STD_PA", "FlowStation", "flow_TP", "flow_hP", "mix", "split",
+__all__ = ["T_STD_K", "P_STD_PA", "FlowStation", "check_flow", "flow_TP", "flow_hP", "mix", "mix_state", "split",
            "StaticState", "static_at_mach", "static_at_pressure", "total_from_static"]
 
 #: Reference temperature of corrected quantities [K] (ISA sea level).
@@ -96,7 +100,8 @@ class FlowStation:
         return FlowStation(self.W_kg_s, self.Tt_K, Pt_Pa, self.FAR, self.ht_J_kg)
 
 
-def _check_flow(where: str, W_kg_s: float, Pt_Pa: float) -> None:
+def check_flow(where: str, W_kg_s: float, Pt_Pa: float) -> None:
+    """Raise :class:`~.errors.OutOfRangeError` (naming `where`) unless W >= 0 and Pt > 0 are finite."""
     if not (W_kg_s >= 0.0 and math.isfinite(W_kg_s)):
         raise OutOfRangeError(f"{where}: W_kg_s={W_kg_s!r} must be finite and >= 0")
     if not (Pt_Pa > 0.0 and math.isfinite(Pt_Pa)):
@@ -106,14 +111,14 @@ def _check_flow(where: str, W_kg_s: float, Pt_Pa: float) -> None:
 def flow_TP(W_kg_s: float, Tt_K: float, Pt_Pa: float, FAR: float = 0.0,
             gas: GasModel = DEFAULT_GAS) -> FlowStation:
     """Flow station from mass flow [kg/s], total temperature [K], total pressure [Pa], FAR [-]."""
-    _check_flow("flow_TP", W_kg_s, Pt_Pa)
+    check_flow("flow_TP", W_kg_s, Pt_Pa)
     return FlowStation(W_kg_s, Tt_K, Pt_Pa, FAR, gas.h(Tt_K, FAR))
 
 
 def flow_hP(W_kg_s: float, ht_J_kg: float, Pt_Pa: float, FAR: float = 0.0,
             gas: GasModel = DEFAULT_GAS, T_guess_K: float | None = None) -> FlowStation:
     """Flow station from mass flow [kg/s], total enthalpy [J/kg], total pressure [Pa], FAR [-]."""
-    _check_flow("flow_hP", W_kg_s, Pt_Pa)
+    check_flow("flow_hP", W_kg_s, Pt_Pa)
     return FlowStation(W_kg_s, gas.T_from_h(ht_J_kg, FAR, T_guess_K), Pt_Pa, FAR, ht_J_kg)
 
 
@@ -141,12 +146,39 @@ def mix(streams: Iterable[FlowStation], Pt_Pa: float | None = None,
     W = sum(x.W_kg_s for x in s)
     if not W > 0.0:
         raise OutOfRangeError(f"flow.mix: total mass flow {W!r} kg/s must be > 0")
-    air = sum(x.W_air_kg_s for x in s)
-    fuel = sum(x.W_fuel_kg_s for x in s)
-    H = sum(x.H_W for x in s)
-    FAR = fuel / air
-    T_guess = sum(x.W_kg_s * x.Tt_K for x in s) / W
-    return flow_hP(W, H / W, s[0].Pt_Pa if Pt_Pa is None else Pt_Pa, FAR, gas, T_guess)
+    P = s[0].Pt_Pa if Pt_Pa is None else Pt_Pa
+    check_flow("flow.mix", W, P)
+    a = np.array([(x.W_kg_s, x.Tt_K, x.FAR, x.ht_J_kg) for x in s]).T.copy()
+    gc, gs = gas.kernel_arrays()
+    err = np.zeros(1, np.int64)
+    Wm, Tm, FAR, hm = mix_state(gc, gs, a[0], a[1], a[2], a[3], len(s), err)
+    if err[0]:
+        raise OutOfRangeError(f"flow.mix: the mixed stream (W={W!r} kg/s, ht={hm!r} J/kg, FAR={FAR!r}) is outside "
+                              f"the gas tables")
+    return FlowStation(float(Wm), float(Tm), P, float(FAR), float(hm))
+
+
+@jit
+def mix_state(gc: np.ndarray, gs: np.ndarray, W: np.ndarray, T: np.ndarray, f: np.ndarray, ht: np.ndarray, n: int,
+              err: np.ndarray) -> tuple[float, float, float, float]:
+    """(W [kg/s], Tt [K], FAR [-], ht [J/kg]) of the adiabatic mixture of the first n streams (mass, air, fuel
+    and enthalpy conserved): the one implementation, compiled (:mod:`.jit_cycle`) and called by :func:`mix`."""
+    Ws = air = fuel = H = WT = 0.0
+    for i in range(n):
+        Ws += W[i]
+    if not Ws > 0.0:
+        err[0] = 1
+        return 1.0, 300.0, 0.0, 0.0
+    for i in range(n):
+        air += W[i] / (1.0 + f[i])
+    for i in range(n):
+        fuel += W[i] * f[i] / (1.0 + f[i])
+    for i in range(n):
+        H += W[i] * ht[i]
+    for i in range(n):
+        WT += W[i] * T[i]
+    F = fuel / air
+    return Ws, K.T_from_h(gc, gs, H / Ws, F, WT / Ws, err), F, H / Ws
 
 
 def split(fs: FlowStation, fraction: float) -> tuple[FlowStation, FlowStation]:

@@ -43,6 +43,9 @@ import math
 from dataclasses import dataclass, field
 from typing import Mapping
 
+import numpy as np
+
+from . import jit_kernels as _K
 from .errors import ConvergenceError, ModelError, OutOfRangeError
 from .thermo import T_REF_K, ThermoData, load_thermo_data
 
@@ -69,10 +72,9 @@ HC_RATIO_JET_A: float = 23.0 / 12.0
 _SPECIES: tuple[str, ...] = ("N2", "O2", "Ar", "CO2", "H2O")
 #: Species of the data file whose enthalpy stands for the liquid fuel's.
 FUEL_LIQUID_SPECIES: str = "Jet-A(L)"
-_MAX_ITER: int = 30
-#: Newton stops once a step is below this [K]; the error left after such a step
-#: is about (dcp/dT)/(2 cp) * step^2 < 3e-4/K * (1e-5 K)^2, i.e. < 1e-13 K.
-_STEP_TOL_K: float = 1e-5
+_MAX_ITER: int = _K.MAX_ITER
+#: A scratch error flag for the kernels whose inputs were checked here (they cannot set it).
+_SCRATCH = np.zeros(1, np.int64)
 
 Coeffs = tuple[float, ...]
 
@@ -113,11 +115,6 @@ def _continuous(lo: tuple[Coeffs, Coeffs, Coeffs], hi: tuple[Coeffs, Coeffs, Coe
     h8 = h8[:7] + (h8[7] + _h(lo[1], T_mid) - _h(h8, T_mid),)
     s8 = s8[:7] + (s8[7] + _phi(lo[2], T_mid) - _phi(s8, T_mid),)
     return cp7, h8, s8
-
-
-def _cp(c: Coeffs, T: float) -> float:
-    i = 1.0 / T
-    return i * (c[0] * i + c[1]) + c[2] + T * (c[3] + T * (c[4] + T * (c[5] + T * c[6])))
 
 
 def _h(c: Coeffs, T: float) -> float:
@@ -180,6 +177,8 @@ class GasModel:
     _hi: tuple[Coeffs, ...] = field(init=False, repr=False, compare=False)
     _h_bounds: tuple[float, float, float, float] = field(init=False, repr=False, compare=False)
     _phi_bounds: tuple[float, float, float, float] = field(init=False, repr=False, compare=False)
+    _gc: np.ndarray = field(init=False, repr=False, compare=False)
+    _gs: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         y, data = self.hc_ratio, self.data
@@ -226,6 +225,14 @@ class GasModel:
                               _h(hi_a[1], T_MAX_K), _h(hi_f[1], T_MAX_K)))
         s(self, "_phi_bounds", (_phi(lo_a[2], T_MIN_K), _phi(lo_f[2], T_MIN_K),
                                 _phi(hi_a[2], T_MAX_K), _phi(hi_f[2], T_MAX_K)))
+        gc = np.zeros((2, 6, 8))                 # the layout of jit_kernels (its module docstring)
+        for k, iv in enumerate((self._lo, self._hi)):
+            for j, c in enumerate(iv):
+                gc[k, j, :len(c)] = c
+        gs = np.array([T_mid, self.FAR_stoich, *self._h_bounds, *self._phi_bounds, self._RA, self._RB,
+                       self.LHV_J_kg])
+        s(self, "_gc", gc)
+        s(self, "_gs", gs)
 
     # ------------------------------------------------------------------ checks
     def _T_error(self, where: str, T_K: float) -> OutOfRangeError:
@@ -239,46 +246,42 @@ class GasModel:
             f"(lean complete combustion of CH{self.hc_ratio:.4g} in dry air)")
 
     # -------------------------------------------------------------- properties
+    # The formulas are written once, in jit_kernels (compiled by numba, or plain Python without it); the
+    # methods here check the arguments, raise with the full message and call them.
+    def kernel_arrays(self) -> tuple[np.ndarray, np.ndarray]:
+        """The coefficient arrays of the compiled gas functions, (gc, gs) as :mod:`.jit_kernels` lays them out
+        (gs without the liquid fuel's enthalpy, which a burner appends). Shared: not to be changed (left writeable
+        so that numba compiles one signature for them and for the arrays derived from them)."""
+        return self._gc, self._gs
+
     def R(self, FAR: float = 0.0) -> float:
         """Specific gas constant R [J/(kg K)] of the mixture at `FAR` [-]."""
         if FAR == 0.0:
             return self._RA
         if not (0.0 <= FAR <= self.FAR_stoich):
             raise self._far_error("R", FAR)
-        return (self._RA + FAR * self._RB) / (1.0 + FAR)
+        return float(_K.R(self._gs, FAR))
+
+    def _checked(self, where: str, T_K: float, FAR: float) -> None:
+        if not (T_MIN_K <= T_K <= T_MAX_K):
+            raise self._T_error(where, T_K)
+        if not (0.0 <= FAR <= self.FAR_stoich):
+            raise self._far_error(where, FAR)
 
     def cp(self, T_K: float, FAR: float = 0.0) -> float:
         """Isobaric specific heat capacity cp [J/(kg K)] at `T_K` [K] and `FAR` [-]."""
-        if not (T_MIN_K <= T_K <= T_MAX_K):
-            raise self._T_error("cp", T_K)
-        c = self._lo if T_K <= self._T_mid else self._hi
-        if FAR == 0.0:
-            return _cp(c[0], T_K)
-        if not (0.0 <= FAR <= self.FAR_stoich):
-            raise self._far_error("cp", FAR)
-        return (_cp(c[0], T_K) + FAR * _cp(c[1], T_K)) / (1.0 + FAR)
+        self._checked("cp", T_K, FAR)
+        return float(_K.cp(self._gc, self._gs, T_K, FAR, _SCRATCH))
 
     def h(self, T_K: float, FAR: float = 0.0) -> float:
         """Sensible specific enthalpy h [J/kg], zero at 298.15 K, at `T_K` [K] and `FAR` [-]."""
-        if not (T_MIN_K <= T_K <= T_MAX_K):
-            raise self._T_error("h", T_K)
-        c = self._lo if T_K <= self._T_mid else self._hi
-        if FAR == 0.0:
-            return _h(c[2], T_K)
-        if not (0.0 <= FAR <= self.FAR_stoich):
-            raise self._far_error("h", FAR)
-        return (_h(c[2], T_K) + FAR * _h(c[3], T_K)) / (1.0 + FAR)
+        self._checked("h", T_K, FAR)
+        return float(_K.h(self._gc, self._gs, T_K, FAR, _SCRATCH))
 
     def phi(self, T_K: float, FAR: float = 0.0) -> float:
         """Entropy function phi = int_{298.15 K}^{T} cp/T dT [J/(kg K)] at `T_K` [K], `FAR` [-]."""
-        if not (T_MIN_K <= T_K <= T_MAX_K):
-            raise self._T_error("phi", T_K)
-        c = self._lo if T_K <= self._T_mid else self._hi
-        if FAR == 0.0:
-            return _phi(c[4], T_K)
-        if not (0.0 <= FAR <= self.FAR_stoich):
-            raise self._far_error("phi", FAR)
-        return (_phi(c[4], T_K) + FAR * _phi(c[5], T_K)) / (1.0 + FAR)
+        self._checked("phi", T_K, FAR)
+        return float(_K.phi(self._gc, self._gs, T_K, FAR, _SCRATCH))
 
     def gamma(self, T_K: float, FAR: float = 0.0) -> float:
         """Ratio of specific heats cp/cv [-] at `T_K` [K] and `FAR` [-]."""
@@ -322,34 +325,17 @@ class GasModel:
         inv = 1.0 / (1.0 + f)
         ha_min, hf_min, ha_max, hf_max = self._h_bounds
         h_min, h_max = (ha_min + f * hf_min) * inv, (ha_max + f * hf_max) * inv
-        slack = 1e-12 * (h_max - h_min)       # rounding at the ends; T is clamped below
+        slack = 1e-12 * (h_max - h_min)       # rounding at the ends; T is clamped in the iteration
         if not (h_min - slack <= h_J_kg <= h_max + slack):
             raise OutOfRangeError(
                 f"gas.T_from_h: h_J_kg={h_J_kg!r} J/kg at FAR={f!r} is outside the valid range "
                 f"{h_min:.1f} J/kg to {h_max:.1f} J/kg (the enthalpies at {T_MIN_K} K and {T_MAX_K} K)")
-        if T_guess_K is None or not (T_MIN_K <= T_guess_K <= T_MAX_K):
-            T_guess_K = T_REF_K + h_J_kg / 1100.0
-        T = T_guess_K
-        T_mid, lo, hi, log = self._T_mid, self._lo, self._hi, math.log
-        for _ in range(_MAX_ITER):
-            T = T_MIN_K if T < T_MIN_K else (T_MAX_K if T > T_MAX_K else T)
-            c = lo if T <= T_mid else hi
-            i, lnT = 1.0 / T, log(T)
-            a, b = c[0], c[2]
-            cp_ = i * (a[0] * i + a[1]) + a[2] + T * (a[3] + T * (a[4] + T * (a[5] + T * a[6])))
-            h_ = b[0] * i + b[1] * lnT + T * (b[2] + T * (b[3] + T * (b[4] + T * (b[5] + T * b[6])))) + b[7]
-            if f != 0.0:
-                a, b = c[1], c[3]
-                cp_ = (cp_ + f * (i * (a[0] * i + a[1]) + a[2]
-                                  + T * (a[3] + T * (a[4] + T * (a[5] + T * a[6]))))) * inv
-                h_ = (h_ + f * (b[0] * i + b[1] * lnT + T * (b[2] + T * (b[3] + T * (
-                    b[4] + T * (b[5] + T * b[6])))) + b[7])) * inv
-            dT = (h_ - h_J_kg) / cp_
-            T -= dT
-            if -_STEP_TOL_K < dT < _STEP_TOL_K:
-                return T
-        raise ConvergenceError(f"gas.T_from_h: no convergence in {_MAX_ITER} Newton steps for "
-                               f"h_J_kg={h_J_kg!r} J/kg, FAR={f!r}; last step {dT!r} K")
+        err = np.zeros(1, np.int64)
+        T = float(_K.T_from_h(self._gc, self._gs, h_J_kg, f, math.nan if T_guess_K is None else T_guess_K, err))
+        if err[0]:
+            raise ConvergenceError(f"gas.T_from_h: no convergence in {_MAX_ITER} Newton steps for "
+                                   f"h_J_kg={h_J_kg!r} J/kg, FAR={f!r}")
+        return T
 
     def T_from_phi(self, phi_J_kgK: float, FAR: float = 0.0, T_guess_K: float | None = None) -> float:
         """Temperature [K] at which the entropy function equals `phi_J_kgK` [J/(kg K)].
@@ -375,29 +361,13 @@ class GasModel:
             raise OutOfRangeError(
                 f"gas.T_from_phi: phi_J_kgK={phi_J_kgK!r} J/(kg K) at FAR={f!r} is outside the valid "
                 f"range {p_min:.3f} to {p_max:.3f} J/(kg K) (phi at {T_MIN_K} K and {T_MAX_K} K)")
-        if T_guess_K is None or not (T_MIN_K <= T_guess_K <= T_MAX_K):
-            T_guess_K = T_REF_K * math.exp(phi_J_kgK / 1100.0)
-        T = T_guess_K
-        T_mid, lo, hi, log, exp = self._T_mid, self._lo, self._hi, math.log, math.exp
-        for _ in range(_MAX_ITER):
-            T = T_MIN_K if T < T_MIN_K else (T_MAX_K if T > T_MAX_K else T)
-            c = lo if T <= T_mid else hi
-            i, lnT = 1.0 / T, log(T)
-            a, b = c[0], c[4]
-            cp_ = i * (a[0] * i + a[1]) + a[2] + T * (a[3] + T * (a[4] + T * (a[5] + T * a[6])))
-            p_ = i * (b[0] * i + b[1]) + b[2] * lnT + T * (b[3] + T * (b[4] + T * (b[5] + T * b[6]))) + b[7]
-            if f != 0.0:
-                a, b = c[1], c[5]
-                cp_ = (cp_ + f * (i * (a[0] * i + a[1]) + a[2]
-                                  + T * (a[3] + T * (a[4] + T * (a[5] + T * a[6]))))) * inv
-                p_ = (p_ + f * (i * (b[0] * i + b[1]) + b[2] * lnT + T * (b[3] + T * (
-                    b[4] + T * (b[5] + T * b[6]))) + b[7])) * inv
-            T_new = T * exp((phi_J_kgK - p_) / cp_)
-            dT, T = T_new - T, T_new
-            if -_STEP_TOL_K < dT < _STEP_TOL_K:
-                return T
-        raise ConvergenceError(f"gas.T_from_phi: no convergence in {_MAX_ITER} Newton steps for "
-                               f"phi_J_kgK={phi_J_kgK!r}, FAR={f!r}; last step {dT!r} K")
+        err = np.zeros(1, np.int64)
+        T = float(_K.T_from_phi(self._gc, self._gs, phi_J_kgK, f, math.nan if T_guess_K is None else T_guess_K,
+                                err))
+        if err[0]:
+            raise ConvergenceError(f"gas.T_from_phi: no convergence in {_MAX_ITER} Newton steps for "
+                                   f"phi_J_kgK={phi_J_kgK!r}, FAR={f!r}")
+        return T
 
     def T_isentropic(self, T1_K: float, pressure_ratio: float, FAR: float = 0.0,
                      T_guess_K: float | None = None) -> float:
@@ -425,18 +395,14 @@ class GasModel:
         """
         if not (Mach >= 0.0):
             raise OutOfRangeError(f"gas.static_from_total: Mach={Mach!r} must be >= 0")
-        ht, R_ = self.h(Tt_K, FAR), self.R(FAR)
-        k = 0.5 * Mach * Mach * R_
-        T = Tt_K / (1.0 + k / (self.cp(Tt_K, FAR) - R_))          # constant-gamma estimate
-        for _ in range(_MAX_ITER):
-            c = self.cp(T, FAR)
-            g = c / (c - R_)
-            dT = (self.h(T, FAR) + k * g * T - ht) / (c + k * g)
-            T -= dT
-            if -1e-7 < dT < 1e-7:
-                return T, math.exp((self.phi(T, FAR) - self.phi(Tt_K, FAR)) / R_)
-        raise ConvergenceError(f"gas.static_from_total: no convergence in {_MAX_ITER} steps for "
-                               f"Tt_K={Tt_K!r} K, Mach={Mach!r}, FAR={FAR!r}; last step {dT!r} K")
+        self._checked("static_from_total", Tt_K, FAR)
+        err = np.zeros(1, np.int64)
+        T, p_pt = _K.static_from_total(self._gc, self._gs, Tt_K, Mach, FAR, err)
+        if err[0]:
+            raise OutOfRangeError(f"gas.static_from_total: at Tt_K={Tt_K!r} K, Mach={Mach!r}, FAR={FAR!r} the static "
+                                  f"temperature leaves the valid range {T_MIN_K} K to {T_MAX_K} K (or does not "
+                                  f"converge in {_MAX_ITER} steps)")
+        return float(T), float(p_pt)
 
     # --------------------------------------------------------------- burner
     def h_parts(self, T_K: float) -> tuple[float, float]:
@@ -448,8 +414,8 @@ class GasModel:
         """
         if not (T_MIN_K <= T_K <= T_MAX_K):
             raise self._T_error("h_parts", T_K)
-        c = self._lo if T_K <= self._T_mid else self._hi
-        return _h(c[2], T_K), _h(c[3], T_K)
+        ha, hf = _K.h_parts(self._gc, self._gs, T_K, _SCRATCH)
+        return float(ha), float(hf)
 
 
 #: The default gas: Jet-A (C12H23) products in dry air, LHV 43.1 MJ/kg.

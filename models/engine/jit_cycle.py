@@ -28,9 +28,15 @@ from typing import Any
 import numpy as np
 
 from . import jit_kernels as K
+from .combustion import burner_exit_T
+from .compressor import compress_exit
+from .flow import mix_state
+from .nozzle import convergent_throat
 from .jit_freestream import atm_array
 from .jit_freestream import free_stream as compiled_free_stream
 from .jit_kernels import jit
+from .shaft import TERM_INDEX, TURBOFAN_SHAFTS, spool_balance, term_arrays
+from .turbine import expand_h
 
 __all__ = ["OUT", "FastCycle"]
 
@@ -39,74 +45,53 @@ OUT = ("Fn", "Fg", "ram", "N1c", "N2c", "Tt4", "T41", "Tt21", "Tt17", "Tt7", "Pt
        "W2", "SM_fan", "SM_hpc", "P_hpt", "P_lpt", "P_hpc", "P_fan")
 _T_STD, _P_STD = 288.15, 101325.0
 _SINK = {"overboard": 0, "bypass": 1, "hpt": 2, "lpt": 3}
+# the declared shaft terms (shaft.TURBOFAN_SHAFTS): spool and kind of each, where each power goes in the vector
+_TERM_SPOOL, _TERM_KIND = term_arrays()
+_NTERM = len(TURBOFAN_SHAFTS)
+_T_HPT, _T_HPC, _T_PHP, _T_LPT, _T_FO, _T_FI, _T_BO, _T_PLP = (
+    TERM_INDEX[n] for n in ("hpt", "hpc", "port_hp", "lpt", "fan_outer", "fan_inner", "booster", "port_lp"))
 # indices into the engine parameter vector e
-(_W2, _PRh, _PRl, _Wf, _N1d, _N2d, _BPRd, _PI, _KIN, _EIN, _D2124, _D2425, _HBF, _HBO, _HBN2, _STG, _NSTG,
+(_W2, _PRh, _PRl, _Wf, _N1d, _N2d, _BPRd, _PI, _KIN, _EIN, _D2124, _D2425, _HBF, _HBO, _HBN1C, _STG, _NSTG,
  _ETAB, _DPB, _TT4D, _D4445, _D57, _BYB, _D1317, _CVC, _CDC, _CVB, _CDB, _EMH, _EML, _WC4, _WC45, _A8, _A18,
- _PHP, _PLP, _FN, _TT4R) = range(38)
+ _PHP, _PLP, _FN, _TT4R, _NC1D, _HBW) = range(40)
 
 
 @jit
 def _compress(gc: np.ndarray, gs: np.ndarray, W: float, T: float, P: float, f: float, ht: float, PR: float,
               eta: float, err: np.ndarray) -> tuple[float, float, float]:
-    """Exit (Tt [K], ht [J/kg], Pt [Pa]) of :func:`.compressor.compressor` without bleeds."""
+    """Exit (Tt [K], ht [J/kg], Pt [Pa]) of :func:`.compressor.compressor` without bleeds, with its checks."""
     if not (PR >= 1.0) or not (0.0 < eta <= 1.0):
         err[0] = 1
         return T, ht, P
-    Tis = K.T_isentropic(gc, gs, T, PR, f, T * PR ** 0.2857, err)
-    ho = ht + (K.h(gc, gs, Tis, f, err) - ht) / eta
     if not (W >= 0.0 and math.isfinite(W)) or not (P * PR > 0.0 and math.isfinite(P * PR)):
         err[0] = 1
-    To = K.T_from_h(gc, gs, ho, f, T + (Tis - T) / eta, err)
+    To, ho = compress_exit(gc, gs, T, f, ht, PR, eta, err)
     return To, ho, P * PR
 
 
 @jit
 def _expand(gc: np.ndarray, gs: np.ndarray, T: float, f: float, ht: float, P_from: float, P_to: float,
             eta: float, err: np.ndarray) -> float:
-    """Exit enthalpy [J/kg] of :func:`.turbine._expand`."""
-    Tis = K.T_isentropic(gc, gs, T, P_to / P_from, f, T * (P_to / P_from) ** 0.25, err)
-    return ht - eta * (ht - K.h(gc, gs, Tis, f, err))
+    """Exit enthalpy [J/kg] of :func:`.turbine._expand` (:func:`.turbine.expand_h`)."""
+    return expand_h(gc, gs, T, f, ht, P_from, P_to, eta, err)
 
 
 @jit
 def _nozzle(gc: np.ndarray, gs: np.ndarray, W: float, T: float, P: float, f: float, ht: float, Pa: float,
             Cv: float, err: np.ndarray) -> tuple[float, float]:
-    """(gross thrust [N], effective area [m2]) of :func:`.nozzle.convergent_nozzle`."""
+    """(gross thrust [N], effective area [m2]) of :func:`.nozzle.convergent_nozzle` (:func:`.nozzle.convergent_throat`)."""
     if P < Pa:
         err[0] = 1
         return 0.0, 1.0
-    Ts, p_pt = K.static_from_total(gc, gs, T, 1.0, f, err)
-    Ps = P * p_pt
-    choked = Pa <= Ps
-    if not choked:
-        Ts = K.T_isentropic(gc, gs, T, Pa / P, f, T, err)
-        Ps = Pa
-    V = math.sqrt(max(2.0 * (ht - K.h(gc, gs, Ts, f, err)), 0.0))
-    R_ = K.R(gs, f)
-    A = W / (Ps / (R_ * Ts) * V) if V > 0.0 else math.inf
-    return Cv * W * V + ((Ps - Pa) * A if choked else 0.0), A
+    res = convergent_throat(gc, gs, W, T, P, f, ht, Pa, Cv, err)
+    return res[5], res[3]
 
 
 @jit
 def _mix_T(gc: np.ndarray, gs: np.ndarray, W: np.ndarray, T: np.ndarray, f: np.ndarray, ht: np.ndarray, n: int,
            err: np.ndarray) -> tuple[float, float, float, float]:
-    """(W, Tt, FAR, ht) of :func:`.flow.mix` of the first n streams."""
-    Ws = air = fuel = H = WT = 0.0
-    for i in range(n):
-        Ws += W[i]
-    if not Ws > 0.0:
-        err[0] = 1
-        return 1.0, 300.0, 0.0, 0.0
-    for i in range(n):
-        air += W[i] / (1.0 + f[i])
-    for i in range(n):
-        fuel += W[i] * f[i] / (1.0 + f[i])
-    for i in range(n):
-        H += W[i] * ht[i]
-    for i in range(n):
-        WT += W[i] * T[i]
-    F = fuel / air
-    return Ws, K.T_from_h(gc, gs, H / Ws, F, WT / Ws, err), F, H / Ws
+    """(W, Tt, FAR, ht) of :func:`.flow.mix` of the first n streams (:func:`.flow.mix_state`)."""
+    return mix_state(gc, gs, W, T, f, ht, n, err)
 
 
 @jit
@@ -175,7 +160,7 @@ def cycle(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: np.
 
     fs: free stream (Tt0 [K], Pt0 [Pa], V0 [m/s], p_amb [Pa], Mach [-], ram recovery [-]);
     ctl: demand kind (0 Wf, 1 N1, 2 N1c, 3 Tt4, 4 Fn), demand value, customer bleed [-],
-    HP and LP offtakes [W], handling bleed override (NaN: the N2 schedule);
+    HP and LP shaft ports [W] (signed), handling bleed override (NaN: the corrected-N1 schedule);
     e: engine parameters (indices ``_W2`` ...); bl: bleeds (frac_W, frac_P, frac_work, sink, sink_frac_P);
     fan, hpc, hpt, lpt: (xg, yg, ihx, ihy, cells, lim, scalars, surge x, surge w) of the scaled maps, scalars
     (s_Wc, s_PR, s_eff, s_Nc, Nc_min clamp, Nc_max clamp).
@@ -222,7 +207,7 @@ def cycle(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: np.
             b[i, j] = bl[i, j]
     nb = nb0
     if math.isnan(ctl[5]):
-        s = (e[_HBN2] + 0.01 - N2 / e[_N2d]) / 0.02
+        s = (e[_HBN1C] + 0.5 * e[_HBW] - N1c / e[_NC1D]) / e[_HBW]
         s = 0.0 if s < 0.0 else (1.0 if s > 1.0 else s)
         hb = max(e[_HBF], e[_HBO] * (s * s * (3.0 - 2.0 * s)))
     else:
@@ -274,9 +259,7 @@ def cycle(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: np.
     f4 = 0.0 + Wf / (W31 / (1.0 + 0.0))
     if not (0.0 <= f4 <= gs[1]):
         return 1
-    ha3, hf3 = K.h_parts(gc, gs, T3, err)
-    q = (f4 - 0.0) * (e[_ETAB] * gs[12] + gs[13])
-    Tt4 = K.T_from_h(gc, gs, (ha3 + 0.0 * hf3 + q) / (1.0 + f4), f4, e[_TT4D], err) if Wf > 0 else T3
+    Tt4 = burner_exit_T(gc, gs, T3, 0.0, f4, e[_ETAB], gs[13], e[_TT4D], err) if Wf > 0 else T3
     W4 = W31 + W31 / (1.0 + 0.0) * (f4 - 0.0)
     P4 = P3 * (1.0 - e[_DPB])
     h4 = K.h(gc, gs, Tt4, f4, err)
@@ -338,8 +321,14 @@ def cycle(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: np.
     r[3] = (Wc_t2 - W44 * math.sqrt(T44 / _T_STD) / (P45 / _P_STD)) / e[_WC45]
     r[4] = A8 / e[_A8] - 1.0
     r[5] = A18 / e[_A18] - 1.0
-    r[6] = (e[_EMH] * P_hpt - P_hpc - off_hp) / e[_PHP]
-    r[7] = (e[_EML] * P_lpt - P_fo - P_fi - 0.0 - off_lp) / e[_PLP]
+    Pt = np.zeros(_NTERM)
+    Pt[_T_HPT], Pt[_T_HPC], Pt[_T_PHP], Pt[_T_LPT] = P_hpt, P_hpc, off_hp, P_lpt
+    Pt[_T_FO], Pt[_T_FI], Pt[_T_BO], Pt[_T_PLP] = P_fo, P_fi, 0.0, off_lp
+    eta_mech, net, loss = np.empty(2), np.empty(2), np.empty(2)
+    eta_mech[0], eta_mech[1] = e[_EMH], e[_EML]
+    spool_balance(Pt, _TERM_SPOOL, _TERM_KIND, eta_mech, net, loss)
+    r[6] = net[0] / e[_PHP]
+    r[7] = net[1] / e[_PLP]
     r[8] = r9
     sm_f = sm_h = math.nan
     if with_sm:
@@ -399,7 +388,6 @@ class FastCycle:
     def build(cls, od: Any) -> FastCycle | None:
         """Pack the design, gas and maps of `od` into arrays, or None (see the class docstring)."""
         from .combustion import h_fuel_liquid
-        from .gas import T_MAX_K, T_MIN_K, _h, _phi
         if not K.AVAILABLE or od.nb:
             return None
         p, m, ref, g = od.p, od.maps, od.ref, od.gas
@@ -413,19 +401,12 @@ class FastCycle:
             return None
         e = np.array([ref["W2"], ref["PRh"], ref["PRl"], ref["Wf"], p.N1_rpm, p.N2_rpm, p.BPR, p.inlet_pi,
                       od.k_inner, od.eff_ratio_inner, p.dPqP_21_24, p.dPqP_24_25, p.handling_bleed_frac, od.hb_open,
-                      od.hb_N2, p.handling_bleed_stage, p.hpc_stages, p.eta_burner, p.dPqP_burner, od.dp.Tt4_K,
+                      od.hb_N1c, p.handling_bleed_stage, p.hpc_stages, p.eta_burner, p.dPqP_burner, od.dp.Tt4_K,
                       p.dPqP_44_45, p.dPqP_5_7, p.bypass_bleed_frac, p.dPqP_13_17, p.Cv_core, p.Cd_core,
                       p.Cv_bypass, p.Cd_bypass, p.eta_mech_hp, p.eta_mech_lp, ref["Wc4"], ref["Wc45"], ref["A8"],
-                      ref["A18"], ref["P_hp"], ref["P_lp"], ref["Fn"], ref["Tt4"]], dtype=float)
-        gc = np.zeros((2, 6, 8))
-        for k, iv in enumerate((g._lo, g._hi)):
-            for s, c in enumerate(iv):
-                gc[k, s, :len(c)] = c
-        lo, hi = g._lo, g._hi
-        gs = np.array([g._T_mid, g.FAR_stoich, _h(lo[2], T_MIN_K), _h(lo[3], T_MIN_K), _h(hi[2], T_MAX_K),
-                       _h(hi[3], T_MAX_K), _phi(lo[4], T_MIN_K), _phi(lo[5], T_MIN_K), _phi(hi[4], T_MAX_K),
-                       _phi(hi[5], T_MAX_K), g._RA, g._RB, g.LHV_J_kg, h_fuel_liquid(p.T_fuel_K, g)])
-        assert np.allclose(gs[2:10], g._h_bounds + g._phi_bounds, rtol=0.0, atol=0.0)
+                      ref["A18"], ref["P_hp"], ref["P_lp"], ref["Fn"], ref["Tt4"], ref["Nc1"], od.hb_ramp], dtype=float)
+        gc, gs0 = g.kernel_arrays()                 # the gas's own arrays: its properties are these kernels
+        gs = np.append(gs0, h_fuel_liquid(p.T_fuel_K, g))
         bl = np.array([[b.frac_W, b.frac_P, b.frac_work, _SINK[b.sink], b.sink_frac_P] for b in p.bleeds],
                       dtype=float).reshape(-1, 5)
         return cls(e, gc, gs, bl, maps, g)  # type: ignore[arg-type]

@@ -1,15 +1,16 @@
-"""Compiled building blocks of the fast gas path: gas properties, their inverses, map tables, surge margin.
+"""Compiled building blocks of the gas path: gas properties, their inverses, map tables, surge margin.
 
-The same equations as :mod:`.gas` (NASA Glenn mixtures of air and lean combustion
-products), :mod:`.map_interp` (C1 bicubic Hermite tables with linear extrapolation)
-and :meth:`.maps.CompressorMap.surge_margin` (flow basis), written on plain floats and
-arrays so that numba compiles them (``njit``). The Python modules stay the reference;
-:mod:`.jit_cycle` builds the turbofan's residuals from these blocks and a test checks
-that both give the same residuals.
+The one implementation of the gas properties (NASA Glenn mixtures of air and lean combustion
+products): :class:`.gas.GasModel` checks its arguments and calls these functions, and the
+compiled cycle (:mod:`.jit_cycle`) calls them directly; written on plain floats and arrays
+so that numba compiles them (``njit``), and plain Python without numba (``OPENEMSS_NO_JIT``).
+The map tables follow :mod:`.map_interp` (C1 bicubic Hermite tables with linear
+extrapolation) and the surge margin :meth:`.maps.CompressorMap.surge_margin` (flow basis);
+``tests/engine/test_jit_cycle.py`` checks those against their Python versions.
 
 Errors are not raised here: a function that meets an input the Python version would
-refuse sets ``err[0] = 1`` and returns a finite dummy value; the caller then reruns
-the Python version, which raises with its full message.
+refuse sets ``err[0] = 1`` and returns a finite dummy value; the caller then raises
+(:class:`.gas.GasModel`) or reruns the Python version, which raises with its full message.
 
 Array layouts
 -------------
@@ -18,6 +19,7 @@ coefficients of cp_air, cp_fuel (7 used), h_air, h_fuel, phi_air, phi_fuel (8), 
 :func:`.gas._poly_coeffs` builds them (per kg of air and per kg of fuel burned).
 ``gs`` : T_mid, FAR_stoich, h_air(200 K), h_fuel(200 K), h_air(2200 K), h_fuel(2200 K),
 the same four for phi, R_air part, R_fuel part, LHV, h of the liquid fuel.
+Both from :meth:`.gas.GasModel.kernel_arrays` (the last added by the cycle).
 A map table: grid ``xg``, ``yg``, inverse spacings ``ihx``, ``ihy``, ``cells`` of shape
 (nx-1, ny-1, n_out, 16) and ``lim`` = (x_lo, x_hi, y_lo, y_hi, x_min, x_max, y_min, y_max).
 
@@ -41,8 +43,12 @@ __all__ = ["AVAILABLE", "jit", "T_MIN", "T_MAX"]
 
 T_MIN = 200.0
 T_MAX = 2200.0
+#: Newton stops once a step is below this [K]; the error left after such a step
+#: is about (dcp/dT)/(2 cp) * step^2 < 3e-4/K * (1e-5 K)^2, i.e. < 1e-13 K.
 _STEP_TOL = 1e-5
-_MAX_ITER = 30
+#: Most Newton steps of the gas inverses.
+MAX_ITER = 30
+_MAX_ITER = MAX_ITER
 
 
 def _plain(fn: Callable[..., Any]) -> Callable[..., Any]:
@@ -55,7 +61,8 @@ def _cache_dir() -> str:
         os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "openemss", "numba")
     here = os.path.dirname(os.path.abspath(__file__))
     digest = hashlib.sha256(__name__.encode())            # compiled code refers to its module by name
-    kernels = ("jit_kernels.py", "jit_cycle.py", "jit_freestream.py", "jit_solve.py",
+    kernels = ("jit_kernels.py", "jit_cycle.py", "jit_freestream.py", "jit_solve.py", "shaft.py", "compressor.py",
+               "flow.py", "turbine.py", "nozzle.py", "combustion.py",
                os.path.join("..", "common", "atmosphere.py"))
     for name in kernels:                                   # a kernel embeds the ones it calls: hash all
         with open(os.path.join(here, name), "rb") as fh:

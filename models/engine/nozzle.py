@@ -32,11 +32,36 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
+from . import jit_kernels as K
 from .errors import OutOfRangeError
 from .flow import FlowStation, StaticState, static_at_mach, static_at_pressure
 from .gas import DEFAULT_GAS, GasModel
+from .jit_kernels import jit
 
-__all__ = ["NozzleResult", "convergent_nozzle", "ideal_nozzle"]
+__all__ = ["NozzleResult", "convergent_nozzle", "convergent_throat", "ideal_nozzle"]
+
+
+@jit
+def convergent_throat(gc: np.ndarray, gs: np.ndarray, W: float, Tt: float, Pt: float, FAR: float, ht: float,
+                      P_amb: float, Cv: float, err: np.ndarray) -> tuple[float, float, float, float, bool, float]:
+    """Throat of a convergent nozzle, ideal flow: (Ts [K], Ps [Pa], V [m/s], A_eff [m2], choked, Fg [N]).
+
+    Choked (p_amb at or below the Mach-1 static pressure): Mach 1 at the throat and a pressure thrust
+    (Ps - p_amb) A; else expanded to p_amb. Fg = Cv W V + pressure thrust. The one implementation, compiled
+    (:mod:`.jit_cycle`) and called by :func:`convergent_nozzle`; ``err[0]`` set where the gas tables end.
+    """
+    Ts, p_pt = K.static_from_total(gc, gs, Tt, 1.0, FAR, err)
+    Ps = Pt * p_pt
+    choked = P_amb <= Ps
+    if not choked:
+        Ts = K.T_isentropic(gc, gs, Tt, P_amb / Pt, FAR, Tt, err)
+        Ps = P_amb
+    V = math.sqrt(max(2.0 * (ht - K.h(gc, gs, Ts, FAR, err)), 0.0))
+    R_ = K.R(gs, FAR)
+    A = W / (Ps / (R_ * Ts) * V) if V > 0.0 else math.inf
+    return Ts, Ps, V, A, choked, Cv * W * V + ((Ps - P_amb) * A if choked else 0.0)
 
 
 @dataclass(frozen=True, slots=True)
@@ -101,16 +126,21 @@ def convergent_nozzle(fs: FlowStation, P_amb_Pa: float, Cv: float = 1.0, Cd: flo
         more isentropic expansion); if False it is NaN when choked.
     """
     _check(fs, P_amb_Pa, Cv, Cd)
-    star = static_at_mach(fs, 1.0, gas)
-    choked = P_amb_Pa <= star.Ps_Pa
-    th = star if choked else static_at_pressure(fs, P_amb_Pa, gas)
+    err = np.zeros(1, np.int64)
+    gc, gs = gas.kernel_arrays()
+    Ts, Ps, V, A, choked, Fg = convergent_throat(gc, gs, fs.W_kg_s, fs.Tt_K, fs.Pt_Pa, fs.FAR, fs.ht_J_kg,
+                                                 P_amb_Pa, Cv, err)
+    if err[0]:
+        raise OutOfRangeError(f"nozzle: the throat of a flow at Tt={fs.Tt_K!r} K, Pt={fs.Pt_Pa!r} Pa, FAR={fs.FAR!r} "
+                              f"exhausting to {P_amb_Pa!r} Pa leaves the gas tables ({K.T_MIN} K to {K.T_MAX} K)")
+    Ts, Ps, V, A, Fg = float(Ts), float(Ps), float(V), float(A), float(Fg)
+    R_ = gas.R(fs.FAR)
+    th = StaticState(Ts, Ps, V, V / math.sqrt(gas.gamma(Ts, fs.FAR) * R_ * Ts), Ps / (R_ * Ts), A)
     if choked:
         V_ideal = static_at_pressure(fs, P_amb_Pa, gas).V_m_s if with_ideal else math.nan
     else:
-        V_ideal = th.V_m_s
-    A = th.A_m2
-    Fg = Cv * fs.W_kg_s * th.V_m_s + ((th.Ps_Pa - P_amb_Pa) * A if choked else 0.0)
-    return NozzleResult(th, choked, Fg, V_ideal, A, A / Cd, fs.Pt_Pa / P_amb_Pa)
+        V_ideal = V
+    return NozzleResult(th, bool(choked), Fg, V_ideal, A, A / Cd, fs.Pt_Pa / P_amb_Pa)
 
 
 def ideal_nozzle(fs: FlowStation, P_amb_Pa: float, Cv: float = 1.0,

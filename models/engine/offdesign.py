@@ -18,8 +18,17 @@ The fan is one map for the whole fan (scaled to the bypass stream's design
 PR and efficiency); the core (inner) stream keeps the design ratio of the
 pressure rises, (PR_inner - 1) = k (PR_outer - 1), and of the efficiencies.
 Duct and burner pressure losses and nozzle coefficients keep their design
-values. The handling bleed (HPC stage k into the bypass) opens as N2 falls
-below its threshold (default 60 % of design N2), with a C1 ramp 2 % wide.
+values. The handling bleed (HPC stage k into the bypass) opens as the corrected
+fan speed N1c = N1 / sqrt(Tt2 / 288.15 K) falls below its threshold (default 60 %
+of the design's corrected N1), with a C1 ramp 10 % wide (a parameter): the reference
+engine (the Larzac 04 of the reference study) blows handling air off behind the
+second HPC stage "under a relative speed of 60 %" of its LP spool. The ramp is this
+wide so that the steady working line stays monotonic in fuel flow: opening the bleed
+(10 % of the HPC flow) at a given N1 needs 12 to 16 % more fuel; over a ramp of 2 % (or
+6 %: the C1 ramp's steepest slope is 1.5 times its mean) that is more than the fuel the
+same change of N1 saves, and one fuel flow would have three steady states, between
+which Newton stalls (a start at a given fuel flow near the switch failed). In time the valve is an on/off valve with
+hysteresis (:class:`.engine_signals.BleedValve`).
 
 Maps are anything with the methods of :class:`CompressorMapLike` and
 :class:`TurbineMapLike`, scaled to the design point (corrected speeds in rpm,
@@ -57,6 +66,7 @@ from .inlet import inlet, ram_recovery_mil_e_5008b
 from .newton import newton_solve
 from .nozzle import convergent_nozzle
 from .offdesign_result import OffDesignPoint
+from .shaft import TURBOFAN_SHAFTS, spool_balance, term_arrays
 from .splitter import splitter
 from .turbine import Cooling, turbine
 
@@ -142,6 +152,9 @@ def _merge(results: list[CompressorResult], gas: Any) -> CompressorResult:
                             first.PR, first.eta_is, first.eta_poly, sum(r.Wc_in_kg_s for r in results))
 
 
+_TERM_SPOOL, _TERM_KIND = term_arrays()           # the declared shaft terms (shaft.TURBOFAN_SHAFTS)
+
+
 def _smoothstep(s: float) -> float:
     s = 0.0 if s < 0.0 else (1.0 if s > 1.0 else s)
     return s * s * (3.0 - 2.0 * s)
@@ -158,12 +171,15 @@ class TurbofanOffDesign:
         Maps scaled to `dp`.
     handling_bleed_open_frac : float
         Handling bleed W/W25 [-] when fully open.
-    handling_bleed_N2_pct : float
-        N2 [% of design] below which the bleed is open (centre of a 2 %-wide ramp).
+    handling_bleed_N1c_pct : float
+        Corrected N1 [% of the design's corrected N1] below which the bleed is open (centre of the ramp).
+    handling_bleed_ramp_pct : float
+        Width of the steady schedule's C1 ramp [% of the design's corrected N1]: closed above threshold +
+        width/2, fully open below threshold - width/2 (see the module docstring for why 10 %).
     """
 
     def __init__(self, dp: DesignPoint, maps: TurbofanMaps, handling_bleed_open_frac: float = 0.10,
-                 handling_bleed_N2_pct: float = 60.0) -> None:
+                 handling_bleed_N1c_pct: float = 60.0, handling_bleed_ramp_pct: float = 10.0) -> None:
         p = dp.params
         if not isinstance(p, TurbofanParams):
             raise ModelError("TurbofanOffDesign needs a turbofan design point")
@@ -174,7 +190,10 @@ class TurbofanOffDesign:
         if not (0.0 <= handling_bleed_open_frac < 0.5):
             raise OutOfRangeError(f"handling_bleed_open_frac={handling_bleed_open_frac!r} is outside [0, 0.5)")
         self.dp, self.p, self.maps, self.gas = dp, p, maps, gas_of(p)
-        self.hb_open, self.hb_N2 = handling_bleed_open_frac, handling_bleed_N2_pct / 100.0
+        if not handling_bleed_ramp_pct > 0.0:
+            raise OutOfRangeError(f"handling_bleed_ramp_pct={handling_bleed_ramp_pct!r} must be > 0")
+        self.hb_open, self.hb_N1c = handling_bleed_open_frac, handling_bleed_N1c_pct / 100.0
+        self.hb_ramp = handling_bleed_ramp_pct / 100.0
         c = dp.components
         self.k_inner = (p.PR_fan_inner - 1.0) / (p.PR_fan_outer - 1.0)
         self.eff_ratio_inner = p.eta_fan_inner / p.eta_fan_outer
@@ -185,6 +204,8 @@ class TurbofanOffDesign:
                         P_hp=c["hpc"].power_W, P_lp=c["fan_outer"].power_W + c["fan_inner"].power_W,
                         Wf=dp.Wf_kg_s, Fn=dp.Fn_N, Tt4=dp.Tt4_K, PRh=c["hpt"].PR, PRl=c["lpt"].PR)
         self.ref["Wc21"] = c["booster"].Wc_kg_s
+        self.ref["Nc1"] = c["fan_outer"].Nc_rpm                     # design corrected N1 [rpm]
+        self.eta_mech = np.array([p.eta_mech_hp, p.eta_mech_lp])     # per spool of shaft.SPOOLS
         self._fast: Any = None                              # the compiled residuals, built on first use
         self.x_design = (1.0, maps.beta_fan_design, maps.beta_hpc_design, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0) + (
             (maps.beta_booster_design,) if self.nb else ())
@@ -218,7 +239,7 @@ class TurbofanOffDesign:
                extras: tuple[float, float, float], dist: tuple[Distortion | None, Distortion | None] = (None, None),
                hb_frac: float | None = None) -> tuple[np.ndarray, dict[str, Any]]:
         """Residuals and every station at unknowns `x`; `hb_frac` [-] overrides the handling bleed's
-        N2 schedule (a valve position set from outside, e.g. with hysteresis by the transient model)."""
+        corrected-N1 schedule (a valve position set from outside, e.g. with hysteresis by the transient model)."""
         p, g, ref, m = self.p, self.gas, self.ref, self.maps
         W2, b_fan, b_hpc = x[0] * ref["W2"], x[1], x[2]
         N1, N2 = x[3] * p.N1_rpm, x[4] * p.N2_rpm
@@ -266,7 +287,8 @@ class TurbofanOffDesign:
         PR_h = hpc[0].PR
         specs = list(p.bleeds)
         if hb_frac is None:
-            hb = max(p.handling_bleed_frac, self.hb_open * _smoothstep((self.hb_N2 + 0.01 - N2 / p.N2_rpm) / 0.02))
+            hb = max(p.handling_bleed_frac,
+                     self.hb_open * _smoothstep((self.hb_N1c + 0.5 * self.hb_ramp - N1c / ref["Nc1"]) / self.hb_ramp))
         else:
             hb = max(p.handling_bleed_frac, hb_frac)
         if hb > 0.0:
@@ -313,6 +335,12 @@ class TurbofanOffDesign:
             r9 = (Tt4 - value) / ref["Tt4"]
         else:
             r9 = (Fn - value) / ref["Fn"]
+        powers = {"fan_outer": P_fo, "fan_inner": P_fi, "booster": P_bo, "hpc": hc.power_W, "hpt": ht.power_W,
+                  "lpt": lt.power_W, "port_hp": off_hp, "port_lp": off_lp}
+        net, loss = np.empty(2), np.empty(2)
+        spool_balance(np.array([powers[t.name] for t in TURBOFAN_SHAFTS]), _TERM_SPOOL, _TERM_KIND, self.eta_mech,
+                      net, loss)
+        powers["mech_hp"], powers["mech_lp"] = float(loss[0]), float(loss[1])
         r = np.array([
             flow_residual(fan, W2),
             flow_residual(hpc, st["25"].W_kg_s),
@@ -320,14 +348,13 @@ class TurbofanOffDesign:
             (Wc_t2 - st["45"].Wc_kg_s) / ref["Wc45"],
             nc.A_eff_m2 / ref["A8"] - 1.0,
             nb.A_eff_m2 / ref["A18"] - 1.0,
-            (p.eta_mech_hp * ht.power_W - hc.power_W - off_hp) / ref["P_hp"],
-            (p.eta_mech_lp * lt.power_W - P_fo - P_fi - P_bo - off_lp) / ref["P_lp"],
+            net[0] / ref["P_hp"],
+            net[1] / ref["P_lp"],
             r9] + r_booster + [pressure_residual(sec) for sec in (fan, hpc) if len(sec) > 1])
         info = dict(st=st, Fn=Fn, Fg=Fg, ram=ram, Wf=Wf, N1=N1, N2=N2, N1c=N1c, BPR=BPR, hb=hb,
                     b_fan=b_fan, b_hpc=b_hpc, N2c=N2c, PRh=PRh, PRl=PRl,
                     fan_sectors=[(sp.Nc, sp.beta) for sp in fan], hpc_sectors=[(sp.Nc, sp.beta) for sp in hpc],
-                    powers={"fan_outer": P_fo, "fan_inner": P_fi, "booster": P_bo, "hpc": hc.power_W,
-                            "hpt": ht.power_W, "lpt": lt.power_W},
+                    powers=powers,
                     bleeds={b.name: (b.sink, bl[b.name]) for b in specs})
         return r, info
 
@@ -338,7 +365,7 @@ class TurbofanOffDesign:
               customer_bleed_frac: float | None = None, offtake_hp_W: float | None = None,
               offtake_lp_W: float | None = None, distortion_fan: Distortion | None = None,
               distortion_hpc: Distortion | None = None, guess: OffDesignPoint | None = None,
-              tol: float = 1e-9) -> OffDesignPoint:
+              tol: float = 1e-9, handling_bleed_frac: float | None = None) -> OffDesignPoint:
         """Steady state at a flight condition and one power setting.
 
         Parameters
@@ -349,7 +376,8 @@ class TurbofanOffDesign:
             The power setting: exactly one of fuel flow [kg/s], N1 [rpm or % of
             design], corrected N1 [% of design corrected N1], Tt4 [K], net thrust [N].
         customer_bleed_frac, offtake_hp_W, offtake_lp_W : float, optional
-            Customer bleed W/W25 [-] and shaft power offtakes [W]; default the design's.
+            Customer bleed W/W25 [-] and shaft port powers [W], signed: + taken from the spool (offtake,
+            generator), - delivered to it (motor assist); default the design's.
         distortion_fan, distortion_hpc : Distortion, optional
             Sector distortion at the fan or HPC face (parallel compressor model,
             :mod:`.distortion`); each adds one unknown and one residual.
@@ -357,6 +385,9 @@ class TurbofanOffDesign:
             A neighbouring solution: its unknowns and Jacobian start the iteration.
         tol : float
             Convergence tolerance on max |residual| [-].
+        handling_bleed_frac : float, optional
+            Handling bleed W/W25 [-] held fixed instead of the corrected-N1 schedule (a valve position,
+            e.g. the transient model's on/off valve at a start).
 
         Raises
         ------
@@ -380,37 +411,40 @@ class TurbofanOffDesign:
                   p.offtake_lp_W if offtake_lp_W is None else offtake_lp_W)
         cond = (alt_m, Mach, dT_isa_K)
         free_stream(*cond, self.gas)                       # range checks before iterating
+        hb = handling_bleed_frac
+        if hb is not None and not (0.0 <= hb < 0.5):
+            raise OutOfRangeError(f"offdesign.solve: handling_bleed_frac={hb!r} is outside [0, 0.5)")
         dist = (distortion_fan, distortion_hpc)
         try:
-            return self._solve(cond, kind, value, extras, dist, guess, tol)
+            return self._solve(cond, kind, value, extras, dist, guess, tol, hb)
         except ConvergenceError as exc:
             if guess is not None:
                 raise
             first = exc
         # continuation from the design's corrected operating point at this flight condition
         try:
-            g = self._solve(cond, "N1c_rpm", self.dp.components["fan_outer"].Nc_rpm, extras, dist, None, tol)
+            g = self._solve(cond, "N1c_rpm", self.dp.components["fan_outer"].Nc_rpm, extras, dist, None, tol, hb)
             v0 = {"Wf_kg_s": g.Wf_kg_s, "N1_rpm": g.N1_rpm, "N1c_rpm": g.N1c_rpm, "Tt4_K": g.Tt4_K,
                   "Fn_N": g.Fn_N}[kind]
             for f in (0.25, 0.5, 0.75, 1.0):
-                g = self._solve(cond, kind, v0 + f * (value - v0), extras, dist, g, tol)
+                g = self._solve(cond, kind, v0 + f * (value - v0), extras, dist, g, tol, hb)
             return g
         except ConvergenceError:
             raise first from None
 
     def _solve(self, cond: tuple[float, float, float], kind: str, value: float, extras: tuple[float, float, float],
                dist: tuple[Distortion | None, Distortion | None], guess: OffDesignPoint | None,
-               tol: float) -> OffDesignPoint:
+               tol: float, hb: float | None = None) -> OffDesignPoint:
         x0, J0 = self.start(dist, guess, cond)
         names = self.residual_names(dist)
 
         def resid(x: np.ndarray) -> np.ndarray:
-            return self._residuals(x, cond, (kind, value), extras, dist)
+            return self._residuals(x, cond, (kind, value), extras, dist, hb)
 
         res = newton_solve(resid, x0, names, tol=tol, jacobian=J0,
                            where=f"offdesign of {self.p.name!r} at alt {cond[0]} m, Mach {cond[1]}, "
                                  f"{kind}={value:.6g}")
-        info = self._cycle(res.x, cond, (kind, value), extras, dist)[1]       # the stations, once
+        info = self._cycle(res.x, cond, (kind, value), extras, dist, hb)[1]   # the stations, once
         return self._result(res, info, cond, dist)
 
     def start(self, dist: tuple[Distortion | None, Distortion | None], guess: OffDesignPoint | None,

@@ -167,7 +167,7 @@ class TurbofanTransient:
         `distortion` is the (fan, HPC) sector distortion of :mod:`.distortion`, switchable
         from one call to the next. `customer_bleed_frac` (W/W25 [-]), `offtake_hp_W` and
         `offtake_lp_W` [W] default to the design parameters'; `handling_bleed_frac` [-], if
-        given, replaces the handling bleed's N2 schedule (a valve position set by the caller).
+        given, replaces the handling bleed's corrected-N1 schedule (a valve position set by the caller).
         The cached Jacobian is kept across changes of flight condition, offtakes and bleeds
         (chord iterations with Broyden updates absorb them) and rebuilt when the distortion
         configuration changes or the iteration stalls.

@@ -31,11 +31,15 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+import numpy as np
+
+from . import jit_kernels as K
 from .errors import ConvergenceError, OutOfRangeError
 from .flow import FlowStation, flow_hP, mix
 from .gas import DEFAULT_GAS, T_MIN_K, GasModel
+from .jit_kernels import jit
 
-__all__ = ["Cooling", "TurbineResult", "turbine", "turbine_for_power"]
+__all__ = ["Cooling", "TurbineResult", "turbine", "turbine_for_power", "expand_h"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -82,10 +86,25 @@ class TurbineResult:
     Wp_in: float
 
 
+@jit
+def expand_h(gc: np.ndarray, gs: np.ndarray, Tt_K: float, FAR: float, ht_J_kg: float, Pt_from: float, Pt_to: float,
+             eta: float, err: np.ndarray) -> float:
+    """Exit enthalpy [J/kg] of a stream expanded from Pt_from to Pt_to [Pa] with isentropic efficiency `eta`
+    [-]: ht - eta (ht - h(T_is)); the one implementation, compiled (:mod:`.jit_cycle`) and called by
+    :func:`turbine`. ``err[0]`` is set where a temperature leaves the gas tables."""
+    T_is = K.T_isentropic(gc, gs, Tt_K, Pt_to / Pt_from, FAR, Tt_K * (Pt_to / Pt_from) ** 0.25, err)
+    return ht_J_kg - eta * (ht_J_kg - K.h(gc, gs, T_is, FAR, err))
+
+
 def _expand(fs: FlowStation, Pt_from: float, Pt_to: float, eta: float, gas: GasModel) -> float:
-    """Exit enthalpy [J/kg] of `fs` expanded from Pt_from to Pt_to with efficiency eta."""
-    T_is = gas.T_isentropic(fs.Tt_K, Pt_to / Pt_from, fs.FAR, fs.Tt_K * (Pt_to / Pt_from) ** 0.25)
-    return fs.ht_J_kg - eta * (fs.ht_J_kg - gas.h(T_is, fs.FAR))
+    """Exit enthalpy [J/kg] of `fs` expanded from Pt_from to Pt_to with efficiency eta (:func:`expand_h`)."""
+    err = np.zeros(1, np.int64)
+    gc, gs = gas.kernel_arrays()
+    h_out = float(expand_h(gc, gs, fs.Tt_K, fs.FAR, fs.ht_J_kg, Pt_from, Pt_to, eta, err))
+    if err[0]:
+        raise OutOfRangeError(f"turbine: expanding Tt={fs.Tt_K!r} K, FAR={fs.FAR!r} from {Pt_from!r} Pa to "
+                              f"{Pt_to!r} Pa leaves the gas tables ({K.T_MIN} K to {K.T_MAX} K)")
+    return h_out
 
 
 def _check(PR: float, eta_is: float) -> None:

@@ -117,7 +117,7 @@ CORNERS = [(0.0, 0.0), (0.0, 0.8), (4000.0, 0.6), (8000.0, 0.8), (8000.0, 0.5)]
 @pytest.mark.parametrize(("alt_m", "mach"), CORNERS)
 def test_slam_and_chop_across_the_envelope(alt_m: float, mach: float) -> None:
     m = EngineModel("larzac04_sls")
-    idle = m.od.solve(alt_m, mach, N1_pct=60.0)
+    idle = m.od.solve(alt_m, mach, N1c_pct=64.0)      # above the handling bleed's switch (N1c 59-61 %)
     top = m.od.solve(alt_m, mach, N1_pct=100.0, guess=idle) if alt_m < 8000.0 or mach > 0.6 else \
         m.od.solve(alt_m, mach, N1_pct=95.0, guess=idle)
     m.start(EngineInputs(idle.Wf_kg_s, alt_m, mach))
@@ -216,14 +216,15 @@ def test_critical_sector_angle() -> None:
 
 
 def test_handling_bleed_hysteresis_no_chattering() -> None:
-    """N2 swept through the switching speed with a dither inside the band: one opening, one closing."""
-    valve = BleedValve(threshold_N2_pct=88.0, band_pct=2.0, stroke_s=0.5, open_frac=0.10)
+    """Corrected N1 swept through the switching speed with a dither inside the band: one opening, one
+    closing; the valve strokes at its rate."""
+    valve = BleedValve(threshold_N1c_pct=70.0, band_pct=2.0, stroke_s=0.5, open_frac=0.10)
     m = EngineModel("larzac04_sls", valve=valve)
     lo = m.od.solve(N1_pct=60.0)
     hi = m.od.solve(N1_pct=80.0, guess=lo)
     m.start(EngineInputs(lo.Wf_kg_s))
-    assert m.valve_open_cmd and lo.N2_pct < 87.0
-    cmds, pos, n2 = [], [], []
+    assert m.valve_open_cmd and lo.N1c_pct < 69.0
+    cmds, pos, n1c = [], [], []
     for k in range(400):                                          # 20 s: up, hold, down
         t = 0.05 * k
         ramp = min(1.0, t / 6.0) if t < 10.0 else max(0.0, 1.0 - (t - 10.0) / 6.0)
@@ -231,11 +232,13 @@ def test_handling_bleed_hysteresis_no_chattering() -> None:
         m.step(0.05, EngineInputs(lo.Wf_kg_s + ramp * (hi.Wf_kg_s - lo.Wf_kg_s) + dither))
         cmds.append(m.valve_open_cmd)
         pos.append(m.valve_pos)
-        n2.append(m.value("N2_pct"))
+        n1c.append(m.value("N1c_pct"))
     switches = sum(1 for a, b in zip(cmds, cmds[1:], strict=False) if a != b)
-    assert max(n2) > 89.5 and min(n2[200:]) < 87.0
+    assert max(n1c) > 71.5 and min(n1c[200:]) < 69.0
     assert switches == 2
     assert max(abs(b - a) for a, b in zip(pos, pos[1:], strict=False)) <= 0.05 / 0.5 + 1e-12
+    opened = [k for k in range(1, 400) if cmds[k] != cmds[k - 1]]
+    assert n1c[opened[0]] > 71.0 - 0.5 and n1c[opened[1]] < 69.0 + 0.5      # switched at the band's edges
 
 
 def test_linearised_step_start_agrees_with_the_matched_one() -> None:

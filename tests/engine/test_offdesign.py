@@ -114,27 +114,32 @@ def test_power_sweep_is_monotonic_with_shipped_maps(dp: DesignPoint, alt_m: floa
         guess = od.solve(alt_m, Mach, N1_pct=float(pct), guess=guess)
         assert guess.residual_max < 1e-9
         pts.append(guess)
+    # with the handling bleed shut (above its switch at N1c 60 %); across the switch see test_idle.py
+    shut = [q for q in pts if q.handling_bleed_frac == 0.0]
+    assert len(shut) >= 8
     for quantity in ("Fn_N", "Tt4_K", "N2_rpm", "Wf_kg_s"):
-        v = [getattr(q, quantity) for q in pts]
+        v = [getattr(q, quantity) for q in shut]
         assert all(a > b for a, b in zip(v, v[1:], strict=False)), (quantity, v)
     assert all(0.0 < q.SM_hpc < 1.0 and 0.0 < q.SM_fan < 1.0 for q in pts)
 
 
 def test_handling_bleed_switches_where_scheduled_without_jumps(dp: DesignPoint) -> None:
-    """Threshold at 95 % N2: the bleed opens over N2 94-96 %; Fn stays continuous through the ramp."""
-    od = TurbofanOffDesign(dp, analytic_maps(dp), handling_bleed_open_frac=0.08, handling_bleed_N2_pct=95.0)
+    """Threshold at 95 % corrected N1, ramp 2 %: the bleed opens over N1c 94-96 %; Fn stays continuous through
+    the ramp."""
+    od = TurbofanOffDesign(dp, analytic_maps(dp), handling_bleed_open_frac=0.08, handling_bleed_N1c_pct=95.0,
+                           handling_bleed_ramp_pct=2.0)
     guess, rows = None, []
     for pct in np.linspace(100.0, 80.0, 41):
         guess = od.solve(N1_pct=float(pct), guess=guess)
-        rows.append((guess.N2_pct, guess.handling_bleed_frac, guess.Fn_N,
+        rows.append((guess.N1c_pct, guess.handling_bleed_frac, guess.Fn_N,
                      guess.stations["16"].Tt_K - guess.stations["13"].Tt_K))
-    n2 = np.array([r[0] for r in rows])
+    n1c = np.array([r[0] for r in rows])
     hb = np.array([r[1] for r in rows])
-    assert np.all(hb[n2 > 96.0] == 0.0) and np.all(hb[n2 < 94.0] == pytest.approx(0.08))
+    assert np.all(hb[n1c > 96.0] == 0.0) and np.all(hb[n1c < 94.0] == pytest.approx(0.08))
     fn = np.array([r[2] for r in rows])
     steps = np.abs(np.diff(fn))
     # no step across the ramp is more than 3 times the largest step away from it
-    away = steps[(n2[1:] > 97.0) | (n2[1:] < 93.0)]
+    away = steps[(n1c[1:] > 97.0) | (n1c[1:] < 93.0)]
     assert steps.max() < 3.0 * away.max()
     # the bleed air warms the bypass stream only where it flows
     dT = np.array([r[3] for r in rows])

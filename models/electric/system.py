@@ -120,6 +120,7 @@ class ElectricSystem:
             self.loads.p, self.ems.p = self._sets["bus"], self._sets["ems"]
             self.battery.pack = dataclasses.replace(self.battery.pack, soc_min=self._sets["battery"].soc_min,
                                                     soc_max=self._sets["battery"].soc_max)
+            self.values[-1] = self.mass_kg
 
     # -- state
     def reset(self) -> None:
@@ -139,8 +140,10 @@ class ElectricSystem:
 
     @property
     def mass_kg(self) -> float:
-        """Pack, both machines and the wiring [kg]."""
-        return self.battery.mass_kg + self.hp.mass_kg + self.lp.mass_kg + self._sets["bus"].wiring_mass_kg
+        """Pack, both machines and the wiring [kg], from the present parameters."""
+        s = self._sets
+        return (BatteryPack(s["battery"], self.cell).mass_kg + ElectricMachine(s["hp_machine"]).mass_kg
+                + ElectricMachine(s["lp_machine"]).mass_kg + s["bus"].wiring_mass_kg)
 
     def _ramped(self, m: ElectricMachine, P_elec_W: float, prev_W: float, n_rpm: float, dt_s: float
                 ) -> tuple[MachinePoint, bool]:
@@ -200,5 +203,4 @@ class ElectricSystem:
         v[18] += b.V_V * b.I_A * dt_s
         v[19] += load_W * dt_s
         v[20] += shed_W * dt_s
-        v[21] = self.mass_kg
         return v

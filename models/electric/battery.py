@@ -179,7 +179,7 @@ class BatteryPack:
         """
         lo_P, hi_P = self.power_limits_W(dt_s)
         P = min(max(P_W, lo_P), hi_P)
-        limited = P != P_W
+        limited = abs(P - P_W) > 1e-9 * max(abs(P_W), 1.0)  # beyond the round-off of the bus balance
         I = self.current_for_power_A(P)
         lo_A, hi_A = self.current_limits_A(dt_s)
         if not math.isfinite(I) or I > hi_A or I < lo_A:  # round-off at a limit: take the limit's current

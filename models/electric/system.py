@@ -168,21 +168,22 @@ class ElectricSystem:
         hp, hp_lim = self._ramped(self.hp, d.hp_elec_W, self._hp_prev_W, N2_rpm, dt_s)
         lo_W, hi_W = bat.power_limits_W(dt_s)
         need = load_W - hp.P_elec_W - lp.P_elec_W  # the battery's share
-        if need > hi_W:  # too little: less boost, then more HP, then shed
+        tol = 1e-9 * max(abs(load_W), abs(lo_W), abs(hi_W), 1.0)  # round-off of the machines' inverse
+        if need > hi_W + tol:  # too little: less boost, then more HP, then shed
             if lp.P_elec_W < 0.0:
                 lp = self.lp.at_elec(min(lp.P_elec_W + (need - hi_W), 0.0), N1_rpm)
                 lp_lim = True
             need = load_W - hp.P_elec_W - lp.P_elec_W
-            if need > hi_W:
+            if need > hi_W + tol:
                 hp_max, _ = self._ramped(self.hp, self.hp.p.P_max_W * 10.0, self._hp_prev_W, N2_rpm, dt_s)
                 hp = self.hp.at_elec(min(hp.P_elec_W + (need - hi_W), hp_max.P_elec_W), N2_rpm)
                 hp_lim = True
-        elif need < lo_W:  # too much: less charging, then less HP
+        elif need < lo_W - tol:  # too much: less charging, then less HP
             if lp.P_elec_W > 0.0:
                 lp = self.lp.at_elec(max(lp.P_elec_W - (lo_W - need), 0.0), N1_rpm)
                 lp_lim = True
             need = load_W - hp.P_elec_W - lp.P_elec_W
-            if need < lo_W and hp.P_elec_W > 0.0:
+            if need < lo_W - tol and hp.P_elec_W > 0.0:
                 hp = self.hp.at_elec(max(hp.P_elec_W - (lo_W - need), 0.0), N2_rpm)
                 hp_lim = True
         need = load_W - hp.P_elec_W - lp.P_elec_W

@@ -58,7 +58,10 @@ DESIGN = (
 _INPUTS = (
     ("fuel_flow_cmd_kg_s", "Fuel flow command [kg/s]"), ("alt_m", "Geopotential altitude [m]"),
     ("mach", "Flight Mach number [-]"), ("isa_dev_K", "ISA temperature deviation [K]"),
-    ("offtake_hp_W", "HP shaft power offtake [W]"), ("offtake_lp_W", "LP shaft power offtake [W]"),
+    ("offtake_hp_W", "HP shaft port power, + taken from the spool (offtake, generator), - delivered to it "
+                     "(motor assist) [W]"),
+    ("offtake_lp_W", "LP shaft port power, + taken from the spool (offtake, generator), - delivered to it "
+                     "(motor assist) [W]"),
     ("customer_bleed_frac", "Customer bleed from the HPC exit over HPC inlet flow [-]"),
     ("distortion_sector_deg", "Spoiled inlet sector angle [deg]"),
     ("distortion_dPt_frac", "Total-pressure deficit of the spoiled sector over the clean value [-]"),
@@ -99,6 +102,8 @@ class Engine(Fmi2Slave):
         self.Wf_Pt3_min_frac, self.Wf_decel_max_frac_s = lim.Wf_Pt3_min_frac, lim.Wf_decel_max_frac_s
         self.bleed_threshold_N2_pct, self.bleed_band_pct = valve.threshold_N2_pct, valve.band_pct
         self.bleed_stroke_s, self.bleed_open_frac = valve.stroke_s, valve.open_frac
+        self.offtake_hp_max_W, self.offtake_lp_max_W = lim.offtake_hp_max_W, lim.offtake_lp_max_W
+        self.assist_hp_max_W, self.assist_lp_max_W = lim.assist_hp_max_W, lim.assist_lp_max_W
         self.critical_angle_deg = 60.0
         self.linear_input_frac = 0.05
         for name, desc in (("I_lp_kg_m2", "LP spool polar inertia, 0 = the preset's [kg m2]"),
@@ -117,6 +122,14 @@ class Engine(Fmi2Slave):
                            ("bleed_band_pct", "Handling bleed hysteresis band width in N2 [%]"),
                            ("bleed_stroke_s", "Handling bleed valve full-stroke time [s]"),
                            ("bleed_open_frac", "Handling bleed flow over HPC inlet flow when open [-]"),
+                           ("offtake_hp_max_W", "Largest power taken from the HP shaft port; beyond it the "
+                                                "input is clipped and shaft_power_limited set [W]"),
+                           ("offtake_lp_max_W", "Largest power taken from the LP shaft port; beyond it the "
+                                                "input is clipped and shaft_power_limited set [W]"),
+                           ("assist_hp_max_W", "Largest power delivered to the HP shaft port (motor assist, "
+                                               "a positive number); beyond it clipped and flagged [W]"),
+                           ("assist_lp_max_W", "Largest power delivered to the LP shaft port (motor assist, "
+                                               "a positive number); beyond it clipped and flagged [W]"),
                            ("critical_angle_deg", "Critical sector angle of the distortion model [deg]"),
                            ("linear_input_frac", "Largest relative fuel change taken linearly at a step start, "
                                                  "0 = always matched [-]")):
@@ -165,7 +178,8 @@ class Engine(Fmi2Slave):
             self.register_variable(Boolean(name, causality=out, variability=discrete, description=desc,
                                            getter=lambda i=i: self._flags[i]))
         self.register_variable(Integer("events", causality=out, variability=discrete,
-                                       description="Rising edges of surge, flameout, overspeed, fuel limiting [-]",
+                                       description="Rising edges of surge, flameout, overspeed, fuel limiting, shaft "
+                                                   "power limiting [-]",
                                        getter=lambda: 0 if self._model is None else self._model.events))
 
     def get_real(self, vrs: list[int]) -> list[float]:
@@ -194,7 +208,11 @@ class Engine(Fmi2Slave):
                         dt_internal_s=self.dt_internal_s, method="heun" if self.integrator == 1 else "euler",
                         tol=self.tol, limits=EngineLimits(self.N1_max_pct, self.N2_max_pct, self.FAR_lean,
                                             Wf_Pt3_min_frac=self.Wf_Pt3_min_frac,
-                                            Wf_decel_max_frac_s=self.Wf_decel_max_frac_s),
+                                            Wf_decel_max_frac_s=self.Wf_decel_max_frac_s,
+                                            offtake_hp_max_W=self.offtake_hp_max_W,
+                                            offtake_lp_max_W=self.offtake_lp_max_W,
+                                            assist_hp_max_W=self.assist_hp_max_W,
+                                            assist_lp_max_W=self.assist_lp_max_W),
                         valve=BleedValve(self.bleed_threshold_N2_pct, self.bleed_band_pct, self.bleed_stroke_s,
                                          self.bleed_open_frac),
                         distortion_target=self.distortion_target, critical_angle_deg=self.critical_angle_deg,

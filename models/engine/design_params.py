@@ -11,6 +11,7 @@ not silently fall back to its default). Presets live in ``presets/``.
 from __future__ import annotations
 
 import dataclasses
+import math
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
@@ -79,7 +80,9 @@ def _rule(name: str) -> tuple[Any, str] | None:
         return (lambda v: 1.0 <= v <= 100.0), "[1, 100]"
     if name.startswith("dPqP") or name.endswith("_frac"):
         return (lambda v: 0.0 <= v < 1.0), "[0, 1)"
-    if name == "BPR" or name.startswith("offtake") or name.endswith("_kg_m2"):
+    if name.startswith("offtake"):                 # signed: + taken from the spool, - a motor's assist
+        return (lambda v: math.isfinite(v)), "(-inf, inf) W, + taken from the spool, - delivered to it"
+    if name == "BPR" or name.endswith("_kg_m2"):
         return (lambda v: v >= 0.0), "[0, inf)"
     if name == "Tt4_K":
         return (lambda v: 300.0 < v <= 2200.0), "(300, 2200] K"
@@ -109,7 +112,8 @@ class TurbojetParams(_Common):
     eta_t : float
         Turbine isentropic efficiency [-].
     eta_mech, offtake_W : float
-        Mechanical efficiency [-] and shaft power offtake [W].
+        Mechanical efficiency [-] and shaft port power [W], signed: + taken from the spool (offtake), - delivered
+        to it (motor assist).
     dPqP_jetpipe : float
         Pressure loss turbine exit -> nozzle [-].
     Cv, Cd : float
@@ -168,7 +172,7 @@ class TurbofanParams(_Common):
     eta_mech_hp, eta_mech_lp : float
         Mechanical efficiencies of the spools [-].
     offtake_hp_W, offtake_lp_W : float
-        Shaft power offtakes [W].
+        Shaft port powers [W], signed: + taken from the spool (offtake, generator), - delivered to it (motor).
     Cv_core, Cd_core, Cv_bypass, Cd_bypass : float
         Nozzle coefficients [-].
     N1_rpm, N2_rpm : float

@@ -16,8 +16,13 @@ Robustness (what a mission needs from an engine that is driven by a controller):
   is set and a message goes to the logger; :meth:`EngineModel.step` never raises a
   :class:`~.errors.ModelError` after :meth:`EngineModel.start`.
 * Inputs are clipped to the ranges the components accept (distortion sector and
-  deficits, bleed fraction, offtakes >= 0, fuel flow >= 1 % of design); a clipped
-  input is logged once per kind.
+  deficits, bleed fraction, fuel flow >= 1 % of design); a clipped input is logged
+  once per kind.
+* The shaft ports (``offtake_hp_W``, ``offtake_lp_W``) are signed: + power taken from
+  the spool (generator, accessories), - power delivered to it (motor assist). Each is
+  clipped to ``[-assist_*_max_W, offtake_*_max_W]`` of :class:`EngineLimits`; a clipped
+  port sets the ``shaft_power_limited`` flag (an event, logged on its rising edge), and
+  the power the spool actually got is published as ``offtake_*_applied_W``.
 * The handling bleed (HPC stage into the bypass) is a valve with hysteresis: it is
   commanded open when N2 falls below ``threshold - band/2`` and closed when N2 rises
   above ``threshold + band/2``, and strokes at a finite rate, so it cannot chatter.
@@ -58,6 +63,7 @@ __all__ = ["EngineInputs", "EngineLimits", "BleedValve", "EngineModel", "OUTPUTS
 #: fuel flow that needs more is limited there (``fuel_limited``, ``surge``).
 _BETA_FLOOR = 0.1
 _IDX = {name: i for i, (name, _) in enumerate(OUTPUTS)}
+_SOLVER_FAILED = [name for name, _ in FLAGS].index("solver_failed")
 
 
 @dataclass(frozen=True)
@@ -170,6 +176,8 @@ class EngineModel:
         self.events = 0
         self.failures = 0
         self.fuel_limited = False
+        self.port_W = (0.0, 0.0)                # (HP, LP) shaft port powers applied [W], + taken from the spool
+        self.port_limited = False
         self.message = ""
         self.state: TransientState | None = None
         self._key: tuple[float, ...] | None = None
@@ -184,6 +192,13 @@ class EngineModel:
             self.log(f"engine: input {kind}={v!r} clipped to [{lo}, {hi}] at t={self.t_s:.6g} s")
         return min(hi, max(lo, v)) if v == v else lo
 
+    def _port(self, v: float, assist_max_W: float, offtake_max_W: float) -> tuple[float, bool]:
+        """A shaft port's power [W] clipped to [-assist_max_W, offtake_max_W] (not a number: 0), and whether
+        it was clipped."""
+        if -assist_max_W <= v <= offtake_max_W:
+            return v, False
+        return (offtake_max_W if v > offtake_max_W else -assist_max_W) if v == v else 0.0, True
+
     def _kwargs(self, u: EngineInputs) -> tuple[float, dict[str, object]]:
         """Fuel flow [kg/s] and keyword arguments of :meth:`.transient.TurbofanTransient.state`."""
         # the fuel system's stops: a fixed minimum flow and the minimum-flow stop scheduled on the compressor
@@ -197,11 +212,14 @@ class EngineModel:
                            self._clip("dPt_frac", u.dPt_frac, 0.0, 0.45), self._clip("dTt_K", u.dTt_K, 0.0, 300.0),
                            self.crit)
             dist = (d if self.target & 1 else None, d if self.target & 2 else None)
+        lim = self.limits
+        hp, hp_cut = self._port(u.offtake_hp_W, lim.assist_hp_max_W, lim.offtake_hp_max_W)
+        lp, lp_cut = self._port(u.offtake_lp_W, lim.assist_lp_max_W, lim.offtake_lp_max_W)
+        self.port_W, self.port_limited = (hp, lp), hp_cut or lp_cut
         kw: dict[str, object] = dict(
             alt_m=u.alt_m, Mach=u.Mach, dT_isa_K=u.dT_isa_K, distortion=dist, tol=self.tol,
             customer_bleed_frac=self._clip("customer_bleed_frac", u.customer_bleed_frac, 0.0, 0.3),
-            offtake_hp_W=self._clip("offtake_hp_W", u.offtake_hp_W, 0.0, math.inf),
-            offtake_lp_W=self._clip("offtake_lp_W", u.offtake_lp_W, 0.0, math.inf))
+            offtake_hp_W=hp, offtake_lp_W=lp)
         return Wf, kw
 
     # ------------------------------------------------------------------ start
@@ -399,7 +417,7 @@ class EngineModel:
             v[:] = (Fn, Fg, ram, Wf, N1, N2, 100.0 * N1 / p.N1_rpm, 100.0 * N2 / p.N2_rpm,
                     100.0 * N1c / self._Nc1_d, Tt4, T41, T21, T17, T7, Pt3, Pt3 / Pt2, float(s.x[7] * p.BPR),
                     sm_f, sm_h, sm_f, sm_h, Wf / Fn if Fn > 0.0 else math.inf, float(self.fuel_burned_kg),
-                    float(s.dN1_dt_rpm_s), float(s.dN2_dt_rpm_s), hb, FAR4, W2)
+                    float(s.dN1_dt_rpm_s), float(s.dN2_dt_rpm_s), hb, FAR4, W2, *self.port_W)
         else:
             pt = s.point
             out = (pt.Fn_N, pt.Fg_N, pt.ram_drag_N, Wf, pt.N1_rpm, pt.N2_rpm, pt.N1_pct, pt.N2_pct, pt.N1c_pct,
@@ -407,19 +425,20 @@ class EngineModel:
                    pt.SM_hpc, pt.SM_fan_clean, pt.SM_hpc_clean)
             Fn, hb, FAR4, W2 = pt.Fn_N, pt.handling_bleed_frac, pt.stations["4"].FAR, pt.stations["2"].W_kg_s
             for i, x_ in enumerate(out + (Wf / Fn if Fn > 0.0 else math.inf, self.fuel_burned_kg, s.dN1_dt_rpm_s,
-                                          s.dN2_dt_rpm_s, hb, FAR4, W2)):
+                                          s.dN2_dt_rpm_s, hb, FAR4, W2, *self.port_W)):
                 v[i] = float(x_)
         lim = self.limits
         N1_pct, N2_pct, SM_fan, SM_hpc = v[6], v[7], v[17], v[18]
         new = [bool(SM_fan < 0.0 or SM_hpc < 0.0 or self.fuel_limited),
                bool(FAR4 < lim.FAR_lean or Wf_in < lim.Wf_min_frac * self.dp.Wf_kg_s),
-               bool(N1_pct > lim.N1_max_pct or N2_pct > lim.N2_max_pct), failed, self.fuel_limited]
-        for i, (name, _) in enumerate(FLAGS[:3] + FLAGS[4:]):
-            i = i if i < 3 else 4
-            if new[i] and not self.flags[i]:
+               bool(N1_pct > lim.N1_max_pct or N2_pct > lim.N2_max_pct), failed, self.fuel_limited,
+               self.port_limited]
+        for i, (name, _) in enumerate(FLAGS):
+            if i != _SOLVER_FAILED and new[i] and not self.flags[i]:     # a failed match is logged by step()
                 self.events += 1
                 self.log(f"engine: t={self.t_s:.6g} s: {name} (N1 {N1_pct:.2f} %, N2 {N2_pct:.2f} %, "
-                         f"SM fan {SM_fan:.4f}, SM HPC {SM_hpc:.4f}, FAR4 {FAR4:.5f})")
+                         f"SM fan {SM_fan:.4f}, SM HPC {SM_hpc:.4f}, FAR4 {FAR4:.5f}, shaft ports HP "
+                         f"{self.port_W[0]:.6g} W, LP {self.port_W[1]:.6g} W)")
         self.flags[:] = new
 
     def value(self, name: str) -> float:

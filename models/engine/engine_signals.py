@@ -14,7 +14,10 @@ ISO 2533:1975, Standard Atmosphere (pressure altitude).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+
+from .errors import OutOfRangeError
 
 __all__ = ["EngineInputs", "EngineLimits", "BleedValve", "OUTPUTS", "FLAGS", "condition_from_ambient"]
 
@@ -39,6 +42,10 @@ OUTPUTS: tuple[tuple[str, str], ...] = (
     ("dN1_dt_rpm_s", "LP spool acceleration [rpm/s]"), ("dN2_dt_rpm_s", "HP spool acceleration [rpm/s]"),
     ("handling_bleed_frac", "Handling bleed flow over HPC inlet flow [-]"),
     ("FAR4", "Burner exit fuel-air ratio [-]"), ("W2_kg_s", "Engine inlet mass flow [kg/s]"),
+    ("offtake_hp_applied_W", "HP shaft port power applied after its limits, + taken from the spool, - delivered "
+                             "to it [W]"),
+    ("offtake_lp_applied_W", "LP shaft port power applied after its limits, + taken from the spool, - delivered "
+                             "to it [W]"),
 )
 #: Boolean outputs of :attr:`EngineModel.flags`, in order: (name, description).
 FLAGS: tuple[tuple[str, str], ...] = (
@@ -47,6 +54,7 @@ FLAGS: tuple[tuple[str, str], ...] = (
     ("overspeed", "N1 or N2 above its limit [-]"),
     ("solver_failed", "The last step could not be matched; the last good state is held [-]"),
     ("fuel_limited", "Fuel flow limited to the largest the gas path can match (surge side of the HPC map) [-]"),
+    ("shaft_power_limited", "An HP or LP shaft port power (offtake or assist) was clipped to its limit [-]"),
 )
 
 
@@ -61,7 +69,9 @@ class EngineInputs:
     alt_m, Mach, dT_isa_K : float
         Flight condition: geopotential altitude [m], Mach [-], ISA deviation [K].
     offtake_hp_W, offtake_lp_W : float
-        Shaft power offtakes [W].
+        Power at the HP and LP shaft ports [W], signed: positive is taken from the spool (accessories, a
+        generator's load), negative is delivered to it (a motor's assist); clipped to the limits of
+        :class:`EngineLimits` (``shaft_power_limited``).
     customer_bleed_frac : float
         Customer bleed from the HPC exit, W/W25 [-].
     distortion_on : bool
@@ -114,6 +124,15 @@ class EngineLimits:
         than the LP spool that the fan is driven past its surge line within 0.2 to 0.5 s; at 0.38
         slam/chop cycles between idle and maximum run without a failed match from sea level to
         8000 m.
+    offtake_hp_max_W, offtake_lp_max_W : float
+        Largest power taken from the HP / LP shaft port (generator load, accessories) [W].
+    assist_hp_max_W, assist_lp_max_W : float
+        Largest power delivered to the HP / LP shaft port (motor assist) [W], as a positive number.
+        A port input outside [-assist_max_W, offtake_max_W] is clipped to that range for the step,
+        the clipped value is what the spool balance gets and what ``offtake_*_applied_W`` report, and the
+        ``shaft_power_limited`` flag is set (its rising edge is an event, logged). Default 200 kW each,
+        about 6 % of the Larzac 04's design HP spool power (3.5 MW) and 8 % of its LP spool power
+        (2.4 MW): a machine rating for studies; set them to the electric machine's rating.
 
     References
     ----------
@@ -127,6 +146,16 @@ class EngineLimits:
     Wf_min_frac: float = 0.01
     Wf_Pt3_min_frac: float = 0.32
     Wf_decel_max_frac_s: float = 0.38
+    offtake_hp_max_W: float = 200e3
+    offtake_lp_max_W: float = 200e3
+    assist_hp_max_W: float = 200e3
+    assist_lp_max_W: float = 200e3
+
+    def __post_init__(self) -> None:
+        for name in ("offtake_hp_max_W", "offtake_lp_max_W", "assist_hp_max_W", "assist_lp_max_W"):
+            v = getattr(self, name)
+            if not (v >= 0.0 and math.isfinite(v)):
+                raise OutOfRangeError(f"EngineLimits: {name}={v!r} must be finite and >= 0 [W]")
 
 
 @dataclass(frozen=True)

@@ -31,6 +31,7 @@ from . import jit_kernels as K
 from .jit_freestream import atm_array
 from .jit_freestream import free_stream as compiled_free_stream
 from .jit_kernels import jit
+from .shaft import TERM_INDEX, TURBOFAN_SHAFTS, spool_balance, term_arrays
 
 __all__ = ["OUT", "FastCycle"]
 
@@ -39,6 +40,11 @@ OUT = ("Fn", "Fg", "ram", "N1c", "N2c", "Tt4", "T41", "Tt21", "Tt17", "Tt7", "Pt
        "W2", "SM_fan", "SM_hpc", "P_hpt", "P_lpt", "P_hpc", "P_fan")
 _T_STD, _P_STD = 288.15, 101325.0
 _SINK = {"overboard": 0, "bypass": 1, "hpt": 2, "lpt": 3}
+# the declared shaft terms (shaft.TURBOFAN_SHAFTS): spool and kind of each, where each power goes in the vector
+_TERM_SPOOL, _TERM_KIND = term_arrays()
+_NTERM = len(TURBOFAN_SHAFTS)
+_T_HPT, _T_HPC, _T_PHP, _T_LPT, _T_FO, _T_FI, _T_BO, _T_PLP = (
+    TERM_INDEX[n] for n in ("hpt", "hpc", "port_hp", "lpt", "fan_outer", "fan_inner", "booster", "port_lp"))
 # indices into the engine parameter vector e
 (_W2, _PRh, _PRl, _Wf, _N1d, _N2d, _BPRd, _PI, _KIN, _EIN, _D2124, _D2425, _HBF, _HBO, _HBN2, _STG, _NSTG,
  _ETAB, _DPB, _TT4D, _D4445, _D57, _BYB, _D1317, _CVC, _CDC, _CVB, _CDB, _EMH, _EML, _WC4, _WC45, _A8, _A18,
@@ -338,8 +344,14 @@ def cycle(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: np.
     r[3] = (Wc_t2 - W44 * math.sqrt(T44 / _T_STD) / (P45 / _P_STD)) / e[_WC45]
     r[4] = A8 / e[_A8] - 1.0
     r[5] = A18 / e[_A18] - 1.0
-    r[6] = (e[_EMH] * P_hpt - P_hpc - off_hp) / e[_PHP]
-    r[7] = (e[_EML] * P_lpt - P_fo - P_fi - 0.0 - off_lp) / e[_PLP]
+    Pt = np.zeros(_NTERM)
+    Pt[_T_HPT], Pt[_T_HPC], Pt[_T_PHP], Pt[_T_LPT] = P_hpt, P_hpc, off_hp, P_lpt
+    Pt[_T_FO], Pt[_T_FI], Pt[_T_BO], Pt[_T_PLP] = P_fo, P_fi, 0.0, off_lp
+    eta_mech, net, loss = np.empty(2), np.empty(2), np.empty(2)
+    eta_mech[0], eta_mech[1] = e[_EMH], e[_EML]
+    spool_balance(Pt, _TERM_SPOOL, _TERM_KIND, eta_mech, net, loss)
+    r[6] = net[0] / e[_PHP]
+    r[7] = net[1] / e[_PLP]
     r[8] = r9
     sm_f = sm_h = math.nan
     if with_sm:

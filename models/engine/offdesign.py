@@ -57,6 +57,7 @@ from .inlet import inlet, ram_recovery_mil_e_5008b
 from .newton import newton_solve
 from .nozzle import convergent_nozzle
 from .offdesign_result import OffDesignPoint
+from .shaft import TURBOFAN_SHAFTS, spool_balance, term_arrays
 from .splitter import splitter
 from .turbine import Cooling, turbine
 
@@ -142,6 +143,9 @@ def _merge(results: list[CompressorResult], gas: Any) -> CompressorResult:
                             first.PR, first.eta_is, first.eta_poly, sum(r.Wc_in_kg_s for r in results))
 
 
+_TERM_SPOOL, _TERM_KIND = term_arrays()           # the declared shaft terms (shaft.TURBOFAN_SHAFTS)
+
+
 def _smoothstep(s: float) -> float:
     s = 0.0 if s < 0.0 else (1.0 if s > 1.0 else s)
     return s * s * (3.0 - 2.0 * s)
@@ -185,6 +189,7 @@ class TurbofanOffDesign:
                         P_hp=c["hpc"].power_W, P_lp=c["fan_outer"].power_W + c["fan_inner"].power_W,
                         Wf=dp.Wf_kg_s, Fn=dp.Fn_N, Tt4=dp.Tt4_K, PRh=c["hpt"].PR, PRl=c["lpt"].PR)
         self.ref["Wc21"] = c["booster"].Wc_kg_s
+        self.eta_mech = np.array([p.eta_mech_hp, p.eta_mech_lp])     # per spool of shaft.SPOOLS
         self._fast: Any = None                              # the compiled residuals, built on first use
         self.x_design = (1.0, maps.beta_fan_design, maps.beta_hpc_design, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0) + (
             (maps.beta_booster_design,) if self.nb else ())
@@ -313,6 +318,12 @@ class TurbofanOffDesign:
             r9 = (Tt4 - value) / ref["Tt4"]
         else:
             r9 = (Fn - value) / ref["Fn"]
+        powers = {"fan_outer": P_fo, "fan_inner": P_fi, "booster": P_bo, "hpc": hc.power_W, "hpt": ht.power_W,
+                  "lpt": lt.power_W, "port_hp": off_hp, "port_lp": off_lp}
+        net, loss = np.empty(2), np.empty(2)
+        spool_balance(np.array([powers[t.name] for t in TURBOFAN_SHAFTS]), _TERM_SPOOL, _TERM_KIND, self.eta_mech,
+                      net, loss)
+        powers["mech_hp"], powers["mech_lp"] = float(loss[0]), float(loss[1])
         r = np.array([
             flow_residual(fan, W2),
             flow_residual(hpc, st["25"].W_kg_s),
@@ -320,14 +331,13 @@ class TurbofanOffDesign:
             (Wc_t2 - st["45"].Wc_kg_s) / ref["Wc45"],
             nc.A_eff_m2 / ref["A8"] - 1.0,
             nb.A_eff_m2 / ref["A18"] - 1.0,
-            (p.eta_mech_hp * ht.power_W - hc.power_W - off_hp) / ref["P_hp"],
-            (p.eta_mech_lp * lt.power_W - P_fo - P_fi - P_bo - off_lp) / ref["P_lp"],
+            net[0] / ref["P_hp"],
+            net[1] / ref["P_lp"],
             r9] + r_booster + [pressure_residual(sec) for sec in (fan, hpc) if len(sec) > 1])
         info = dict(st=st, Fn=Fn, Fg=Fg, ram=ram, Wf=Wf, N1=N1, N2=N2, N1c=N1c, BPR=BPR, hb=hb,
                     b_fan=b_fan, b_hpc=b_hpc, N2c=N2c, PRh=PRh, PRl=PRl,
                     fan_sectors=[(sp.Nc, sp.beta) for sp in fan], hpc_sectors=[(sp.Nc, sp.beta) for sp in hpc],
-                    powers={"fan_outer": P_fo, "fan_inner": P_fi, "booster": P_bo, "hpc": hc.power_W,
-                            "hpt": ht.power_W, "lpt": lt.power_W},
+                    powers=powers,
                     bleeds={b.name: (b.sink, bl[b.name]) for b in specs})
         return r, info
 
@@ -349,7 +359,8 @@ class TurbofanOffDesign:
             The power setting: exactly one of fuel flow [kg/s], N1 [rpm or % of
             design], corrected N1 [% of design corrected N1], Tt4 [K], net thrust [N].
         customer_bleed_frac, offtake_hp_W, offtake_lp_W : float, optional
-            Customer bleed W/W25 [-] and shaft power offtakes [W]; default the design's.
+            Customer bleed W/W25 [-] and shaft port powers [W], signed: + taken from the spool (offtake,
+            generator), - delivered to it (motor assist); default the design's.
         distortion_fan, distortion_hpc : Distortion, optional
             Sector distortion at the fan or HPC face (parallel compressor model,
             :mod:`.distortion`); each adds one unknown and one residual.

@@ -36,6 +36,7 @@ from .inlet import inlet
 from .newton import newton_solve
 from .nozzle import convergent_nozzle, ideal_nozzle
 from .offdesign import CompressorMapLike, TurbineMapLike
+from .shaft import net_power
 from .turbine import Cooling, turbine
 
 __all__ = ["TurbojetOffDesignPoint", "TurbojetOffDesign", "scaled_turbojet_maps", "RESIDUALS_TURBOJET"]
@@ -142,7 +143,7 @@ class TurbojetOffDesign:
               "Tt4_K": lambda: (st["4"].Tt_K - value) / ref["Tt4"], "Fn_N": lambda: (Fn - value) / ref["Fn"]}[kind]()
         r = np.array([(Wc_c - st["2"].Wc_kg_s) / ref["Wc2"], (Wc_t - st["4"].Wc_kg_s) / ref["Wc4"],
                       n.A_eff_m2 / ref["A8"] - 1.0,
-                      (p.eta_mech * t.power_W - c.power_W - p.offtake_W) / ref["P"], r5])
+                      net_power(t.power_W, [c.power_W], p.offtake_W, p.eta_mech) / ref["P"], r5])
         return r, dict(st=st, Fn=Fn, Fg=n.Fg_N, ram=ram, Wf=Wf, N=N, Nc=Nc, beta=beta, PRt=PRt)
 
     def solve(self, alt_m: float = 0.0, Mach: float = 0.0, dT_isa_K: float = 0.0, *,

@@ -1,14 +1,26 @@
-"""Shafts: power balance with mechanical efficiency and power offtake.
+"""Shafts: each spool's power balance over the contributions its components declare.
 
-A spool's turbine delivers P_T; the bearings and gearbox lose (1 - eta_mech)
-of it; the compressors on the spool absorb sum P_C; the accessories and
-generators take the offtake P_X [W]:
+A spool carries turbines, compressors and power ports. A turbine delivers P_T;
+the bearings and gearbox lose (1 - eta_mech) of it; the compressors absorb
+sum P_C; a port exchanges P_X [W] with the outside, SIGNED: positive is power
+taken from the spool (accessories, a generator), negative is power delivered
+to it (a motor assist). The net power into the spool is
 
-    eta_mech P_T = sum P_C + P_X.
+    P_net = sum (eta_mech P_T) - sum P_C - sum P_X.
 
-At design this fixes the turbine power; off-design the imbalance drives the
-spool acceleration, dN/dt = (eta_mech P_T - sum P_C - P_X) / (I omega (2 pi/60)).
-pyCycle's ``fracLoss`` is 1 - eta_mech and its ``HPX`` is P_X.
+At design P_net = 0 fixes the turbine power, P_T = (sum P_C + P_X) / eta_mech; off
+design P_net = 0 is a matching equation (steady state) or drives the spool
+acceleration, dN/dt = P_net / (I omega) * 30/pi. pyCycle's ``fracLoss`` is
+1 - eta_mech and its ``HPX`` is P_X. The mechanical loss applies to the turbine
+power only: a port's P_X is the power at the shaft (an electric machine's own
+losses belong to the machine's model).
+
+The topology of the shafts is data: :data:`TURBOFAN_SHAFTS` declares, once, which
+component's power goes to which spool and how (:class:`ShaftTerm`);
+:func:`spool_balance` forms the balances of any such declaration from a vector of
+the terms' powers, the same function compiled (numba, :mod:`.jit_cycle`) and in
+Python (:mod:`.offdesign`). Adding a machine on a shaft is one more term here and
+its power in the vector (see ``models/engine/README.md``, "How to add a component").
 
 References
 ----------
@@ -20,31 +32,128 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable
+from dataclasses import dataclass
+
+import numpy as np
 
 from .errors import OutOfRangeError
+from .jit_kernels import jit
 
-__all__ = ["turbine_power_required", "net_power", "spool_acceleration"]
+__all__ = ["ShaftTerm", "SPOOLS", "TURBINE", "COMPRESSOR", "PORT", "TURBOFAN_SHAFTS", "TERM_INDEX", "term_arrays",
+           "spool_balance", "turbine_power_required", "net_power", "spool_acceleration"]
+
+#: Spools of the two-spool turbofan, in the order of the balances (index 0 HP, 1 LP).
+SPOOLS: tuple[str, ...] = ("hp", "lp")
+#: Kinds of shaft terms: a turbine delivers its power less the mechanical loss; a compressor absorbs its
+#: power; a port takes its signed power (+ out of the spool, - into it).
+TURBINE, COMPRESSOR, PORT = 0, 1, 2
+_KINDS = {"turbine": TURBINE, "compressor": COMPRESSOR, "port": PORT}
 
 
-def _check(eta_mech: float, offtake_W: float) -> None:
+@dataclass(frozen=True)
+class ShaftTerm:
+    """One contribution to a spool's power balance.
+
+    Attributes
+    ----------
+    name : str
+        The power's name, as in the cycle's ``powers_W`` (``"hpt"``, ``"fan_outer"``, ``"port_lp"``...).
+    spool : str
+        The spool it sits on, one of :data:`SPOOLS`.
+    kind : str
+        ``"turbine"`` (delivers P, less (1 - eta_mech) P), ``"compressor"`` (absorbs P) or ``"port"``
+        (signed P [W]: + taken from the spool, - delivered to it).
+    """
+
+    name: str
+    spool: str
+    kind: str
+
+    def __post_init__(self) -> None:
+        if self.spool not in SPOOLS or self.kind not in _KINDS:
+            raise OutOfRangeError(f"ShaftTerm {self.name!r}: spool {self.spool!r} must be one of {SPOOLS}, kind "
+                                  f"{self.kind!r} one of {tuple(_KINDS)}")
+
+
+#: The turbofan's shafts, declared once: the order is the order of the power vector of :func:`spool_balance`.
+TURBOFAN_SHAFTS: tuple[ShaftTerm, ...] = (
+    ShaftTerm("hpt", "hp", "turbine"), ShaftTerm("hpc", "hp", "compressor"), ShaftTerm("port_hp", "hp", "port"),
+    ShaftTerm("lpt", "lp", "turbine"), ShaftTerm("fan_outer", "lp", "compressor"),
+    ShaftTerm("fan_inner", "lp", "compressor"), ShaftTerm("booster", "lp", "compressor"),
+    ShaftTerm("port_lp", "lp", "port"))
+#: Index of each term's power in the power vector.
+TERM_INDEX: dict[str, int] = {t.name: i for i, t in enumerate(TURBOFAN_SHAFTS)}
+
+
+def term_arrays(terms: tuple[ShaftTerm, ...] = TURBOFAN_SHAFTS,
+                spools: tuple[str, ...] = SPOOLS) -> tuple[np.ndarray, np.ndarray]:
+    """(spool index, kind code) of each term, the integer arrays :func:`spool_balance` reads."""
+    return (np.array([spools.index(t.spool) for t in terms], dtype=np.int64),
+            np.array([_KINDS[t.kind] for t in terms], dtype=np.int64))
+
+
+@jit
+def spool_balance(P_W: np.ndarray, spool: np.ndarray, kind: np.ndarray, eta_mech: np.ndarray,
+                  net_W: np.ndarray, loss_W: np.ndarray) -> None:
+    """Net power into each spool and its mechanical loss [W], from the declared terms' powers.
+
+    Parameters
+    ----------
+    P_W : powers of the terms [W], in the order of the declaration (ports signed, + taken from the spool).
+    spool, kind : each term's spool index and kind code (:func:`term_arrays`).
+    eta_mech : mechanical efficiency of each spool [-].
+    net_W, loss_W : outputs, per spool: sum eta_mech P_T - sum P_C - sum P_X, and sum (1 - eta_mech) P_T.
+    """
+    for s in range(net_W.shape[0]):
+        net_W[s] = 0.0
+        loss_W[s] = 0.0
+    for k in range(P_W.shape[0]):
+        s = spool[k]
+        if kind[k] == TURBINE:
+            net_W[s] += eta_mech[s] * P_W[k]
+            loss_W[s] += (1.0 - eta_mech[s]) * P_W[k]
+        else:                                   # a compressor absorbs, a port takes (signed)
+            net_W[s] -= P_W[k]
+
+
+_ONE_SPOOL = term_arrays((ShaftTerm("turbine", "hp", "turbine"), ShaftTerm("compressor", "hp", "compressor"),
+                          ShaftTerm("port", "hp", "port")))
+
+
+def _check(eta_mech: float, port_W: float) -> None:
     if not (0.0 < eta_mech <= 1.0):
         raise OutOfRangeError(f"shaft: eta_mech={eta_mech!r} is outside the valid range (0, 1]")
-    if not (offtake_W >= 0.0):
-        raise OutOfRangeError(f"shaft: offtake_W={offtake_W!r} must be >= 0")
-
-
-def turbine_power_required(compressor_powers_W: Iterable[float], offtake_W: float = 0.0,
-                           eta_mech: float = 1.0) -> float:
-    """Turbine power [W] that balances the spool: (sum P_C + P_X) / eta_mech."""
-    _check(eta_mech, offtake_W)
-    return (sum(compressor_powers_W) + offtake_W) / eta_mech
+    if not math.isfinite(port_W):
+        raise OutOfRangeError(f"shaft: port power {port_W!r} W must be finite (+ taken from the spool, "
+                              "- delivered to it)")
 
 
 def net_power(turbine_power_W: float, compressor_powers_W: Iterable[float], offtake_W: float = 0.0,
               eta_mech: float = 1.0) -> float:
-    """Net spool power [W]: eta_mech P_T - sum P_C - P_X (zero in steady state)."""
+    """Net power [W] into a spool with one turbine, its compressors and one port (:func:`spool_balance`):
+    eta_mech P_T - sum P_C - P_X, `offtake_W` signed (+ taken, - a motor's assist); zero in steady state."""
     _check(eta_mech, offtake_W)
-    return eta_mech * turbine_power_W - sum(compressor_powers_W) - offtake_W
+    P = np.array([turbine_power_W, sum(compressor_powers_W), offtake_W])
+    net, loss = np.empty(1), np.empty(1)
+    spool_balance(P, _ONE_SPOOL[0], _ONE_SPOOL[1], np.array([eta_mech]), net, loss)
+    return float(net[0])
+
+
+def turbine_power_required(compressor_powers_W: Iterable[float], offtake_W: float = 0.0,
+                           eta_mech: float = 1.0) -> float:
+    """Turbine power [W] that balances the spool: (sum P_C + P_X) / eta_mech, `offtake_W` signed.
+
+    Raises
+    ------
+    OutOfRangeError
+        If an assist (negative `offtake_W`) covers all the compressors' power: no turbine is needed.
+    """
+    _check(eta_mech, offtake_W)
+    P_C = sum(compressor_powers_W)
+    if not P_C + offtake_W > 0.0:
+        raise OutOfRangeError(f"shaft: the compressors absorb {P_C:.6g} W and the port {offtake_W:.6g} W: an assist "
+                              f"of more than the compressors' power leaves no power for the turbine")
+    return (P_C + offtake_W) / eta_mech
 
 
 def spool_acceleration(net_power_W: float, N_rpm: float, inertia_kg_m2: float) -> float:

@@ -40,15 +40,18 @@ def test_model_description(fmu: Path) -> None:
     for name in (*OUT, *(n for n, _ in FLAGS), "events"):
         assert names[name].causality == "output", name
     for name in ("preset", "design_override", "design_BPR", "design_PR_hpc", "design_Tt4_K", "I_lp_kg_m2",
-                 "I_hp_kg_m2", "dt_internal_s", "start_N1_pct", "start_fuel_flow_kg_s", "integrator"):
+                 "I_hp_kg_m2", "dt_internal_s", "start_N1_pct", "start_fuel_flow_kg_s", "integrator",
+                 "offtake_hp_max_W", "offtake_lp_max_W", "assist_hp_max_W", "assist_lp_max_W"):
         assert names[name].causality == "parameter", name
 
 
 def _inputs(k: int) -> EngineInputs:
-    """A fuel ramp and a chop, an altitude/Mach drift, offtake, bleed and a distortion pulse."""
+    """A fuel ramp and a chop, an altitude/Mach drift, an HP offtake, an LP motor's assist, bleed and a
+    distortion pulse."""
     t = k * H
     wf = 0.12 + 0.05 * min(t, 2.0) if t < 3.0 else 0.10
-    return EngineInputs(wf, 3000.0 + 10.0 * t, 0.5 + 0.005 * t, 0.0, 20e3 if t > 1.0 else 0.0, 0.0,
+    return EngineInputs(wf, 3000.0 + 10.0 * t, 0.5 + 0.005 * t, 0.0, 20e3 if t > 1.0 else 0.0,
+                        -30e3 if t > 2.0 else 0.0,
                         0.02 if t > 1.5 else 0.0, 1.0 <= t < 2.5, 120.0, 0.08, 0.0)
 
 

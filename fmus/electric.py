@@ -2,7 +2,7 @@
 
 A thin pythonfmu slave over :class:`openemss.models.electric.system.ElectricSystem`. Inputs: the spool
 speeds (the engine's ``N1_rpm``, ``N2_rpm``), the thrust lever (the flight control's ``lever_norm``),
-``on_ground`` (the airframe's) and ``pulse_load_W`` (an event-driven pulse load, set by a scenario).
+``vs_m_s`` and ``on_ground`` (the airframe's) and ``pulse_load_W`` (an event-driven pulse load, set by a scenario).
 Outputs: the signed shaft powers ``offtake_hp_W`` and ``offtake_lp_W`` under the engine FMU's input names
 (> 0 taken from the spool, < 0 delivered to it), the bus, battery and ledger figures, the limit flags,
 ``ems_mode`` and ``mass_kg`` (the airframe's ``added_mass_kg``).
@@ -92,6 +92,6 @@ class Electric(Fmi2Slave):
             self.log(f"electric: t={current_time:.6g} s: input(s) not finite: {', '.join(bad)}",
                      Fmi2Status.error, "logStatusError")
             return False
-        n1, n2, lever, pulse = self._u
-        self._sys.step(current_time, step_size, n1, n2, lever, bool(self.on_ground), pulse)
+        n1, n2, lever, vs, pulse = self._u
+        self._sys.step(current_time, step_size, n1, n2, lever, bool(self.on_ground), vs, pulse)
         return True

@@ -50,13 +50,16 @@ FCS_OUT = ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "airbra
 # The electrical power system of ssp/hybrid/ (fmus/electric.py): spool speeds, lever and on-ground in; the
 # signed shaft powers to the engine's offtake inputs (> 0 taken from the spool, < 0 delivered: boost) and its
 # mass to the airframe. pulse_load_W stays unconnected, for scenarios to set.
-ELECTRIC_IN = ("N1_rpm", "N2_rpm", "lever_norm", "on_ground", "pulse_load_W")
+ELECTRIC_IN = ("N1_rpm", "N2_rpm", "lever_norm", "vs_m_s", "on_ground", "pulse_load_W")
 ELECTRIC_OUT = ("offtake_hp_W", "offtake_lp_W", "hp_elec_W", "lp_elec_W", "hp_loss_W", "lp_loss_W", "battery_W",
                 "battery_V", "battery_A", "soc", "load_W", "pulse_W", "load_shed_W", "E_shaft_hp_J", "E_shaft_lp_J",
                 "E_elec_hp_J", "E_elec_lp_J", "E_loss_J", "E_batt_J", "E_loads_J", "E_shed_J", "mass_kg",
                 "hp_limited", "lp_limited", "battery_limited", "load_shed", "ems_mode")
+# the engine's shaft ports as applied after its own limits (recorded in the hybrid system)
+ENGINE_PORTS_OUT = ("offtake_hp_applied_W", "offtake_lp_applied_W", "shaft_power_limited")
 ELECTRIC_LINKS = (("engine.N1_rpm", "electric.N1_rpm"), ("engine.N2_rpm", "electric.N2_rpm"),
-                  ("fcs.lever_norm", "electric.lever_norm"), ("airframe.on_ground", "electric.on_ground"),
+                  ("fcs.lever_norm", "electric.lever_norm"), ("airframe.vs_m_s", "electric.vs_m_s"),
+                  ("airframe.on_ground", "electric.on_ground"),
                   ("electric.offtake_hp_W", "engine.offtake_hp_W"), ("electric.offtake_lp_W", "engine.offtake_lp_W"),
                   ("electric.mass_kg", "airframe.added_mass_kg"))
 # Flight idle of the Larzac-04-sized engines (the fuel controller's lowest N1c demand, and the TECS lever
@@ -101,7 +104,7 @@ def build_system(hybrid: bool = False) -> SystemBuilder:
     fcs_in = [*AIRFRAME_TO_FCS, "N1_pct", "N1c_pct", "Tt41_K"]
     airframe_in = [*FCS_TO_AIRFRAME, *ENGINE_TO_AIRFRAME] + (["added_mass_kg"] if hybrid else [])
     _add(sys_, "fcs", "Fcs.fmu", fcs_in + list(FCS_OUT))
-    _add(sys_, "engine", "Engine.fmu", engine_in + list(ENGINE_OUT))
+    _add(sys_, "engine", "Engine.fmu", engine_in + list(ENGINE_OUT) + (list(ENGINE_PORTS_OUT) if hybrid else []))
     _add(sys_, "airframe", "Airframe.fmu", airframe_in + list(AIRFRAME_OUT))
     names = ["fcs", "engine", "airframe"]
     if hybrid:

@@ -93,6 +93,7 @@ class EmsParams:
     enabled: bool
     boost_W: float
     lever_boost_min: float
+    climb_vs_min_m_s: float
     soc_boost_min: float
     charge_W: float
     soc_charge_stop: float

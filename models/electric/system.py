@@ -40,7 +40,7 @@ SECTIONS: dict[str, type] = {"hp_machine": MachineParams, "lp_machine": MachineP
 #: Inputs: (name, unit, description).
 INPUTS: tuple[tuple[str, str, str], ...] = (
     ("N1_rpm", "rpm", "LP spool speed"), ("N2_rpm", "rpm", "HP spool speed"),
-    ("lever_norm", "-", "Thrust lever command, 0 to 1"),
+    ("lever_norm", "-", "Thrust lever command, 0 to 1"), ("vs_m_s", "m/s", "Vertical speed, positive up"),
     ("pulse_load_W", "W", "Event-driven pulse load on the bus (e.g. set by a scenario)"),
 )
 #: Real outputs in the order of :attr:`ElectricSystem.values`: (name, unit, description).
@@ -154,12 +154,12 @@ class ElectricSystem:
         return pt, pt.limited or target != P_elec_W
 
     def step(self, t_s: float, dt_s: float, N1_rpm: float, N2_rpm: float, lever: float, on_ground: bool,
-             pulse_event_W: float = 0.0) -> list[float]:
+             vs_m_s: float = 0.0, pulse_event_W: float = 0.0) -> list[float]:
         """Advance by ``dt_s`` from ``t_s`` with the inputs held; returns :attr:`values` (order of OUTPUTS)."""
         load_W, pulse_W = self.loads.demand_W(t_s, pulse_event_W)
         steady_W = load_W - pulse_W
         bat = self.battery
-        d = self.ems.decide(lever, on_ground, bat.soc, steady_W, pulse_W)
+        d = self.ems.decide(lever, on_ground, vs_m_s, bat.soc, steady_W, pulse_W)
         # LP: the law's shaft request as an electrical target (ramped); HP: its electrical target (ramped)
         lp_req = self.lp.at_shaft(d.lp_shaft_W, N1_rpm)
         lp, lp_lim = self._ramped(self.lp, lp_req.P_elec_W if d.lp_shaft_W != 0.0 else 0.0, self._lp_prev_W,

@@ -46,7 +46,8 @@ def electric_summary(run: RunData) -> dict[str, Any] | None:
     counters: battery delivered (< 0 charged), shaft energy taken from each spool (< 0 delivered), losses,
     loads, shed); ``per_section`` (the same per mission section); ``peak_W`` (battery discharge and charge,
     LP boost and charge, HP offtake, load); ``mode_time_s`` (time in each energy management mode);
-    ``limits_hit`` (as the summary's); ``balance_residual_J`` (machines, bus and battery).
+    ``limits_hit`` (as the summary's); ``balance_residual_J`` (machines, bus and battery; the battery's
+    only when every step was recorded, else None).
     """
     if run.roles.electric is None:
         return None
@@ -81,7 +82,9 @@ def electric_summary(run: RunData) -> dict[str, Any] | None:
         d = {n: float(c[-1] - c[0]) for n, c in cols.items()}
         res["machines"] = d["E_shaft_hp_J"] + d["E_shaft_lp_J"] - d["E_elec_hp_J"] - d["E_elec_lp_J"] - d["E_loss_J"]
         res["bus"] = d["E_elec_hp_J"] + d["E_elec_lp_J"] + d["E_batt_J"] - d["E_loads_J"] + d["E_shed_J"]
-        # the recorded V and I held over each step (exact with every step recorded)
-        res["battery_VI"] = d["E_batt_J"] - float(held_increments(t, V * I).sum())
+        # the recorded V and I held over each step: exact with every step recorded, else not computed (None)
+        step = run.info.get("step_size_s")
+        every = len(t) > 1 and step is not None and bool(np.allclose(np.diff(t), step, rtol=1e-9, atol=1e-12))
+        res["battery_VI"] = d["E_batt_J"] - float(held_increments(t, V * I).sum()) if every else None
     out["balance_residual_J"] = res
     return out

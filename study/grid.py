@@ -5,7 +5,8 @@
 reads ``STUDY_DIR/study.csv`` (written by ``emss study run``) and writes into ``OUT_DIR``: ``grid.png``
 (one panel per outcome: the value in every cell, with the grid's values on the axes), ``grid.md`` (the
 same as tables) and ``study.csv`` (a copy). By default the axes are the table's first two dimension
-columns and the outcomes ``fuel_burned_kg`` and ``final_soc``. Cases that did not complete are shown empty.
+columns and the outcomes ``fuel_burned_kg`` and ``final_soc``. Cases that failed are shown empty; a
+completed run whose table does not say ``mission_completed`` is marked ``*`` in ``grid.md``.
 """
 from __future__ import annotations
 
@@ -41,10 +42,16 @@ def grid_tables(rows: list[dict[str, str]], x: str, y: str, outcomes: list[str]
     ys = list(dict.fromkeys(r[y] for r in rows))
     maps = {o: np.full((len(ys), len(xs)), np.nan) for o in outcomes}
     for r in rows:
-        ok = r.get("status") == "completed" and r.get("mission_completed", "True") in ("True", "true", "1")
+        ok = r.get("status") == "completed"
         for o in outcomes:
             maps[o][ys.index(r[y]), xs.index(r[x])] = _num(r.get(o, "")) if ok else math.nan
     return xs, ys, maps
+
+
+def _unfinished(rows: list[dict[str, str]], x: str, y: str) -> set[tuple[str, str]]:
+    """(x, y) of the completed runs whose table does not say the mission was completed."""
+    return {(r[x], r[y]) for r in rows if r.get("status") == "completed"
+            and r.get("mission_completed", "") not in ("True", "true", "1")}
 
 
 def write_grid(study_dir: Path, out: Path, x: str | None = None, y: str | None = None,
@@ -85,8 +92,14 @@ def write_grid(study_dir: Path, out: Path, x: str | None = None, y: str | None =
     lines = [f"# {Path(study_dir).name}: {', '.join(outcomes)} over {x} and {y}", ""]
     for o in outcomes:
         lines += [f"## {o}", "", f"| {y} \\ {x} | " + " | ".join(xs) + " |", "|---" * (len(xs) + 1) + "|"]
-        lines += [f"| {yv} | " + " | ".join("-" if math.isnan(v) else f"{v:.6g}" for v in maps[o][i]) + " |"
-                  for i, yv in enumerate(ys)]
+        odd = _unfinished(rows, x, y)
+        lines += [f"| {yv} | " + " | ".join("-" if math.isnan(v) else f"{v:.6g}" + ("*" if (xs[j], yv) in odd else "")
+                                            for j, v in enumerate(maps[o][i])) + " |" for i, yv in enumerate(ys)]
+        lines.append("")
+    odd = _unfinished(rows, x, y)
+    if odd:
+        lines.append("`*`: the run completed but its table does not say the mission was completed: "
+                     + ", ".join(f"{x}={a}, {y}={b}" for a, b in sorted(odd)))
         lines.append("")
     md = atomic_write(out / "grid.md", "\n".join(lines))
     copy = out / "study.csv"

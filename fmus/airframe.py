@@ -121,6 +121,7 @@ class Airframe(Fmi2Slave):
         self.steering_norm = 0.0
         self.thrust_N = 0.0
         self.fuel_flow_kg_s = 0.0
+        self.added_mass_kg = 0.0
         for name, desc in (("aileron_norm", "Aileron command, -1 to 1, > 0 rolls right [-]"),
                            ("elevator_norm", "Elevator command, -1 to 1, > 0 trailing edge down (nose down) [-]"),
                            ("rudder_norm", "Rudder command, -1 to 1, > 0 yaws the nose right [-]"),
@@ -130,7 +131,9 @@ class Airframe(Fmi2Slave):
                            ("brakes_norm", "Wheel brakes, 0 to 1 [-]"),
                            ("steering_norm", "Nose-wheel steering, -1 to 1, > 0 right [-]"),
                            ("thrust_N", "Net thrust along the engine axis [N]"),
-                           ("fuel_flow_kg_s", "Fuel flow burnt from the tank [kg/s]")):
+                           ("fuel_flow_kg_s", "Fuel flow burnt from the tank [kg/s]"),
+                           ("added_mass_kg", "Mass added at the CG to the operating empty mass (e.g. the "
+                                             "electrical system's mass_kg), 0 to 10000 [kg]")):
             self.register_variable(Real(name, causality=inp, description=desc))
         self.register_variable(Boolean("gear_down", causality=inp, variability=discrete,
                                        description="Landing gear command, true = down [-]"))
@@ -181,6 +184,7 @@ class Airframe(Fmi2Slave):
                           wind_ned_m_s=(self.wind_north_m_s, self.wind_east_m_s, self.wind_down_m_s),
                           turbulence_severity=sev, turbulence_wind_20ft_m_s=w20, seed=seed,
                           wind_profile=w.wind.ned_m_s if w is not None and w.wind is not None else None)
+        m.set_added_mass(self.added_mass_kg)
         if self.start_on_runway:
             m.start_runway(self.lat0_deg, self.lon0_deg, self.heading0_deg, self.alt0_m, fuel_kg=self.fuel0_kg,
                            flaps=self.flaps0_norm)
@@ -190,7 +194,7 @@ class Airframe(Fmi2Slave):
                 m.start_air(self.alt0_m, 100.0, self.heading0_deg, fuel_kg=self.fuel0_kg,
                             ground_elevation_m=self.ground_elevation_m)
                 mach = self.tas0_m_s / (m.get_property("atmosphere/a-fps") * FT)
-                r = trim_level(self.alt0_m, mach, m.geometry.oem_kg + self.fuel0_kg, airframe=m,
+                r = trim_level(self.alt0_m, mach, m.geometry.oem_kg + self.added_mass_kg + self.fuel0_kg, airframe=m,
                                flaps=self.flaps0_norm, gear_down=self.gear_down, heading_deg=self.heading0_deg,
                                lat_deg=self.lat0_deg, lon_deg=self.lon0_deg)
                 alpha, elevator, thrust = r.alpha_rad, r.elevator, r.thrust_N
@@ -211,6 +215,7 @@ class Airframe(Fmi2Slave):
         m.set_steering(self.steering_norm)
         m.set_thrust(self.thrust_N)
         m.set_fuel_flow(self.fuel_flow_kg_s)
+        m.set_added_mass(self.added_mass_kg)
         m.step(step_size)
         self._vals = m.values()
         return True

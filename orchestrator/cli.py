@@ -348,10 +348,11 @@ def _default_system() -> Path:
 
 
 def _ensure_project_fmus(system: Path) -> None:
-    """The project's own system (ssp/) gets its FMUs built from fmus/ when they are missing or stale."""
+    """The project's own systems (ssp/ and its sub-folders, e.g. ssp/hybrid/) get their FMUs built from fmus/
+    when they are missing or stale."""
     project = PACKAGE_ROOT / "ssp"
-    if system.is_dir() and project.is_dir() and system.resolve() == project.resolve():
-        ensure_built(PACKAGE_ROOT / "fmus", project / "resources", report=lambda m: print(m, file=sys.stderr))
+    if system.is_dir() and project.is_dir() and project.resolve() in (system.resolve(), system.resolve().parent):
+        ensure_built(PACKAGE_ROOT / "fmus", system / "resources", report=lambda m: print(m, file=sys.stderr))
 
 
 def cmd_run(args: argparse.Namespace) -> int:

@@ -89,11 +89,13 @@ class MemoryRecorder:
         self.every = every
         self._sampler = _RowSampler(1024)
         self._blocks: list[np.ndarray] = []
+        self._skipped: float | None = None  # time of the last step when it was not recorded
 
     def start(self, execution: Execution) -> None:
         self._sampler.attach(execution)
 
     def sample(self, k: int, time_s: float) -> None:
+        self._skipped = time_s if k % self.every else None
         if k % self.every:
             return
         s = self._sampler
@@ -104,6 +106,8 @@ class MemoryRecorder:
 
     def finish(self, execution: Execution, error: BaseException | None) -> None:
         s = self._sampler
+        if error is None and self._skipped is not None:  # a run stopped between two recorded steps:
+            self.sample(0, self._skipped)                # its last step is recorded (the final state)
         if s.rows:
             self._blocks.append(s.block[: s.rows].copy())
             s.rows = 0
@@ -134,6 +138,7 @@ class CsvRecorder:
         self._fmt = ""
         self._good_bytes = 0  # length of the file up to its last complete row
         self._last_time_s: float | None = None
+        self._skipped: float | None = None  # time of the last step when it was not recorded
         self.rows_written = 0
 
     def start(self, execution: Execution) -> None:
@@ -164,6 +169,7 @@ class CsvRecorder:
         self._good_bytes += len(data)
 
     def sample(self, k: int, time_s: float) -> None:
+        self._skipped = time_s if k % self.every else None
         if k % self.every:
             return
         s = self._sampler
@@ -189,6 +195,8 @@ class CsvRecorder:
     def finish(self, execution: Execution, error: BaseException | None) -> None:
         if self._file is not None:
             try:
+                if error is None and self._skipped is not None:  # a run stopped between two recorded steps:
+                    self.sample(0, self._skipped)                # its last step is recorded (the final state)
                 self.flush()
             finally:
                 if self._file is not None:

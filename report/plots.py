@@ -195,6 +195,10 @@ def _from_start(y: np.ndarray) -> np.ndarray:
     return y - y[0]
 
 
+def _kilo(y: np.ndarray) -> np.ndarray:
+    return y * 1e-3
+
+
 def _deg(y: np.ndarray) -> np.ndarray:
     return np.degrees(y)
 
@@ -258,6 +262,13 @@ def plot_runs(runs: Sequence[PlotRun], out: Path, window: tuple[float, float] | 
             ("roll phi [deg]", [("airframe", "phi_rad", "phi", _deg)]),
             ("pitch theta [deg]", [("airframe", "theta_rad", "theta", _deg)]),
             ("heading psi [deg]", [("airframe", "psi_rad", "psi", _heading_deg)]),
+        ], shade=True),
+        _lines(runs, out / "electric.png", "Electrical system", [
+            ("state of charge [-]", [("electric", "soc", "SOC", _ident)]),
+            ("power [kW]", [("electric", "battery_W", "battery to bus", _kilo),
+                            ("electric", "offtake_lp_W", "LP shaft offtake (< 0 boost)", _kilo),
+                            ("electric", "offtake_hp_W", "HP shaft offtake", _kilo),
+                            ("electric", "load_W", "bus load", _kilo)]),
         ], shade=True),
     ]
     return [f for f in figures if f is not None]

@@ -3,7 +3,8 @@
 Columns are found by role, never by component name: the flight control system is the
 component with a ``section_index`` column, the engine the one with ``fuel_flow_kg_s``
 and ``fuel_burned_kg``, the airframe the one with ``lat_deg``, ``lon_deg``,
-``alt_msl_m`` and ``mach`` (other than the FCS, whose inputs carry some of those names).
+``alt_msl_m`` and ``mach`` (other than the FCS, whose inputs carry some of those names), the
+electrical system (if any) the one with ``soc``, ``E_batt_J`` and ``offtake_lp_W``.
 """
 from __future__ import annotations
 
@@ -36,6 +37,7 @@ class Roles:
     fcs: str | None
     engine: str | None
     airframe: str | None
+    electric: str | None = None
 
 
 def find_roles(columns: Iterable[str]) -> Roles:
@@ -51,7 +53,8 @@ def find_roles(columns: Iterable[str]) -> Roles:
     airframe = next((c for c, v in by_comp.items() if c != fcs and nav | {"mach"} <= v), None)
     if airframe is None and fcs is not None and nav <= by_comp[fcs]:
         airframe = fcs
-    return Roles(fcs, engine, airframe)
+    electric = next((c for c, v in by_comp.items() if {"soc", "E_batt_J", "offtake_lp_W"} <= v), None)
+    return Roles(fcs, engine, airframe, electric)
 
 
 def read_header(folder: Path) -> list[str]:

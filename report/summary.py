@@ -216,6 +216,7 @@ def _with_conformance(run: RunData, mission: Mission | None, table: list[dict[st
 
 
 def summarize(run: RunData, mission: Mission | None) -> dict[str, Any]:
+    from .electric import electric_summary  # it uses this module's helpers
     """The summary of a mission run (see the README's Results section for the keys and units).
 
     Requires the FCS's ``section_index`` and the engine's ``fuel_flow_kg_s`` and ``fuel_burned_kg``.
@@ -262,4 +263,5 @@ def summarize(run: RunData, mission: Mission | None) -> dict[str, Any]:
         "sections": _with_conformance(run, mission, sections_table(t, idx, wf, sections, completed)),
         "holds": holds(run, mission),
         "ils": ils_conformance(run, mission),
+        "electric": electric_summary(run),
     })

@@ -8,7 +8,9 @@ its description states) and the parameter sets ``engine_larzac04.ssv``,
 ``engine_reference_study.ssv``, ``engine_redesigned.ssv`` (the lowest-SFC engine of the
 cycle study; ``emss run --params ssp/engine_redesigned.ssv`` flies it),
 ``aircraft_mtow.ssv`` (2100 kg: full tank), ``aircraft_half_fuel.ssv`` (1800 kg) and
-``munich_wind_turbulence.ssv`` (the airframe's weather: a 20 kt wind aloft, light turbulence).
+``munich_wind_turbulence.ssv`` (the airframe's weather: a 20 kt wind aloft, light turbulence);
+and ``hybrid/`` the same system with the electrical power system (``fmus/electric.py``) on both spools,
+with its parameter sets ``ems_off.ssv`` and ``no_boost.ssv``. ``emss run ssp/hybrid`` flies it.
 ``tests/test_system_files.py`` checks every connector of the result against the FMUs, so the
 files cannot drift from them.
 """
@@ -45,6 +47,21 @@ AIRFRAME_OUT = ("lat_deg", "lon_deg", "alt_msl_m", "alt_agl_m", "tas_m_s", "cas_
 FCS_OUT = ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "airbrake_norm", "brakes_norm",
            "steering_norm", "gear_down", "lever_norm", "fuel_flow_cmd_kg_s", "alt_cmd_m", "tas_cmd_m_s", "mach_cmd",
            "track_cmd_rad", "section_index", "mission_completed", "fuel_limiter", "vnav_mode", "ils_phase")
+# The electrical power system of ssp/hybrid/ (fmus/electric.py): spool speeds, lever and on-ground in; the
+# signed shaft powers to the engine's offtake inputs (> 0 taken from the spool, < 0 delivered: boost) and its
+# mass to the airframe. pulse_load_W stays unconnected, for scenarios to set.
+ELECTRIC_IN = ("N1_rpm", "N2_rpm", "lever_norm", "vs_m_s", "on_ground", "pulse_load_W")
+ELECTRIC_OUT = ("offtake_hp_W", "offtake_lp_W", "hp_elec_W", "lp_elec_W", "hp_loss_W", "lp_loss_W", "battery_W",
+                "battery_V", "battery_A", "soc", "load_W", "pulse_W", "load_shed_W", "E_shaft_hp_J", "E_shaft_lp_J",
+                "E_elec_hp_J", "E_elec_lp_J", "E_loss_J", "E_batt_J", "E_loads_J", "E_shed_J", "mass_kg",
+                "hp_limited", "lp_limited", "battery_limited", "load_shed", "ems_mode")
+# the engine's shaft ports as applied after its own limits (recorded in the hybrid system)
+ENGINE_PORTS_OUT = ("offtake_hp_applied_W", "offtake_lp_applied_W", "shaft_power_limited")
+ELECTRIC_LINKS = (("engine.N1_rpm", "electric.N1_rpm"), ("engine.N2_rpm", "electric.N2_rpm"),
+                  ("fcs.lever_norm", "electric.lever_norm"), ("airframe.vs_m_s", "electric.vs_m_s"),
+                  ("airframe.on_ground", "electric.on_ground"),
+                  ("electric.offtake_hp_W", "engine.offtake_hp_W"), ("electric.offtake_lp_W", "engine.offtake_lp_W"),
+                  ("electric.mass_kg", "airframe.added_mass_kg"))
 # Flight idle of the Larzac-04-sized engines (the fuel controller's lowest N1c demand, and the TECS lever
 # that demands it, N1c_idle / k_delta): 40 % corrected fan speed runs steadily on the engine model from sea
 # level to 7500 m (its lowest steady N1 there: 18 to 30 %) and gives 0.84 kN at 600 m, Mach 0.2 (a
@@ -76,18 +93,25 @@ def _add(sys_: SystemBuilder, name: str, fmu_file: str, names: list[str]) -> Non
         comp.parameters(dict(START[name]))
 
 
-def build_system() -> SystemBuilder:
-    """The engine + airframe + flight-control system of the Munich mission."""
+def build_system(hybrid: bool = False) -> SystemBuilder:
+    """The engine + airframe + flight-control system of the Munich mission; with ``hybrid`` the electrical
+    power system too (``ssp/hybrid/``): its machines on both spools (:data:`ELECTRIC_LINKS`)."""
     # the Munich mission takes about 4040 s; emss run ends when the FCS reports it completed
-    sys_ = SystemBuilder("openEMSS").experiment(0.0, 5000.0, STEP_S)
+    sys_ = SystemBuilder("openEMSS_hybrid" if hybrid else "openEMSS").experiment(0.0, 5000.0, STEP_S)
     # the distortion inputs are connectors too (unconnected), so a scenario that sets them is recorded
     engine_in = ["fuel_flow_cmd_kg_s", "alt_m", "mach", "distortion_on", "distortion_sector_deg",
-                 "distortion_dPt_frac"]
+                 "distortion_dPt_frac"] + (["offtake_hp_W", "offtake_lp_W"] if hybrid else [])
     fcs_in = [*AIRFRAME_TO_FCS, "N1_pct", "N1c_pct", "Tt41_K"]
-    airframe_in = [*FCS_TO_AIRFRAME, *ENGINE_TO_AIRFRAME]
+    airframe_in = [*FCS_TO_AIRFRAME, *ENGINE_TO_AIRFRAME] + (["added_mass_kg"] if hybrid else [])
     _add(sys_, "fcs", "Fcs.fmu", fcs_in + list(FCS_OUT))
-    _add(sys_, "engine", "Engine.fmu", engine_in + list(ENGINE_OUT))
+    _add(sys_, "engine", "Engine.fmu", engine_in + list(ENGINE_OUT) + (list(ENGINE_PORTS_OUT) if hybrid else []))
     _add(sys_, "airframe", "Airframe.fmu", airframe_in + list(AIRFRAME_OUT))
+    names = ["fcs", "engine", "airframe"]
+    if hybrid:
+        _add(sys_, "electric", "Electric.fmu", list(ELECTRIC_IN) + list(ELECTRIC_OUT))
+        for start, end in ELECTRIC_LINKS:
+            sys_.connect(start, end)
+        names.append("electric")
     for n in AIRFRAME_TO_FCS:
         sys_.connect(f"airframe.{n}", f"fcs.{n}")
     for n in FCS_TO_AIRFRAME:
@@ -96,7 +120,7 @@ def build_system() -> SystemBuilder:
         sys_.connect(f"engine.{n}", f"airframe.{n}")
     for start, end in RENAMED:
         sys_.connect(start, end)
-    for name in ("fcs", "engine", "airframe"):
+    for name in names:
         for unit in sorted({k[3] for c in sys_.components if c.name == name for k in c.connectors if k[3]}):
             if unit not in sys_.units:
                 sys_.units[unit] = _SI.get(unit, {"factor": 1.0, "offset": 0.0})
@@ -119,6 +143,10 @@ _SI: dict[str, dict[str, float]] = {
     "rpm": {"rad": 1, "s": -1, "factor": 0.10471975511965977, "offset": 0.0},
     "%": {"factor": 0.01, "offset": 0.0},
     "kg/(N s)": {"m": -1, "s": 1, "factor": 1.0, "offset": 0.0},
+    "W": {"kg": 1, "m": 2, "s": -3, "factor": 1.0, "offset": 0.0},
+    "J": {"kg": 1, "m": 2, "s": -2, "factor": 1.0, "offset": 0.0},
+    "V": {"kg": 1, "m": 2, "s": -3, "A": -1, "factor": 1.0, "offset": 0.0},
+    "A": {"A": 1, "factor": 1.0, "offset": 0.0},
 }
 
 
@@ -151,19 +179,29 @@ def parameter_sets() -> dict[str, ParameterSet]:
                 "airframe.weather_file": "missions/weather/munich_wind_light_turbulence.yaml"})}
 
 
+def hybrid_parameter_sets() -> dict[str, ParameterSet]:
+    """Parameter sets of ``ssp/hybrid/``: the electrical system without energy management (the HP generator
+    supplies the bus, the LP machine idles: the reference for the hybrid figures) and without boost."""
+    return {"ems_off.ssv": ParameterSet("ems_off", {"electric.ems.enabled": False}),
+            "no_boost.ssv": ParameterSet("no_boost", {"electric.ems.boost_W": 0.0})}
+
+
 def main() -> int:
-    missing = [f for f in ("Fcs.fmu", "Engine.fmu", "Airframe.fmu") if not (RESOURCES / f).is_file()]
+    missing = [f for f in ("Fcs.fmu", "Engine.fmu", "Airframe.fmu", "Electric.fmu") if not (RESOURCES / f).is_file()]
     if missing:
         print(f"generate: build the FMUs first: build-fmus --out {RESOURCES} (missing {', '.join(missing)})",
               file=sys.stderr)
         return 1
     build_system().write(HERE)
+    build_system(hybrid=True).write(HERE / "hybrid")
     from lxml import etree
 
-    for name, pset in parameter_sets().items():
-        (HERE / name).write_bytes(etree.tostring(pset.element(), xml_declaration=True, encoding="UTF-8",
-                                                 pretty_print=True))
-    print(f"wrote {HERE / 'SystemStructure.ssd'} and {', '.join(parameter_sets())}")
+    for folder, sets in ((HERE, parameter_sets()), (HERE / "hybrid", hybrid_parameter_sets())):
+        for name, pset in sets.items():
+            (folder / name).write_bytes(etree.tostring(pset.element(), xml_declaration=True, encoding="UTF-8",
+                                                       pretty_print=True))
+    print(f"wrote {HERE / 'SystemStructure.ssd'}, {', '.join(parameter_sets())}, "
+          f"{HERE / 'hybrid' / 'SystemStructure.ssd'} and {', '.join(hybrid_parameter_sets())}")
     return 0
 
 

@@ -14,11 +14,11 @@ from .case import CaseDef, CaseResult
 __all__ = ["OUTCOME_COLUMNS", "rows", "write_table"]
 
 #: Columns after the case's parameters. ``summary.json`` (written by ``emss run`` where the
-#: project's report hook is installed) gives mission_completed ... limits_hit; a case without one
-#: leaves them empty.
+#: project's report hook is installed) gives mission_completed ... limits_hit (final_soc: the battery's
+#: state of charge at the end, in a system with an electrical system); a case without one leaves them empty.
 OUTCOME_COLUMNS: tuple[str, ...] = ("status", "error", "attempts", "ran", "mission_completed", "landed",
                                     "fuel_burned_kg", "sim_time_s", "wall_time_s", "realtime_factor",
-                                    "max_Tt4_K", "limits_hit", "folder")
+                                    "max_Tt4_K", "final_soc", "limits_hit", "folder")
 
 
 def _cell(v: Any) -> Any:
@@ -59,7 +59,9 @@ def rows(cases: Sequence[CaseDef], results: dict[str, CaseResult], ran: set[str]
             "mission_completed": s.get("mission_completed"), "landed": s.get("landed"),
             "fuel_burned_kg": s.get("fuel_burned_kg"), "sim_time_s": sim, "wall_time_s": wall,
             "realtime_factor": s.get("realtime_factor", sim / wall if sim is not None and wall else None),
-            "max_Tt4_K": s.get("max_Tt4_K"), "limits_hit": s.get("limits_hit"),
+            "max_Tt4_K": s.get("max_Tt4_K"),
+            "final_soc": ((s.get("electric") or {}).get("soc") or {}).get("end"),  # systems with a battery
+            "limits_hit": s.get("limits_hit"),
             "folder": str(Path("cases") / c.name),
         })
         table.append({k: _cell(v) for k, v in row.items()})

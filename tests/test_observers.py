@@ -53,6 +53,21 @@ def test_csv_and_memory_recorders_agree(oscillator: Path, tmp_path: Path) -> Non
     assert np.allclose(data["mass2f_c_N"], ref["mass2.f_c_N"], rtol=1e-14, atol=1e-14)
 
 
+def test_the_last_step_is_recorded_when_the_run_stops_between_two_samples(oscillator: Path, tmp_path: Path) -> None:
+    """Every 3rd of 41 samples (0..40) and the last one: the final state is never lost (a summary reads it)."""
+    ex = Execution(bind_system(load_system(oscillator)), rate_hz=20.0)
+    mem, csv = MemoryRecorder(every=3), CsvRecorder(tmp_path / "t.csv", every=3)
+    ex.add_observer(mem)
+    ex.add_observer(csv)
+    ex.run(2.0)
+    import numpy as np
+
+    data = np.genfromtxt(tmp_path / "t.csv", delimiter=",", names=True)
+    times = [0.05 * k for k in range(0, 41, 3)] + [2.0]
+    assert np.allclose(data["time_s"], times, rtol=0, atol=1e-12)
+    assert np.allclose(mem.result()["time_s"], times, rtol=0, atol=1e-12)
+
+
 class Tty(io.StringIO):
     def isatty(self) -> bool:
         return True

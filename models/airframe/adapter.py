@@ -184,6 +184,8 @@ class Airframe:
         self._phi = pm.get_node("attitude/phi-rad")
         self._gear_cmd = pm.get_node("gear/gear-cmd-norm")
         self._mass = pm.get_node("inertia/mass-slugs")
+        self._added = pm.get_node("inertia/pointmass-weight-lbs[0]")  # the ADDED point mass of UPERA.xml
+        self._added_kg = 0.0
         self._tank = pm.get_node("propulsion/tank[0]/contents-lbs")
         self._thrust = pm.get_node("external_reactions/thrust/magnitude")
         self._time = pm.get_node("simulation/sim-time-sec")
@@ -382,6 +384,21 @@ class Airframe:
         if not wf >= 0.0:
             raise OutOfEnvelopeError(f"fuel flow = {wf_kg_s} kg/s is outside the valid range [0, inf) kg/s")
         self._wf_kg_s = wf
+
+    def set_added_mass(self, mass_kg: float) -> None:
+        """Mass [kg] (>= 0) added at the CG to the operating empty mass (e.g. an electrical system), from
+        the next step on; JSBSim's total mass and inertia take it as its point mass ADDED."""
+        m = float(mass_kg)
+        if not 0.0 <= m <= 10000.0:
+            raise OutOfEnvelopeError(f"added mass = {mass_kg} kg is outside the valid range [0, 10000] kg")
+        if m != self._added_kg:
+            self._added.set_double_value(m / LBM)
+            self._added_kg = m
+
+    @property
+    def added_mass_kg(self) -> float:
+        """Mass added at the CG [kg]."""
+        return self._added_kg
 
     # -- stepping -----------------------------------------------------------
     def step(self, dt_s: float) -> None:

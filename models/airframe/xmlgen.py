@@ -379,6 +379,12 @@ def aircraft_xml(a: AeroModel | None = None) -> str:
     <izz unit="KG*M2">{_n(izz)}</izz>
     <emptywt unit="KG">{_n(g.oem_kg)}</emptywt>
 {_loc(*cg, '    ').replace('<location', '<location name="CG"')}
+    <!-- Mass added to the operating empty mass at the CG, set at run time (the airframe FMU's
+         added_mass_kg input, e.g. an electrical system): inertia/pointmass-weight-lbs[0] -->
+    <pointmass name="ADDED">
+      <weight unit="KG">0</weight>
+{_loc(*cg, '      ')}
+    </pointmass>
   </mass_balance>
 {_gear_section(a)}
   <external_reactions>

@@ -261,3 +261,28 @@ def plot_runs(runs: Sequence[PlotRun], out: Path, window: tuple[float, float] | 
         ], shade=True),
     ]
     return [f for f in figures if f is not None]
+
+
+def plot_variables(runs: Sequence[PlotRun], names: Sequence[str], path: Path,
+                   window: tuple[float, float] | None = None) -> Path:
+    """Any recorded columns over time, one panel each (any system), labelled with their units."""
+    check_window(runs, window)
+    fig = Figure(figsize=(10, 1.9 * len(names) + 0.8))
+    axes = fig.subplots(len(names), 1, sharex=True, squeeze=False)[:, 0]
+    for ax, name in zip(axes, names, strict=True):
+        for i, r in enumerate(runs):
+            y = r.data.columns.get(name)
+            if y is None:
+                continue
+            t = r.data.time_s
+            keep = slice(None) if window is None else (t >= window[0]) & (t <= window[1])
+            ax.plot(t[keep], y[keep], _style(i), lw=1.1, label=_label(runs, r, name))
+        unit = runs[0].data.unit(name)
+        ax.set_ylabel(f"{name.rpartition('.')[2]} [{unit or '-'}]", fontsize=8)
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7, loc="best")
+    axes[-1].set_xlabel("time [s]")
+    if window is not None:
+        axes[-1].set_xlim(*window)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    return _save(fig, path)

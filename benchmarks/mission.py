@@ -57,9 +57,9 @@ def main(argv: list[str] | None = None) -> int:
     from openemss.orchestrator.build import ensure_built
     from openemss.orchestrator.errors import EmssError
     from openemss.orchestrator.execution import Execution
-    from openemss.orchestrator.timeseries import default_record, recorder
     from openemss.orchestrator.ssp import load_system
     from openemss.orchestrator.system import bind_system
+    from openemss.orchestrator.timeseries import default_record, recorder
 
     ensure_built(ROOT / "fmus", ROOT / "ssp" / "resources")
     work = Path(tempfile.mkdtemp(prefix="emss-bench-mission-"))

@@ -322,7 +322,8 @@ def _run(system: Path, out: Path, stop_time: float | None, params: Sequence[Path
     pacer = RealTimePacer(realtime) if realtime > 0 else None
     rec = recorder(fmt, out, every=record_every)
     record_ = RunRecord(out / "run.json", str(system), [str(p) for p in params],
-                        {"stop_time_s": stop, "scenario": str(scenario) if scenario else None, "format": fmt},
+                        {"system_name": bound.definition.name, "stop_time_s": stop,
+                         "scenario": str(scenario) if scenario else None, "format": fmt},
                         reporters=[pacer] if pacer else [])
     record_.add_files([FILE_NAMES[fmt]] + (["cli_parameters.ssv"] if settings else []))
     bar = Progress(stop, status=hooks.status_variable(bound, status)) if progress else None

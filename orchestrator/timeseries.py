@@ -51,7 +51,7 @@ FORMATS = ("parquet", "csv", "mat")
 DEFAULT_FORMAT = "parquet"
 FILE_NAMES = {"parquet": "timeseries.parquet", "csv": "timeseries.csv", "mat": "timeseries.mat"}
 MAT_STAGING = ".timeseries.mat.parts"
-PART_ROWS = 16384  #: rows of one Parquet part at most (one row group each)
+PART_ROWS = 4096  #: rows of one Parquet part at most (one row group each; a block of this size stays in cache)
 PART_GLOB = "part-*.parquet"
 ZSTD_LEVEL = 3
 _UNIT_IN_TEXT = re.compile(r"\[([^\[\]]+)\]\s*$")
@@ -134,64 +134,53 @@ def default_record(bound: BoundSystem, inputs: bool = False) -> list[str]:
 
 # -- sampling -----------------------------------------------------------------------------------
 @dataclass
-class _Group:
-    """Signals of one exchange vector: their indices into it and their slice of the type's block."""
-
-    vector: np.ndarray
-    indices: np.ndarray
-    start: int
-    stop: int
-
-
-@dataclass
 class _TypedSampler:
-    """Fills rows into one preallocated block per type (one ``numpy.take`` per exchange vector per row)."""
+    """Fills rows into one preallocated block per type.
+
+    A row is a copy of each whole exchange vector that holds a recorded signal (a slice assignment, the
+    cheapest copy NumPy has: no index array per row); the recorded columns are picked out of the block
+    once per flush, vectorized over its rows.
+    """
 
     block_rows: int
     columns: list[Column] = field(default_factory=list)
     rows: int = 0
     time: np.ndarray = field(default_factory=lambda: np.empty(0))
     blocks: dict[str, np.ndarray] = field(default_factory=dict)
-    groups: list[tuple[str, _Group]] = field(default_factory=list)
+    copies: list[tuple[np.ndarray, int, int, np.ndarray]] = field(default_factory=list)  # block, a, b, vector
     order: list[tuple[str, int]] = field(default_factory=list)  # per signal column: (type, column in block)
 
     def attach(self, execution: Execution) -> None:
         self.columns = columns_of(execution)
-        by: dict[tuple[str, str], list[tuple[int, int]]] = {}
-        for col, s in enumerate(execution.signals):
-            by.setdefault((s.variable.type_name, s.vector), []).append((col, s.index))
+        offset: dict[tuple[str, str], int] = {}
         width: dict[str, int] = {}
-        place: dict[int, tuple[str, int]] = {}
-        self.groups = []
-        for (t, which), items in by.items():
-            a = width.get(t, 0)
-            for j, (col, _) in enumerate(items):
-                place[col] = (t, a + j)
-            width[t] = a + len(items)
-            vec = getattr(execution.vectors[t], which)
-            self.groups.append((t, _Group(vec, np.array([i for _, i in items], dtype=np.intp), a, a + len(items))))
-        self.blocks = {t: np.empty((self.block_rows, n), dtype=execution.vectors[t].outputs.dtype)
-                       for t, n in width.items()}
-        self.order = [place[c] for c in range(len(execution.signals))]
+        for s in execution.signals:
+            key = (s.variable.type_name, s.vector)
+            if key not in offset:
+                offset[key] = width.get(key[0], 0)
+                width[key[0]] = offset[key] + len(getattr(execution.vectors[key[0]], key[1]))
+        self.blocks = {t: np.ones((self.block_rows, n), dtype=execution.vectors[t].outputs.dtype)
+                       for t, n in width.items()}  # ones, not empty: memory touched now, not in the first rows
+        self.copies = [(self.blocks[t], a, a + len(getattr(execution.vectors[t], which)),
+                        getattr(execution.vectors[t], which)) for (t, which), a in offset.items()]
+        self.order = [(s.variable.type_name, offset[(s.variable.type_name, s.vector)] + s.index)
+                      for s in execution.signals]
         self.time = np.empty(self.block_rows)
         self.rows = 0
 
     def fill(self, time_s: float) -> None:
         r = self.rows
         self.time[r] = time_s
-        blocks = self.blocks
-        for t, g in self.groups:
-            np.take(g.vector, g.indices, out=blocks[t][r, g.start:g.stop])
+        for block, a, b, vector in self.copies:
+            block[r, a:b] = vector
         self.rows = r + 1
 
     def arrays(self) -> list[np.ndarray]:
         """The buffered rows as one contiguous array per column (file order), typed; empties the buffer."""
         n = self.rows
-        cols = {t: np.ascontiguousarray(b[:n].T) for t, b in self.blocks.items()}
         out = [self.time[:n].copy()]
         for (t, j), c in zip(self.order, self.columns[1:], strict=True):
-            a = cols[t][j]
-            out.append(a.astype(_NUMPY[c.type_name]) if a.dtype != _NUMPY[c.type_name] else a)
+            out.append(np.ascontiguousarray(self.blocks[t][:n, j], dtype=_NUMPY[c.type_name]))
         self.rows = 0
         return out
 

@@ -129,7 +129,7 @@ def time_figure(runs: Sequence[PlotRun]) -> object | None:
                                                                     "dash": DASHES[i % len(DASHES)], "width": 1.3}),
                               row=row, col=1)
         for name in p.limits:
-            for i, r in enumerate(runs):
+            for r in runs:
                 v = limit_value(r.data, name)
                 if v is None:
                     continue
@@ -233,7 +233,8 @@ def variables_figure(runs: Sequence[PlotRun], names: Sequence[str]) -> object:
             tt, yy = thin(r.data.time_s, y)
             fig.add_trace(go.Scattergl(x=_float_list(tt), y=_float_list(yy), mode="lines",
                                        name=name if len(runs) == 1 else f"{name} ({r.label})",
-                                       line={"color": COLORS[(row - 1) % len(COLORS)], "dash": DASHES[i % len(DASHES)]}),
+                                       line={"color": COLORS[(row - 1) % len(COLORS)],
+                                             "dash": DASHES[i % len(DASHES)]}),
                           row=row, col=1)
         unit = runs[0].data.unit(name)
         fig.update_yaxes(title_text=f"{name} [{unit or '-'}]", row=row, col=1)

@@ -23,8 +23,8 @@ from openemss.orchestrator.results import atomic_write
 
 from . import mission_check
 from .errors import ReportError
-from .mission_check import pre_run
 from .html import REPORT, write_html_report, write_variables_html
+from .mission_check import pre_run
 from .plots import PlotRun, plot_runs, plot_variables
 from .rundata import MISSION_COPY, find_roles, load_mission, load_run, read_header
 from .summary import summarize

@@ -51,7 +51,7 @@ FORMATS = ("parquet", "csv", "mat")
 DEFAULT_FORMAT = "parquet"
 FILE_NAMES = {"parquet": "timeseries.parquet", "csv": "timeseries.csv", "mat": "timeseries.mat"}
 MAT_STAGING = ".timeseries.mat.parts"
-PART_ROWS = 4096  #: rows of one Parquet part at most (one row group each; a block of this size stays in cache)
+PART_ROWS = 16384  #: rows of one Parquet part at most (one row group each)
 PART_GLOB = "part-*.parquet"
 ZSTD_LEVEL = 3
 _UNIT_IN_TEXT = re.compile(r"\[([^\[\]]+)\]\s*$")
@@ -227,8 +227,12 @@ class ParquetRecorder:
         return self._sampler.columns
 
     def start(self, execution: Execution) -> None:
+        import pyarrow as pa
+        import pyarrow.parquet  # noqa: F401  (imported here, not in the first flush during the run)
+
         self._sampler.attach(execution)
         self._schema = arrow_schema(self._sampler.columns)
+        pa.Table.from_arrays([pa.array([], type=f.type) for f in self._schema], schema=self._schema)  # lazy init
         remove_timeseries(self.path)
         try:
             self.path.mkdir(parents=True)

@@ -124,9 +124,12 @@ def time_figure(runs: Sequence[PlotRun]) -> object | None:
                     continue
                 tt, yy = thin(r.data.time_s, y)
                 name = s.legend if len(runs) == 1 else f"{s.legend} ({r.label})"
+                command = "command" in s.legend and len(runs) == 1  # dashed, on top: visible under its result
                 fig.add_trace(go.Scattergl(x=_float_list(tt), y=_float_list(yy), mode="lines", name=name,
                                            legendgroup=p.key, line={"color": COLORS[c % len(COLORS)],
-                                                                    "dash": DASHES[i % len(DASHES)], "width": 1.3}),
+                                                                    "dash": "dash" if command else
+                                                                    DASHES[i % len(DASHES)],
+                                                                    "width": 2.0 if command else 1.3}),
                               row=row, col=1)
         for name in p.limits:
             for r in runs:

@@ -244,7 +244,7 @@ def _limit_line(ax: Axes, runs: Sequence[PlotRun], name: str, window: tuple[floa
     """A limit as a dashed red line at its value in each run, and an x where the fuel controller engaged it."""
     from .panels import LIMITS, limit_hits, limit_value
 
-    for i, r in enumerate(runs):
+    for r in runs:
         v = limit_value(r.data, name)
         if v is None:
             continue

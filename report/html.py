@@ -17,10 +17,9 @@ from pathlib import Path
 
 import numpy as np
 
-from openemss.models.fcs.geo import from_local_ne
 from openemss.orchestrator.results import atomic_write
 
-from .panels import LIMITS, TIME_PANELS, limit_hits, limit_value, section_spans, values
+from .panels import LIMITS, TIME_PANELS, limit_hits, limit_value, runway_lines, section_spans, values, waypoints_deg
 from .plots import PlotRun
 
 MAX_POINTS = 4000  #: points per line in the page at most
@@ -78,25 +77,17 @@ def ground_track_figure(runs: Sequence[PlotRun]) -> object | None:
         lats.extend([float(np.nanmin(lat)), float(np.nanmax(lat))])
     mission = next((r.mission for r in runs if r.mission is not None), None)
     if mission is not None:
-        xs, ys, names = [], [], []
-        for k, (name, p) in enumerate(mission.waypoints, start=1):
-            xs.append(math.degrees(p.lon_rad))
-            ys.append(math.degrees(p.lat_rad))
-            names.append(f"{k}" if name == f"WP{k}" else f"{k} {name}")
+        places = waypoints_deg(mission)
+        xs, ys, names = [p[1] for p in places], [p[2] for p in places], [p[0] for p in places]
         fig.add_trace(go.Scatter(x=xs, y=ys, mode="markers+text", text=names, textposition="top center",
                                  marker={"symbol": "triangle-up", "size": 9, "color": "#d62728"}, name="waypoints"))
         lats.extend(ys)
-        used = {getattr(sec.get("runway"), "name", None) for sec in mission.sections}
-        for j, (name, rwy) in enumerate(mission.runways):
-            end = from_local_ne(rwy.threshold, rwy.length_m * math.cos(rwy.heading_rad),
-                                rwy.length_m * math.sin(rwy.heading_rad), rwy.elevation_m)
-            x = [math.degrees(rwy.threshold.lon_rad), math.degrees(end.lon_rad)]
-            y = [math.degrees(rwy.threshold.lat_rad), math.degrees(end.lat_rad)]
-            fig.add_trace(go.Scatter(x=x, y=y, mode="lines+text" if name in used else "lines",
-                                     text=[f"runway {name} (used)", ""] if name in used else None,
+        for j, rl in enumerate(runway_lines(mission)):
+            fig.add_trace(go.Scatter(x=list(rl.lon_deg), y=list(rl.lat_deg), mode="lines+text" if rl.used else "lines",
+                                     text=[f"runway {rl.name} (used)", ""] if rl.used else None,
                                      textposition="bottom right", line={"color": "#444", "width": 5},
                                      name="runways", legendgroup="runways", showlegend=j == 0,
-                                     hovertext=f"runway {name}", hoverinfo="text"))
+                                     hovertext=f"runway {rl.name}", hoverinfo="text"))
     mid = 0.5 * (min(lats) + max(lats))
     fig.update_yaxes(title="latitude [deg]", scaleanchor="x", scaleratio=1.0 / max(math.cos(math.radians(mid)), 1e-3))
     fig.update_xaxes(title="longitude [deg]")

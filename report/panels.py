@@ -5,10 +5,14 @@ the same quantities under the same names.
 """
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+
+from openemss.models.fcs.geo import from_local_ne
+from openemss.models.fcs.mission import Mission
 
 from .rundata import RunData, parameter_float
 
@@ -119,3 +123,33 @@ def section_spans(run: RunData) -> list[tuple[int, float, float]]:
     starts = np.concatenate(([0], change))
     ends = np.concatenate((change, [len(t) - 1]))
     return [(int(idx[a]), float(t[a]), float(t[b])) for a, b in zip(starts, ends, strict=True)]
+
+
+@dataclass(frozen=True)
+class RunwayLine:
+    """A runway as drawn: its name, threshold to end in longitude and latitude [deg], whether the mission uses it."""
+
+    name: str
+    lon_deg: tuple[float, float]
+    lat_deg: tuple[float, float]
+    used: bool
+
+
+def waypoints_deg(mission: Mission) -> list[tuple[str, float, float]]:
+    """The mission's waypoints as (label, longitude, latitude [deg]): numbered, with the name when it is not WPk."""
+    out = []
+    for k, (name, p) in enumerate(mission.waypoints, start=1):
+        out.append((f"{k}" if name == f"WP{k}" else f"{k} {name}", math.degrees(p.lon_rad), math.degrees(p.lat_rad)))
+    return out
+
+
+def runway_lines(mission: Mission) -> list[RunwayLine]:
+    """The mission's runways from threshold to end; ``used`` for those a section flies from or to."""
+    used = {getattr(sec.get("runway"), "name", None) for sec in mission.sections}
+    out = []
+    for name, rwy in mission.runways:
+        end = from_local_ne(rwy.threshold, rwy.length_m * math.cos(rwy.heading_rad),
+                            rwy.length_m * math.sin(rwy.heading_rad), rwy.elevation_m)
+        out.append(RunwayLine(name, (math.degrees(rwy.threshold.lon_rad), math.degrees(end.lon_rad)),
+                              (math.degrees(rwy.threshold.lat_rad), math.degrees(end.lat_rad)), name in used))
+    return out

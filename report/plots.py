@@ -20,11 +20,12 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from openemss.models.common.files import figure_bytes
-from openemss.models.fcs.geo import R_EARTH_M, from_local_ne
+from openemss.models.fcs.geo import R_EARTH_M
 from openemss.models.fcs.mission import Mission
 from openemss.orchestrator.results import atomic_write
 
 from .errors import ReportError
+from .panels import runway_lines, waypoints_deg
 from .rundata import RunData
 
 STYLES = ("-", "--", ":", "-.")
@@ -115,23 +116,16 @@ def ground_track(runs: Sequence[PlotRun], path: Path) -> Path | None:
         lat_all.extend([float(np.nanmin(lat)), float(np.nanmax(lat))])
     mission = next((r.mission for r in runs if r.mission is not None), None)
     if mission is not None:
-        for k, (name, p) in enumerate(mission.waypoints, start=1):
-            lat_d, lon_d = math.degrees(p.lat_rad), math.degrees(p.lon_rad)
+        for label, lon_d, lat_d in waypoints_deg(mission):
             ax.plot(lon_d, lat_d, "^", color="C3", ms=6)
-            ax.annotate(f"{k}" if name == f"WP{k}" else f"{k} {name}", (lon_d, lat_d), textcoords="offset points",
-                        xytext=(4, 4), fontsize=8, color="C3")
+            ax.annotate(label, (lon_d, lat_d), textcoords="offset points", xytext=(4, 4), fontsize=8, color="C3")
             lat_all.append(lat_d)
-        used = {getattr(sec.get("runway"), "name", None) for sec in mission.sections}
-        for j, (name, rwy) in enumerate(mission.runways):
-            end = from_local_ne(rwy.threshold, rwy.length_m * math.cos(rwy.heading_rad),
-                                rwy.length_m * math.sin(rwy.heading_rad), rwy.elevation_m)
-            xs = [math.degrees(rwy.threshold.lon_rad), math.degrees(end.lon_rad)]
-            ys = [math.degrees(rwy.threshold.lat_rad), math.degrees(end.lat_rad)]
-            ax.plot(xs, ys, "-", color="0.3", lw=3, solid_capstyle="butt", zorder=1,
+        for j, rl in enumerate(runway_lines(mission)):
+            ax.plot(rl.lon_deg, rl.lat_deg, "-", color="0.3", lw=3, solid_capstyle="butt", zorder=1,
                     label="runways" if j == 0 else None)
-            if name in used:  # the runways the mission flies from or to (the others would crowd the map)
-                ax.annotate(f"runway {name.rpartition('_')[2] or name}", (xs[0], ys[0]), textcoords="offset points",
-                            xytext=(8, -14), fontsize=8, fontweight="bold",
+            if rl.used:  # the runways the mission flies from or to (the others would crowd the map)
+                ax.annotate(f"runway {rl.name.rpartition('_')[2] or rl.name}", (rl.lon_deg[0], rl.lat_deg[0]),
+                            textcoords="offset points", xytext=(8, -14), fontsize=8, fontweight="bold",
                             arrowprops={"arrowstyle": "-", "color": "0.3", "lw": 0.8})
         ax.plot([], [], "^", color="C3", label="waypoints")
     mid = 0.5 * (min(lat_all) + max(lat_all))

@@ -42,7 +42,7 @@ def test_plot_one_run_writes_every_figure(tmp_path: Path, capsys: pytest.Capture
     run = Runs(tmp_path).make("flight")
     assert main(["plot", str(run)]) == 0
     assert _pngs(run) == FIGURES
-    assert "6 plot(s) of flight" in capsys.readouterr().out
+    assert "7 file(s) of flight" in capsys.readouterr().out  # the six figures its signals allow, report.html
 
 
 def test_plot_two_runs_on_one_figure(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

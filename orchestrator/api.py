@@ -236,6 +236,14 @@ def record_paths(bound: BoundSystem, patterns: Sequence[str] | None, inputs: boo
     return chosen
 
 
+def _is_variable(bound: BoundSystem, path: str) -> bool:
+    try:
+        _, v = bound.variable(path)
+    except EmssError:
+        return False  # the scenario names it wrongly: its manipulator says so
+    return v.causality == "input" and v.type_name in ("Real", "Integer", "Boolean")
+
+
 def run(system: Path | str | None = None, *, stop_time: float | None = None, params: Sequence[Path | str] = (),
         set: Mapping[str, Any] | Sequence[str] = (), scenario: Path | str | None = None,  # noqa: A002
         out: Path | str | None = None, rate: float | None = None, algorithm: str = "jacobi",
@@ -309,10 +317,13 @@ def _run(system: Path, out: Path, stop_time: float | None, params: Sequence[Path
         raise ConfigurationError("no stop time: give --stop-time or a DefaultExperiment stopTime in the SSD")
     if not isinstance(record_every, int) or record_every < 1:
         raise ConfigurationError(f"--record-every {record_every}: must be an integer >= 1")
-    ex = Execution(bound, rate_hz=rate, algorithm=algorithm, multiples=multiples(step_multiple),
-                   record=record_paths(bound, record, record_inputs))
+    events = load_scenario(Path(scenario)) if scenario is not None else []
+    recorded = record_paths(bound, record, record_inputs)
+    if not record:  # an input a scenario overrides no longer copies its connected output: recorded
+        recorded += [p for p in dict.fromkeys(e.path for e in events) if p not in recorded and _is_variable(bound, p)]
+    ex = Execution(bound, rate_hz=rate, algorithm=algorithm, multiples=multiples(step_multiple), record=recorded)
     if scenario is not None:
-        ex.add_manipulator(ScenarioManipulator(load_scenario(Path(scenario))))
+        ex.add_manipulator(ScenarioManipulator(events))
     condition = hooks.stop_condition(bound, until)
     if condition:
         ex.stop_when(condition)

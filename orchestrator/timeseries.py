@@ -416,7 +416,7 @@ def read_columns(path: Path) -> list[str]:
     try:
         if path.suffix == ".csv":
             with open(path, encoding="utf-8") as f:
-                return f.readline().strip().split(",")
+                return f.readline().rstrip("\r\n").split(",")
         if path.suffix == ".mat":
             return [c.name for c in read_timeseries(path).columns]
         import pyarrow.parquet as pq
@@ -484,7 +484,7 @@ def _read_csv(path: Path) -> TimeSeries:
     """A CSV of :class:`UnitsCsvRecorder` (or of the former recorder, without the units row). A torn last
     row (a killed run) is left out and said in ``note``; a damaged row before it is an error naming its line."""
     try:
-        lines = path.read_bytes().decode("utf-8", "replace").split("\n")
+        lines = path.read_bytes().decode("utf-8", "replace").replace("\r\n", "\n").split("\n")
     except OSError as exc:
         raise TimeSeriesError(f"{path}: cannot read: {exc.strerror}") from None
     if not lines or not lines[0].startswith("time_s"):

@@ -85,12 +85,17 @@ def cmd_report(args: argparse.Namespace) -> int:
                                                                   f" (cases: {', '.join(known[:6])})"))
         data = load_run(folder)
         runs.append(PlotRun(data, load_mission(data)[0], name))
-    out = args.out or study_dir / f"compare_{args.cases[0]}_{args.cases[1]}"
-    files = plot_runs(runs, Path(out))
-    page = write_html_report(runs, Path(out) / REPORT)
+    out = Path(args.out or study_dir / f"compare_{args.cases[0]}_{args.cases[1]}")
+    files = plot_runs(runs, out)
+    page = write_html_report(runs, out / REPORT) if files else None
     files += [page] if page is not None else []
-    if not files:
-        raise StudyError(f"cases {args.cases[0]} and {args.cases[1]}: nothing to plot (no mission signals)")
+    if not files:  # no mission: every recorded column, as emss plot does for any system
+        from openemss.report.html import write_variables_html
+        from openemss.report.plots import plot_variables
+        from openemss.report.plugin import MAX_ALL_COLUMNS
+
+        names = [n for n in runs[0].data.columns if n != "time_s"][:MAX_ALL_COLUMNS]
+        files = [plot_variables(runs, names, out / "variables.png"), write_variables_html(runs, names, out / REPORT)]
     print(f"{len(files)} file(s) comparing {args.cases[0]} and {args.cases[1]} in {out}: "
           f"{', '.join(f.name for f in files)}")
     return 0

@@ -69,3 +69,24 @@ def test_engine_sweep_creates_its_folder_and_writes_nothing_else(tmp_path: Path,
     assert main(["engine", "sweep", "--out", "deep/sweep", "--bpr", "1.0", "--opr", "10", "12"]) == 0
     assert sorted(os.listdir(tmp_path)) == ["deep"]
     assert sorted(os.listdir(tmp_path / "deep" / "sweep")) == ["carpet.csv", "carpet.png"]
+
+
+def test_study_cases_counts_the_redesign_engines(capsys: pytest.CaptureFixture[str]) -> None:
+    import yaml
+
+    study = Path(__file__).resolve().parents[1] / "studies" / "engine_redesign.yaml"
+    missions = yaml.safe_load(study.read_text())["missions"]
+    assert main(["study", "cases", str(study), "--json"]) == 0
+    cases = json.loads(capsys.readouterr().out)
+    assert len(cases) == 2 * len(missions)  # the baseline and the redesigned engine, per mission
+    assert {c["labels"]["variant"] for c in cases} == {"baseline", "redesigned"}
+
+
+def test_build_fmus_builds_where_emss_run_looks(monkeypatch: pytest.MonkeyPatch) -> None:
+    from openemss.orchestrator import build
+    from openemss.orchestrator.api import DEFAULT_SYSTEM
+
+    seen: list[Path] = []
+    monkeypatch.setattr(build, "ensure_built", lambda src, out, *a, **k: seen.append(out) or [])
+    build.main([])
+    assert seen == [DEFAULT_SYSTEM / "resources"]

@@ -96,7 +96,9 @@ def test_local_cluster_runs_cases_records_a_failure_and_resumes(tmp_path: Path, 
     # the heavier mass oscillates more slowly: its x1 differs from the light one's after the start
     light, heavy = (df[df["case"] == n].sort_values("time_s")["mass1.x1_m"].to_numpy() for n in ("light", "heavy"))
     assert light[0] == heavy[0] and abs(light[-1] - heavy[-1]) > 1e-3
-    # a case that does not exist: refused with one line (the close match named)
+    # two cases compared (no mission here: every recorded column), and a case that does not exist refused
+    assert main(["study", "report", str(out), "light", "heavy"]) == 0
+    assert {f.name for f in (out / "compare_light_heavy").iterdir()} == {"variables.png", "report.html"}
     assert main(["study", "report", str(out), "light", "hevy"]) == 1
 
     stream = open(os.devnull, "w")  # noqa: SIM115 - closed below

@@ -10,8 +10,8 @@ partitioned Parquet queries all cases together, with a ``case`` column::
     df.groupby("case")["engine.thrust_N"].max()
 
 or ``duckdb.sql("select case, max(\\"engine.fuel_burned_kg\\") from 'results/study-x/timeseries/**/*.parquet'
-group by case")``. Cases run with ``--format csv`` or ``mat`` (a study's ``format:``) are converted into
-the dataset at the end of the case.
+group by case")``. A case folder holding CSV or .mat instead (a run made with ``--format``) is converted
+into the dataset.
 """
 from __future__ import annotations
 

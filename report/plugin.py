@@ -245,7 +245,7 @@ def register(sub: argparse._SubParsersAction) -> tuple[type[Exception], ...]:  #
                                    "the N1 limit, surge margins, SFC, attitude. Two runs (up to four) share each "
                                    "figure, told apart by line style. With variables (component.variable), those "
                                    "over time for any system (PNG and HTML).")
-    p.add_argument("run_dirs", nargs="+", metavar="RUN_DIR [RUN_DIR_B ...] [VAR ...]",
+    p.add_argument("run_dirs", nargs="+", metavar="RUN_DIR|VAR",
                    help="results folder(s) of emss run, then optionally variables (component.variable) to plot "
                         "over time, for any system")
     p.add_argument("--out", type=folder_name, metavar="DIR",

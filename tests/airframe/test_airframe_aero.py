@@ -15,10 +15,10 @@ import pytest
 from openemss.models.airframe.adapter import FT, LBM, SLUG, Airframe
 from openemss.models.airframe.aero import (
     aero_model,
-    geometric_model,
     helmbold_slope,
     isa,
     korn_mcrit,
+    geometric_model,
     lifting_form_factor,
     oswald_kroo,
     planform_efficiency_nita_scholz,

@@ -183,11 +183,10 @@ def test_critical_sector_angle() -> None:
     critical angle of about 60 deg and stays constant beyond. Parallel compressor with the spoiled
     sector on its surge line, both sectors discharging to the same pressure: the compressor's surge
     pressure ratio (exit over clean-face total pressure) against the clean compressor's."""
-    from scipy.optimize import brentq
-
     from openemss.models.engine.cycle_design import design
     from openemss.models.engine.design_params import load_params, preset_path
     from openemss.models.engine.offdesign import scaled_maps
+    from scipy.optimize import brentq
 
     dp = design(load_params(preset_path("larzac04_sls")))
     fan = scaled_maps(dp).fan

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import dataclasses
 from dataclasses import dataclass
 
 import pytest

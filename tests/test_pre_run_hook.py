@@ -1,5 +1,5 @@
-"""The plugins' pre-run hook in emss run (orchestrator/hooks.py, called by api.run): its lines are printed as warnings before the
-run, with every component's FMU and the bound parameters (--set included); a hook that fails is one
+"""The plugins' pre-run hook in emss run (orchestrator/hooks.py, called by api.run): its lines are printed as
+warnings before the run, with every component's FMU and the bound parameters (--set included); a hook that fails is one
 warning line and the run goes ahead; --no-pre-run skips the hooks."""
 from __future__ import annotations
 

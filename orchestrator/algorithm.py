@@ -16,7 +16,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
-ALGORITHMS = ("jacobi", "gauss-seidel")
+import numpy as np
+
+from .system_model import BoundSystem
 
 
 @dataclass(frozen=True)
@@ -29,10 +31,13 @@ class StepOrder:
         Component indices in stepping order.
     lagging : tuple[tuple[int, int], ...]
         (source, target) pairs whose values come from the previous macro step.
+    cycles : tuple[tuple[int, ...], ...]
+        The strongly connected sets of more than one component (the loops), each in stepping order.
     """
 
     order: tuple[int, ...]
     lagging: tuple[tuple[int, int], ...]
+    cycles: tuple[tuple[int, ...], ...] = ()
 
 
 def _strongly_connected(n: int, edges: dict[int, list[int]]) -> list[list[int]]:
@@ -95,15 +100,19 @@ def gauss_seidel_order(n: int, connections: Sequence[tuple[int, int]]) -> StepOr
                 indeg[b] += 1
     ready = sorted((min(sccs[i]), i) for i in indeg if indeg[i] == 0)
     order: list[int] = []
+    cycles: list[tuple[int, ...]] = []
     while ready:
         _, i = ready.pop(0)
         done: set[int] = set(order)
         members = set(sccs[i])
+        first = len(order)
         while members:  # inside a cycle: fewest waiting inputs first, then declaration order
             nxt = min(members, key=lambda v: (len((preds[v] & members) - done), v))
             order.append(nxt)
             done.add(nxt)
             members.discard(nxt)
+        if len(sccs[i]) > 1:
+            cycles.append(tuple(order[first:]))
         for j in sorted(cedges[i]):
             indeg[j] -= 1
             if indeg[j] == 0:
@@ -111,11 +120,21 @@ def gauss_seidel_order(n: int, connections: Sequence[tuple[int, int]]) -> StepOr
                 ready.sort()
     position = {v: p for p, v in enumerate(order)}
     lagging = tuple(sorted({(s, t) for s, t in connections if s != t and position[s] > position[t]}))
-    return StepOrder(tuple(order), lagging)
+    return StepOrder(tuple(order), lagging, tuple(cycles))
+
+
+def step_order(system: BoundSystem) -> StepOrder:
+    """The Gauss-Seidel order of a bound system, from its connections alone (no FMU is loaded)."""
+    return gauss_seidel_order(len(system.components), [(ln.source, ln.target) for ln in system.links])
 
 
 class Coupling(Protocol):
-    """What an algorithm needs from the execution: stepping, I/O and transfers per component."""
+    """What an algorithm needs from the execution: stepping, I/O and transfers per component.
+
+    ``set_inputs`` and ``advance`` apply the input modifiers (scenarios) themselves, so an
+    algorithm need not know about them. ``save_state``, ``restore_state`` and ``inputs_of``
+    serve algorithms that repeat a step (FMI 2.0 ``fmi2GetFMUstate``/``fmi2SetFMUstate``).
+    """
 
     def step_component(self, i: int, k: int) -> None: ...
     def get_outputs(self, i: int) -> None: ...
@@ -123,17 +142,28 @@ class Coupling(Protocol):
     def transfer_to(self, i: int) -> None: ...
     def transfer_all(self) -> None: ...
     def advance(self, i: int, k: int) -> None: ...
+    def save_state(self, i: int) -> None: ...
+    def restore_state(self, i: int) -> None: ...
+    def inputs_of(self, i: int) -> list[np.ndarray]: ...
+    def time_at(self, k: int) -> float: ...
     @property
     def observed(self) -> bool: ...
 
 
 class Algorithm:
-    """Base class: one macro step ``k`` (from ``t0 + k h`` to ``t0 + (k + 1) h``)."""
+    """Base class: one macro step ``k`` (from ``t0 + k h`` to ``t0 + (k + 1) h``).
+
+    An algorithm owns stepping and transfer; the execution owns time. A new algorithm subclasses
+    this, defines ``name`` and ``step``, and is registered in :mod:`.algorithm_registry`.
+    """
 
     name = "base"
 
     def __init__(self, multiples: Sequence[int]) -> None:
         self.multiples = tuple(multiples)
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}(multiples={list(self.multiples)})"
 
     def step(self, coupling: Coupling, k: int) -> None:
         """Advance every component due at macro step ``k``; subclasses define the order."""
@@ -171,8 +201,16 @@ class GaussSeidel(Algorithm):
         self.order = order
 
     def step(self, coupling: Coupling, k: int) -> None:
+        self.sweep(coupling, k, self.order.order)
+        # Inputs as seen at the new time, so observers record them consistently with the outputs
+        # (each component takes its own inputs again before its next step).
+        if coupling.observed:
+            coupling.transfer_all()
+
+    def sweep(self, coupling: Coupling, k: int, components: Sequence[int]) -> None:
+        """Step ``components`` one after the other, each taking the newest outputs of those before it."""
         m = self.multiples
-        for i in self.order.order:
+        for i in components:
             n = m[i]
             if n == 1:  # the usual case: take inputs, step, publish outputs in one go
                 coupling.transfer_to(i)
@@ -184,7 +222,3 @@ class GaussSeidel(Algorithm):
                 coupling.step_component(i, k)
             if (k + 1) % n == 0:
                 coupling.get_outputs(i)
-        # Inputs as seen at the new time, so observers record them consistently with the outputs
-        # (each component takes its own inputs again before its next step).
-        if coupling.observed:
-            coupling.transfer_all()

@@ -32,6 +32,7 @@ from .manipulators import INT32_RANGE, ScenarioManipulator, load_scenario
 from .observers import Progress, RealTimePacer, RunRecord
 from .results import ResultsError, ResultsFolder, RunInterrupted, atomic_write, check_name, stop_on_signals
 from .ssp import load_system
+from .ssp_model import SystemDef
 from .system import BoundSystem, bind_system
 from .timeseries import DEFAULT_FORMAT, FILE_NAMES, TimeSeries, default_record, read_timeseries, recorder
 
@@ -115,14 +116,16 @@ class RunResult:
         return data[name]
 
 
-def load(system: Path | str, params: Sequence[Path | str] = (), settings: Mapping[str, Any] | Sequence[str] = (),
-         folder: Path | None = None) -> BoundSystem:
-    """Bind ``system`` with its parameter sets and ``settings`` (``{"comp.var": value}`` or
-    ``["comp.var=value"]``), typed by the variables they set, written as one more parameter set
-    (``cli_parameters.ssv``) into ``folder`` (the results, so a run records what it was given) and
-    applied last. An unknown name is refused with the closest names of the system."""
-    system, params = Path(system), [Path(p) for p in params]
-    bound = bind_system(load_system(system), params)
+def load(system: Path | str | SystemDef, params: Sequence[Path | str] = (),
+         settings: Mapping[str, Any] | Sequence[str] = (), folder: Path | None = None) -> BoundSystem:
+    """Bind ``system`` (read once, here or by the caller) with its parameter sets and ``settings``
+    (``{"comp.var": value}`` or ``["comp.var=value"]``), typed by the variables they set, written as one
+    more parameter set (``cli_parameters.ssv``) into ``folder`` (the results, so a run records what it
+    was given) and applied last. An unknown name is refused with the closest names of the system."""
+    sysdef = system if isinstance(system, SystemDef) else load_system(Path(system))
+    params = [Path(p) for p in params]
+    model_descriptions: dict[Path, Any] = {}
+    bound = bind_system(sysdef, params, model_descriptions)
     items = _setting_items(settings)
     if not items:
         return bound
@@ -148,7 +151,7 @@ def load(system: Path | str, params: Sequence[Path | str] = (), settings: Mappin
     target.parent.mkdir(parents=True, exist_ok=True)
     atomic_write(target, etree.tostring(ParameterSet("cli_parameters", values).element(), xml_declaration=True,
                                         encoding="UTF-8", pretty_print=True))
-    return bind_system(load_system(system), [*params, target])
+    return bind_system(sysdef, [*params, target], model_descriptions)
 
 
 def _setting_items(settings: Mapping[str, Any] | Sequence[str]) -> list[tuple[str, Any, str]]:
@@ -292,18 +295,19 @@ def run(system: Path | str | None = None, *, stop_time: float | None = None, par
     say = warn or (lambda line: print(f"emss run: warning: {line}", file=sys.stderr))
     system = Path(system) if system is not None else default_system()
     ensure_project_fmus(system)
+    sysdef = load_system(system)  # the one reading of the SSD in this run
     if out is None:  # the default folder is named after the system: that name must be one path component
-        name = check_name(str(load_system(system).name), "the system's name (the SSD's System name; or give --out)")
+        name = check_name(str(sysdef.name), "the system's name (the SSD's System name; or give --out)")
         out = Path("results") / f"{name}-{time.strftime('%Y%m%d-%H%M%S')}"
     out = Path(out)
     if not str(out).strip():
         raise ConfigurationError("--out '': an empty folder name; give the results folder, e.g. results/run1")
     with ResultsFolder(out):  # locked for this run, cleared of an earlier run's files
-        return _run(system, out, stop_time, params, set, scenario, rate, algorithm, step_multiple, record,
+        return _run(system, sysdef, out, stop_time, params, set, scenario, rate, algorithm, step_multiple, record,
                     record_inputs, record_every, format, until, realtime, status, pre_run, post_run, progress, say)
 
 
-def _run(system: Path, out: Path, stop_time: float | None, params: Sequence[Path | str],
+def _run(system: Path, sysdef: SystemDef, out: Path, stop_time: float | None, params: Sequence[Path | str],
          settings: Mapping[str, Any] | Sequence[str], scenario: Path | str | None, rate: float | None,
          algorithm: str, step_multiple: Mapping[str, int] | Sequence[str], record: Sequence[str] | None,
          record_inputs: bool, record_every: int, fmt: str, until: str | None, realtime: float,
@@ -311,7 +315,7 @@ def _run(system: Path, out: Path, stop_time: float | None, params: Sequence[Path
          say: Callable[[str], None]) -> RunResult:
     from . import hooks
 
-    bound = load(system, params, settings, out)
+    bound = load(sysdef, params, settings, out)
     stop = stop_time if stop_time is not None else bound.definition.stop_time_s
     if stop is None:
         raise ConfigurationError("no stop time: give --stop-time or a DefaultExperiment stopTime in the SSD")

@@ -16,9 +16,10 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, NoReturn
 
-from . import api
+from . import algorithm_registry, api
+from .algorithm import step_order
 from .errors import EmssError, Problem, SystemStructureError
-from .execution import DEFAULT_RATE_HZ, MAX_RATE_HZ, MIN_RATE_HZ, Execution
+from .execution import DEFAULT_RATE_HZ, MAX_RATE_HZ, MIN_RATE_HZ
 from .hooks import USER_ERRORS
 from .plugins import plugins
 from .results import RunInterrupted, os_reason
@@ -76,8 +77,10 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--rate", type=float, metavar="HZ",
                      help=f"communication rate [Hz], {MIN_RATE_HZ} to {MAX_RATE_HZ} "
                           f"(default: the SSD's OSP FixedStepAlgorithm annotation, else {DEFAULT_RATE_HZ})")
-    run.add_argument("--algorithm", choices=("jacobi", "gauss-seidel"), default="jacobi",
-                     help="master algorithm (default: jacobi)")
+    run.add_argument("--algorithm", choices=algorithm_registry.names(), default=algorithm_registry.DEFAULT,
+                     help="master algorithm: " + "; ".join(f"{e.name}: {e.summary}" for e in
+                                                           algorithm_registry.REGISTRY.values())
+                          + f" (default: {algorithm_registry.DEFAULT})")
     run.add_argument("--step-multiple", nargs="+", action="extend", default=[], metavar="COMPONENT=N",
                      help="let a component step every N-th macro step")
     run.add_argument("--out", type=folder_name, help="output folder (default: results/<system>-<time>); one run at a "
@@ -241,7 +244,7 @@ def _stats_table(stats: dict[str, dict[str, float]]) -> str:
 
 def _describe(bound: BoundSystem) -> dict[str, Any]:
     sysdef = bound.definition
-    ex_order = Execution(bound, rate_hz=None).order
+    ex_order = step_order(bound)
     names = [c.name for c in bound.components]
     return {
         "name": sysdef.name,

@@ -106,3 +106,11 @@ class InitializationError(EmssError):
 
 class BuildError(EmssError):
     """An FMU could not be built from its slave source."""
+
+
+class ScenarioError(ConfigurationError):
+    """A scenario file, or a condition on a variable, that cannot be applied."""
+
+
+class CouplingError(EmssError):
+    """An iterative master algorithm did not converge within a macro step."""

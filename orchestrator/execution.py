@@ -1,43 +1,46 @@
-"""The execution: owns time, the slaves and the value vectors; runs initialization and steps.
+"""The execution: owns time, the slaves and the run; each macro step: algorithm, manipulators, observers.
 
-Time is ``t0 + k*h`` with an integer macro-step counter ``k``, never an
-accumulated sum. Every value exchanged between FMUs lives in one preallocated
-numpy vector per FMI type: ``outputs`` (what the slaves' batched gets write) and
-``inputs`` (what their batched sets read); a transfer is one ``numpy.take``.
+Time is ``t0 + k*h`` with an integer macro-step counter ``k``, never an accumulated sum. The
+parts, as in libcosim: the **exchange** (:mod:`.exchange`: the value vectors, their layout, the
+transfers, the input modifiers and the probe) between the **slaves** (:mod:`.slave`), an
+**algorithm** (:mod:`.algorithm`, chosen by name in :mod:`.algorithm_registry`) that steps them
+and moves the values, **manipulators** (scenarios) that change inputs through the exchange's
+modifiers, **observers** that read through the exchange, and a stop condition (:mod:`.condition`).
 """
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Sequence
 from typing import Protocol
 
 import numpy as np
 
-from .algorithm import ALGORITHMS, Algorithm, GaussSeidel, Jacobi, StepOrder, gauss_seidel_order
+from . import algorithm_registry
+from .algorithm import Algorithm, StepOrder, step_order
+from .condition import StopCondition
 from .errors import ConfigurationError, EmssError, InitializationError
-from .manipulators import Condition, parse_condition, reader
+from .exchange import IO_TYPES, Exchange, Signal, TypeVectors
 from .results import RunInterrupted
 from .slave import FmuLog, Slave
-from .system import BoundSystem, VariableInfo
-from .transfer import Transfer
+from .system_model import BoundSystem
+
+__all__ = ["DEFAULT_RATE_HZ", "IO_TYPES", "MAX_RATE_HZ", "MAX_STEPS", "MAX_STEP_MULTIPLE", "MIN_RATE_HZ",
+           "Execution", "Manipulator", "Observer", "Signal", "TypeVectors", "check_rate"]
 
 MIN_RATE_HZ = 0.1
 MAX_RATE_HZ = 100.0
 DEFAULT_RATE_HZ = 20.0
 MAX_STEPS = 10 ** 9  #: macro steps of one run at the most (578 days simulated at 20 Hz)
 MAX_STEP_MULTIPLE = 1000  #: a component steps at least every 1000th macro step (10 s at 100 Hz, 10000 s at 0.1 Hz)
-IO_TYPES = ("Real", "Integer", "Boolean")
-_DTYPE = {"Real": np.float64, "Integer": np.int32, "Boolean": np.int32}
 
 
 class Manipulator(Protocol):
     """Changes inputs during a run (scenarios, fault injection): attached after initialization;
-    ``apply`` is called with the time of every macro step before the step, and returns the
-    overrides of connected inputs (vector, index, value) to re-apply after every transfer."""
+    ``apply`` is called with the time of every macro step, before the next step, and acts through
+    the modifiers of ``execution.exchange`` (:meth:`.Exchange.modifier`)."""
 
     def attach(self, execution: Execution) -> None: ...
-    def apply(self, time_s: float) -> list[tuple[np.ndarray, int, float]]: ...
+    def apply(self, time_s: float) -> None: ...
 
 
 class Observer(Protocol):
@@ -46,32 +49,6 @@ class Observer(Protocol):
     def start(self, execution: Execution) -> None: ...
     def sample(self, k: int, time_s: float) -> None: ...
     def finish(self, execution: Execution, error: BaseException | None) -> None: ...
-
-
-@dataclass(frozen=True)
-class Signal:
-    """Where the current value of a recorded variable lives: ``vector[type][index]``."""
-
-    component: str
-    variable: VariableInfo
-    vector: str  # "outputs" or "inputs"
-    index: int
-
-    @property
-    def path(self) -> str:
-        return f"{self.component}.{self.variable.name}"
-
-
-@dataclass
-class TypeVectors:
-    """The exchange vectors of one FMI type."""
-
-    outputs: np.ndarray
-    inputs: np.ndarray
-    source_index: np.ndarray  # for each input: its source's index in outputs
-    out_range: list[tuple[int, int]] = field(default_factory=list)  # per component
-    in_range: list[tuple[int, int]] = field(default_factory=list)
-    output_names: list[str] = field(default_factory=list)  # component.variable of each output
 
 
 def check_rate(rate_hz: float) -> float:
@@ -83,27 +60,45 @@ def check_rate(rate_hz: float) -> float:
     return 1.0 / rate_hz
 
 
+def check_multiples(system: BoundSystem, multiples: dict[str, int] | None) -> list[int]:
+    """One step multiple per component (1 where none is given), checked."""
+    names = [c.name for c in system.components]
+    multiples = dict(multiples or {})
+    unknown = sorted(set(multiples) - set(names))
+    if unknown:
+        raise ConfigurationError(f"step multiple for unknown component(s) {', '.join(unknown)} "
+                                 f"(components: {', '.join(names)})")
+    bad = {k: v for k, v in multiples.items() if not isinstance(v, int) or not 1 <= v <= MAX_STEP_MULTIPLE}
+    if bad:
+        raise ConfigurationError(f"step multiples must be integers from 1 to {MAX_STEP_MULTIPLE}, got {bad}")
+    return [multiples.get(n, 1) for n in names]
+
+
 class Execution:
-    """Runs a bound system with a chosen master algorithm.
+    """Runs a bound system with a master algorithm over an exchange.
 
     Parameters
     ----------
     system : BoundSystem
         The system, resolved against its FMUs.
+    algorithm : str | Algorithm
+        A name of :mod:`.algorithm_registry` (``"jacobi"``, ``"gauss-seidel"``, ...), made for
+        ``system`` with ``multiples``; or an algorithm object, whose own multiples are used.
+    exchange : Exchange | None
+        The exchange vectors; None lays them out for ``system`` with ``record``.
     rate_hz : float | None
         Communication rate [Hz], 0.1 to 100; None takes the SSD's step (OSP annotation) or 20 Hz.
-    algorithm : str
-        ``"jacobi"`` or ``"gauss-seidel"``.
     multiples : dict[str, int] | None
         Step multiple per component name (a component steps every n-th macro step).
     record : Sequence[str] | None
         ``component.variable`` paths made available to observers as signals;
-        None means every connector of every component.
+        None means every connector of every component (only without ``exchange``).
     start_time_s : float | None
         Start time [s]; None takes the SSD's DefaultExperiment or 0.
     """
 
-    def __init__(self, system: BoundSystem, rate_hz: float | None = None, algorithm: str = "jacobi",
+    def __init__(self, system: BoundSystem, algorithm: str | Algorithm = algorithm_registry.DEFAULT,
+                 exchange: Exchange | None = None, *, rate_hz: float | None = None,
                  multiples: dict[str, int] | None = None, record: Sequence[str] | None = None,
                  start_time_s: float | None = None, max_init_iterations: int = 50) -> None:
         self.system = system
@@ -114,40 +109,47 @@ class Execution:
         self.step_size_s = check_rate(self.rate_hz)
         self.start_time_s = float(start_time_s if start_time_s is not None else (sysdef.start_time_s or 0.0))
         self.max_init_iterations = max_init_iterations
-        names = [c.name for c in system.components]
-        multiples = dict(multiples or {})
-        unknown = sorted(set(multiples) - set(names))
-        if unknown:
-            raise ConfigurationError(f"step multiple for unknown component(s) {', '.join(unknown)} "
-                                     f"(components: {', '.join(names)})")
-        bad = {k: v for k, v in multiples.items() if not isinstance(v, int) or not 1 <= v <= MAX_STEP_MULTIPLE}
-        if bad:
-            raise ConfigurationError(f"step multiples must be integers from 1 to {MAX_STEP_MULTIPLE}, got {bad}")
-        self.multiples = [multiples.get(n, 1) for n in names]
-        self.order: StepOrder = gauss_seidel_order(len(names), [(ln.source, ln.target) for ln in system.links])
-        if algorithm == "jacobi":
-            self.algorithm: Algorithm = Jacobi(self.multiples)
-        elif algorithm == "gauss-seidel":
-            self.algorithm = GaussSeidel(self.multiples, self.order)
+        if isinstance(algorithm, Algorithm):
+            if multiples:
+                raise ConfigurationError("give step multiples to the algorithm object, not to the execution")
+            if len(algorithm.multiples) != len(system.components):
+                raise ConfigurationError(f"algorithm {algorithm.name} has {len(algorithm.multiples)} step "
+                                         f"multiples for {len(system.components)} components")
+            self.algorithm = algorithm
         else:
-            raise ConfigurationError(f"unknown algorithm '{algorithm}' (allowed: {', '.join(ALGORITHMS)})")
+            self.algorithm = algorithm_registry.create(algorithm, system, check_multiples(system, multiples))
+        self.multiples = list(self.algorithm.multiples)
+        self.order: StepOrder = step_order(system)
+        if exchange is not None and record is not None:
+            raise ConfigurationError("give the recorded paths to the exchange, not to the execution")
+        self.exchange = exchange if exchange is not None else Exchange(system, record)
+        if self.exchange.system is not system:
+            raise ConfigurationError("the exchange was laid out for another system")
+        # The algorithms' transfer calls go straight to the exchange (no call in between).
+        self.transfer_all = self.exchange.transfer_all
+        self.transfer_to = self.exchange.transfer_to
         self.log = FmuLog.shared()
-        self.slaves = [Slave(c, self.log, m) for c, m in zip(system.components, self.multiples, strict=False)]
+        self.slaves = [Slave(c, self.log, m) for c, m in zip(system.components, self.multiples, strict=True)]
+        self._states: list[object | None] = [None] * len(self.slaves)
         self.k = 0
         self.observers: list[Observer] = []
-        self.signals: list[Signal] = []
-        self.vectors: dict[str, TypeVectors] = {}
-        self._record = record
         self._initialized = False
         self.manipulators: list[Manipulator] = []
-        self._until_cond: Condition | None = None
-        self._until: Callable[[], bool] | None = None
+        self._stop: StopCondition | None = None
         self.stopped_by = ""  # the stop condition that ended the run early, if one did
         self._signal = 0  # a signal that asked the run to stop (see request_stop)
-        self._overrides: list[tuple[np.ndarray, int, float]] = []
-        self._linked_inputs: dict[tuple[int, str, int], int] = {}  # (component, type, vr) -> index in inputs
 
     # -- set-up -----------------------------------------------------------------------------
+    @property
+    def vectors(self) -> dict[str, TypeVectors]:
+        """The exchange vectors per FMI type (see :class:`.Exchange`)."""
+        return self.exchange.vectors
+
+    @property
+    def signals(self) -> list[Signal]:
+        """The recorded variables and where their values live (see :class:`.Exchange`)."""
+        return self.exchange.signals
+
     def time_at(self, k: int) -> float:
         """Simulation time [s] of macro step ``k``."""
         return self.start_time_s + k * self.step_size_s
@@ -177,147 +179,9 @@ class Execution:
         ConfigurationError
             If the condition cannot be read or names no variable of the system.
         """
-        self._until_cond = parse_condition(condition, "--until")
-        if self._initialized:
-            self._arm_until()
-
-    def _arm_until(self) -> None:
-        """Resolve the stop condition's variable (once the exchange vectors exist)."""
-        cond = self._until_cond
-        if cond is not None:
-            read = reader(self, cond.path, "--until")
-            self._until = lambda: cond.holds(read())
-
-    def input_slot(self, path: str, where: str) -> tuple[str, int] | tuple[Slave, VariableInfo]:
-        """Where a manipulator writes ``component.variable``: ``(type, index)`` in the input vectors
-        for a connected input, else ``(slave, variable)`` to be set directly (an unconnected input
-        or a tunable parameter).
-
-        Raises
-        ------
-        ConfigurationError
-            If the variable does not exist or may not be changed during a run.
-        """
-        try:
-            i, var = self.system.variable(path)
-        except EmssError:
-            raise ConfigurationError(f"{where}: no variable '{path}' (write component.variable)") from None
-        if not (var.causality == "input" or (var.causality == "parameter" and var.variability == "tunable")):
-            raise ConfigurationError(f"{where}: '{path}' is {var.causality} ({var.variability}); only inputs and "
-                                     "tunable parameters can be changed during a run")
-        if var.type_name not in IO_TYPES:
-            raise ConfigurationError(f"{where}: '{path}' is a {var.type_name}; allowed: {', '.join(IO_TYPES)}")
-        key = (i, var.type_name, var.vr)
-        if key in self._linked_inputs:
-            return var.type_name, self._linked_inputs[key]
-        return self.slaves[i], var
-
-    def output_slot(self, path: str) -> tuple[np.ndarray, int] | None:
-        """Where the current value of a variable the slaves get is kept, if it is gotten."""
-        i, var = self.system.variable(path)
-        vec = self.vectors.get(var.type_name)
-        if vec is None:
-            return None
-        name = f"{self.system.components[i].name}.{var.name}"
-        return (vec.outputs, vec.output_names.index(name)) if name in vec.output_names else None
-
-    def _recorded_paths(self) -> list[str]:
-        if self._record is not None:
-            return list(self._record)
-        return [f"{c.name}.{k.name}" for c in self.system.components for k in c.definition.connectors
-                if c.variables.get(k.name) is not None and c.variables[k.name].type_name in IO_TYPES]
-
-    def _build_vectors(self) -> None:
-        """Lay out the exchange vectors and bind every slave's batched I/O to slices of them."""
-        sys_ = self.system
-        n = len(sys_.components)
-        linked_in = {(ln.target, ln.target_var.type_name, ln.target_var.vr): ln for ln in sys_.links}
-        gets: list[dict[str, list[VariableInfo]]] = [{t: [] for t in IO_TYPES} for _ in range(n)]
-        sets: list[dict[str, list[VariableInfo]]] = [{t: [] for t in IO_TYPES} for _ in range(n)]
-
-        def add_get(i: int, v: VariableInfo) -> None:
-            if all(g.vr != v.vr for g in gets[i][v.type_name]):
-                gets[i][v.type_name].append(v)
-
-        for ln in sys_.links:
-            add_get(ln.source, ln.source_var)
-            sets[ln.target][ln.target_var.type_name].append(ln.target_var)
-        recorded: list[tuple[int, VariableInfo]] = []
-        for path in self._recorded_paths():
-            i, v = sys_.variable(path)
-            if v.type_name not in IO_TYPES:
-                raise ConfigurationError(f"cannot record '{path}': type {v.type_name} (allowed: "
-                                         f"{', '.join(IO_TYPES)})")
-            recorded.append((i, v))
-            if (i, v.type_name, v.vr) not in linked_in:
-                add_get(i, v)
-        for t in IO_TYPES:
-            out_range, in_range, o, u = [], [], 0, 0
-            for i in range(n):
-                out_range.append((o, o + len(gets[i][t])))
-                o += len(gets[i][t])
-                in_range.append((u, u + len(sets[i][t])))
-                u += len(sets[i][t])
-            out_pos = {(i, v.vr): out_range[i][0] + j for i in range(n) for j, v in enumerate(gets[i][t])}
-            src = np.zeros(u, dtype=np.intp)
-            for i in range(n):
-                for j, v in enumerate(sets[i][t]):
-                    ln = linked_in[(i, t, v.vr)]
-                    src[in_range[i][0] + j] = out_pos[(ln.source, ln.source_var.vr)]
-            names = [f"{sys_.components[i].name}.{v.name}" for i in range(n) for v in gets[i][t]]
-            vec = TypeVectors(np.zeros(o, dtype=_DTYPE[t]), np.zeros(u, dtype=_DTYPE[t]), src, out_range, in_range,
-                              names)
-            self.vectors[t] = vec
-            for i, slave in enumerate(self.slaves):
-                a, b = out_range[i]
-                slave.bind_io(t, "get", gets[i][t], vec.outputs[a:b])
-                a, b = in_range[i]
-                slave.bind_io(t, "set", sets[i][t], vec.inputs[a:b])
-        self.signals = []
-        for i, v in recorded:
-            t = v.type_name
-            vec = self.vectors[t]
-            if (i, t, v.vr) in linked_in:
-                a, _ = vec.in_range[i]
-                j = next(j for j, s in enumerate(sets[i][t]) if s.vr == v.vr)
-                self.signals.append(Signal(sys_.components[i].name, v, "inputs", a + j))
-            else:
-                a, _ = vec.out_range[i]
-                j = next(j for j, g in enumerate(gets[i][t]) if g.vr == v.vr)
-                self.signals.append(Signal(sys_.components[i].name, v, "outputs", a + j))
-        self._linked_inputs = {
-            (i, t, v.vr): self.vectors[t].in_range[i][0] + j
-            for t in IO_TYPES for i in range(n) for j, v in enumerate(sets[i][t])}
-        self._transfers: list[Transfer] = []
-        self._slave_transfers: list[list[Transfer]] = [[] for _ in range(n)]
-        pairs: list[list[tuple[np.ndarray, int, np.ndarray, int, tuple[float, float] | None]]] = [[] for _ in range(n)]
-        mapped_slaves: set[int] = set()
-        for t, vec in self.vectors.items():
-            scale = np.ones(len(vec.inputs))
-            offset = np.zeros(len(vec.inputs))
-            mapped: list[tuple[int, dict[int, int]]] = []
-            for i in range(n):
-                for j, v in enumerate(sets[i][t]):
-                    ln = linked_in[(i, t, v.vr)]
-                    k = vec.in_range[i][0] + j
-                    scale[k], offset[k] = ln.affine.scale, ln.affine.offset
-                    if ln.mapping is not None:
-                        mapped.append((k, ln.mapping))
-            if len(vec.inputs):
-                self._transfers.append(Transfer(vec.outputs, vec.source_index, vec.inputs, scale, offset, mapped))
-            for i, (a, b) in enumerate(vec.in_range):
-                if b > a:
-                    local = [(k - a, m) for k, m in mapped if a <= k < b]
-                    self._slave_transfers[i].append(Transfer(vec.outputs, vec.source_index[a:b], vec.inputs[a:b],
-                                                             scale[a:b], offset[a:b], local))
-                    for k in range(a, b):
-                        linear = None if scale[k] == 1.0 and offset[k] == 0.0 else (float(scale[k]), float(offset[k]))
-                        pairs[i].append((vec.inputs, k, vec.outputs, int(vec.source_index[k]), linear))
-                    if local:
-                        mapped_slaves.add(i)
-        # One element loop per component across all types, for components with a few plain inputs
-        # (Gauss-Seidel transfers per component: one Python loop costs less than a numpy call per type).
-        self._slave_pairs = [p if len(p) <= 8 and i not in mapped_slaves else None for i, p in enumerate(pairs)]
+        stop = StopCondition(condition, "--until")
+        stop.attach(self.exchange)
+        self._stop = stop
 
     # -- coupling interface used by the algorithms ---------------------------------------------
     def step_component(self, i: int, k: int) -> None:
@@ -335,33 +199,29 @@ class Execution:
     def set_inputs(self, i: int) -> None:
         self.slaves[i].set_inputs()
 
-    def transfer_to(self, i: int) -> None:
-        pairs = self._slave_pairs[i]
-        if pairs is not None:
-            for inputs, k, outputs, src, linear in pairs:
-                inputs[k] = outputs[src] if linear is None else outputs[src] * linear[0] + linear[1]
-        else:
-            for transfer in self._slave_transfers[i]:
-                transfer()
-        for vec, j, value in self._overrides:
-            vec[j] = value
+    def save_state(self, i: int) -> None:
+        """Keep the FMU state of component ``i`` (fmi2GetFMUstate), for :meth:`restore_state`."""
+        self._states[i] = self.slaves[i].get_state(self._states[i])
+
+    def restore_state(self, i: int) -> None:
+        """Put component ``i`` back in the state of its last :meth:`save_state` (fmi2SetFMUstate)."""
+        self.slaves[i].set_state(self._states[i])
+
+    def inputs_of(self, i: int) -> list[np.ndarray]:
+        """Views of component ``i``'s connected inputs in the exchange, per type (Real, Integer, Boolean)."""
+        return [v.inputs[a:b] for v in self.vectors.values() for a, b in [v.in_range[i]]]
 
     @property
     def observed(self) -> bool:
         """Whether anything samples the exchange vectors after a step (observers or manipulators)."""
         return bool(self.observers or self.manipulators)
 
-    def transfer_all(self) -> None:
-        for transfer in self._transfers:
-            transfer()
-        for vec, j, value in self._overrides:
-            vec[j] = value
-
     def _manipulate(self, time_s: float) -> None:
-        had = bool(self._overrides)
-        self._overrides = [o for m in self.manipulators for o in m.apply(time_s)]
-        if had:  # a released input must get its connection's value back now, not one step later
-            self.transfer_all()
+        for m in self.manipulators:
+            m.apply(time_s)
+        ex = self.exchange
+        if ex.modified or ex.holding:
+            ex.refresh()
 
     # -- running ----------------------------------------------------------------------------
     def initialize(self, stop_time_s: float | None = None) -> None:
@@ -374,7 +234,7 @@ class Execution:
         """
         for s in self.slaves:
             s.instantiate()
-        self._build_vectors()
+        self.exchange.bind(self.slaves)
         for s in self.slaves:
             s.setup_experiment(self.start_time_s, stop_time_s)
         for p in self.system.parameters:
@@ -390,7 +250,6 @@ class Execution:
         self._initialized = True
         for m in self.manipulators:
             m.attach(self)
-        self._arm_until()
         self._manipulate(self.start_time_s)
         for o in self.observers:
             o.start(self)
@@ -442,7 +301,7 @@ class Execution:
             step = self.algorithm.step
             observers = [o.sample for o in self.observers]
             manipulate = self._manipulate if self.manipulators else None
-            until = self._until
+            until = self._stop.holds if self._stop is not None else None
             for k in range(self.k, n_steps):
                 if self._signal:
                     raise RunInterrupted(self._signal, self.time_s)
@@ -454,7 +313,7 @@ class Execution:
                 for sample in observers:
                     sample(k + 1, t)
                 if until is not None and until():
-                    self.stopped_by = str(self._until_cond)
+                    self.stopped_by = str(self._stop)
                     break
             else:
                 if self._signal:
@@ -480,7 +339,10 @@ class Execution:
                 o.finish(self, error or terminate_error)
             except EmssError as exc:
                 finish_error = finish_error or exc
-        for s in self.slaves:
+        for i, s in enumerate(self.slaves):
+            if self._states[i] is not None:
+                s.free_state(self._states[i])
+                self._states[i] = None
             s.free()
         if terminate_error is not None:
             raise terminate_error

@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 from .errors import Problem
-from .ssp import (
+from .ssp_model import (
     ComponentDef,
     FlatConnection,
     Hop,

@@ -29,9 +29,6 @@ its last value. Bad files are refused with one message naming the file and line.
 """
 from __future__ import annotations
 
-import math
-import operator
-import re
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -41,31 +38,18 @@ import yaml
 
 from openemss.models.common import safe_yaml
 
-from .errors import ConfigurationError, EmssError
+from .condition import OPERATORS, Condition, parse_condition
+from .errors import ScenarioError
+from .exchange import InputModifier
 
 if TYPE_CHECKING:
     from .execution import Execution
 
+__all__ = ["INT32_RANGE", "KINDS", "OPERATORS", "Condition", "Event", "ScenarioError", "ScenarioManipulator",
+           "load_scenario", "parse_condition"]
+
 KINDS = ("set", "ramp", "hold", "release")
 INT32_RANGE = (-(2 ** 31), 2 ** 31 - 1)  #: values of an FMI 2.0 Integer (fmi2Integer is a C int)
-OPERATORS: dict[str, Callable[[float, float], bool]] = {
-    "==": operator.eq, "!=": operator.ne, "<=": operator.le, ">=": operator.ge, "<": operator.lt, ">": operator.gt}
-_CONDITION = re.compile(r"^\s*([A-Za-z_][\w.\[\]]*)\s*(==|!=|<=|>=|<|>)\s*(\S+)\s*$")
-
-
-@dataclass(frozen=True)
-class Condition:
-    """``path op value``: fires the events of its scenario entry at the first step it holds."""
-
-    path: str
-    op: str
-    value: float
-
-    def holds(self, x: float) -> bool:
-        return OPERATORS[self.op](x, self.value)
-
-    def __str__(self) -> str:
-        return f"{self.path} {self.op} {self.value:g}"
 
 
 @dataclass(frozen=True)
@@ -80,10 +64,6 @@ class Event:
     value1: float | int | bool | None
     where: str
     when: Condition | None = None
-
-
-class ScenarioError(ConfigurationError):
-    """A scenario file that cannot be applied."""
 
 
 def _scalar(node: yaml.Node, where: str, what: str) -> Any:
@@ -166,21 +146,6 @@ def _event(node: yaml.Node, file: str, index: int) -> list[Event]:
     return events
 
 
-def parse_condition(text: str, where: str) -> Condition:
-    """``component.variable OP number`` (OP one of ``== != < <= > >=``; true/false stand for 1/0)."""
-    m = _CONDITION.match(str(text))
-    if m is None:
-        raise ScenarioError(f"{where} must read 'component.variable OP number' with OP one of "
-                            f"{' '.join(OPERATORS)}, got {text!r}")
-    try:
-        value = float({"true": 1.0, "false": 0.0}.get(m.group(3).lower(), m.group(3)))
-        if not math.isfinite(value):
-            raise ValueError
-    except ValueError:
-        raise ScenarioError(f"{where} compares with a number (a finite number) or true/false, got {m.group(3)!r}") from None
-    return Condition(m.group(1), m.group(2), value)
-
-
 def _condition(node: yaml.Node, where: str, index: int) -> Condition:
     return parse_condition(_scalar(node, where, "'when'"), f"{where}: event {index}: 'when'")
 
@@ -213,52 +178,16 @@ def load_scenario(path: Path | str) -> list[Event]:
 
 @dataclass
 class _Track:
-    """The events of one variable and where its value goes.
-
-    A connected input is overridden in the execution's input vector (``vector``,
-    ``index``); anything else (an unconnected input, a tunable parameter) is set
-    directly on its FMU when the value changes (``slave``, ``variable``).
-    """
+    """The events of one variable and the exchange's modifier that gives it its value."""
 
     path: str
     events: list[Event]
-    is_int: bool
-    vector: Any = None
-    index: int = -1
-    slave: Any = None
-    variable: Any = None
-    shown: tuple[Any, int] | None = None  # where recorders read it, for directly set variables
+    modifier: InputModifier
     frozen: float | None = None
-    last_set: float | None = None
 
-    def current(self) -> float:
-        if self.vector is not None:
-            return float(self.vector[self.index])
-        return float(self.slave.get_value(self.variable))
-
-
-def reader(execution: Execution, path: str, where: str) -> Callable[[], float]:
-    """A function returning the current value of ``component.variable`` (any causality)."""
-    try:
-        i, var = execution.system.variable(path)
-    except EmssError:
-        raise ConfigurationError(f"{where}: 'when' names no variable '{path}' (write component.variable)") from None
-    slot = execution.output_slot(path)
-    if slot is not None:
-        vec, j = slot
-        return lambda: float(vec[j])
-    if var.type_name not in ("Real", "Integer", "Boolean"):
-        raise ConfigurationError(f"{where}: 'when' needs a Real, Integer or Boolean variable; '{path}' is a "
-                                 f"{var.type_name}")
-    try:
-        kind, j = execution.input_slot(path, where)
-        if isinstance(kind, str):
-            vec = execution.vectors[kind].inputs
-            return lambda: float(vec[j])
-    except ConfigurationError:
-        pass  # an output that is not exchanged, or a parameter: ask the FMU
-    slave = execution.slaves[i]
-    return lambda: float(slave.get_value(var))
+    @property
+    def is_int(self) -> bool:
+        return self.modifier.is_int
 
 
 class ScenarioManipulator:
@@ -273,7 +202,7 @@ class ScenarioManipulator:
     def __init__(self, events: list[Event]) -> None:
         self.events = sorted(events, key=lambda e: (e.start_s, e.end_s))
         self.tracks: list[_Track] = []
-        self._pending: list[tuple[Condition, Callable[[], float], list[tuple[_Track, Event]]]] = []
+        self._pending: list[tuple[Condition, Callable[[], bool], list[tuple[_Track, Event]]]] = []
         self.fired: list[tuple[float, str]] = []  # (time [s], condition) of every condition that held
 
     def variables(self) -> list[str]:
@@ -289,15 +218,7 @@ class ScenarioManipulator:
         conditions: dict[Condition, list[tuple[_Track, Event]]] = {}
         for path, all_events in by_path.items():
             events = [e for e in all_events if e.when is None]
-            slot = execution.input_slot(path, all_events[0].where)
-            if isinstance(slot[0], str):
-                type_name, index = slot
-                tr = _Track(path, events, type_name != "Real", vector=execution.vectors[type_name].inputs,
-                            index=index)  # type: ignore[arg-type]
-            else:
-                slave, var = slot
-                tr = _Track(path, events, var.type_name != "Real", slave=slave, variable=var,
-                            shown=execution.output_slot(path))
+            tr = _Track(path, events, execution.exchange.modifier(path, all_events[0].where))
             self.tracks.append(tr)
             if tr.is_int:  # an FMI Integer (or Boolean) is 32 bits: a larger value would wrap, silently
                 for e in all_events:
@@ -308,15 +229,16 @@ class ScenarioManipulator:
             for e in all_events:
                 if e.when is not None:
                     conditions.setdefault(e.when, []).append((tr, e))
-        self._pending = [(c, reader(execution, c.path, pairs[0][1].where), pairs) for c, pairs in conditions.items()]
+        self._pending = [(c, c.watch(execution.exchange, f"{pairs[0][1].where}: 'when'"), pairs)
+                         for c, pairs in conditions.items()]
         self.fired = []
 
     def _fire(self, time_s: float) -> None:
         """Start the events of every condition that holds at ``time_s`` [s], once."""
         still = []
-        for cond, read, pairs in self._pending:
-            if not cond.holds(read()):
-                still.append((cond, read, pairs))
+        for cond, holds, pairs in self._pending:
+            if not holds():
+                still.append((cond, holds, pairs))
                 continue
             self.fired.append((time_s, str(cond)))
             for tr, e in pairs:
@@ -334,7 +256,7 @@ class ScenarioManipulator:
                 value, tr.frozen = None, None
             elif e.kind == "hold":
                 if tr.frozen is None:
-                    tr.frozen = tr.current() if value is None else value
+                    tr.frozen = tr.modifier.current() if value is None else value
                 value = tr.frozen
             elif e.kind == "set":
                 value, tr.frozen = float(e.value0), None  # type: ignore[arg-type]
@@ -345,26 +267,13 @@ class ScenarioManipulator:
             value = float(round(value))
         return value
 
-    def apply(self, time_s: float) -> list[tuple[Any, int, float]]:
-        """Bring every variable to its scenario value at ``time_s`` [s]; returns the overrides of
-        connected inputs for the execution to re-apply after each transfer."""
+    def apply(self, time_s: float) -> None:
+        """Bring every variable to its scenario value at ``time_s`` [s], through the exchange's modifiers."""
         if self._pending:
             self._fire(time_s)
-        active: list[tuple[Any, int, float]] = []
         for tr in self.tracks:
             value = self._value_at(tr, time_s)
             if value is None:
-                continue
-            if tr.vector is not None:
-                tr.vector[tr.index] = value
-                active.append((tr.vector, tr.index, value))
-                continue
-            if value != tr.last_set:
-                var = tr.variable
-                typed = value if var.type_name == "Real" else (bool(value) if var.type_name == "Boolean"
-                                                                else int(value))
-                tr.slave.set_value(var, typed)
-                tr.last_set = value
-            if tr.shown is not None:
-                tr.shown[0][tr.shown[1]] = value
-        return active
+                tr.modifier.release()
+            else:
+                tr.modifier.override(value)

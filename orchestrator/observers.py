@@ -381,7 +381,8 @@ class Progress:
         self._t0_wall = time.perf_counter()
         self._next = self._t0_wall + self.delay_s
         self._sim0 = execution.start_time_s
-        self._read_status = _reader(execution, self.status) if self.status and self.enabled else None
+        self._read_status = (execution.exchange.probe(self.status, "--status") if self.status and self.enabled
+                             else None)
 
     def sample(self, k: int, time_s: float) -> None:
         if not self.enabled or k & 15:
@@ -425,14 +426,3 @@ class Progress:
             self.stream.write("\n")
             self.stream.flush()
 
-
-def _reader(execution: Execution, path: str) -> Callable[[], object]:
-    """A function giving the current value of ``component.variable``: from the exchange vectors
-    when the slaves get it anyway, else one FMI get call (any type, String included)."""
-    slot = execution.output_slot(path)
-    if slot is not None:
-        vector, index = slot
-        return lambda: vector[index].item()
-    i, var = execution.system.variable(path)
-    slave = execution.slaves[i]
-    return lambda: slave.get_value(var)

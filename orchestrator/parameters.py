@@ -12,21 +12,18 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from typing import TYPE_CHECKING
 
 from .conversion import ConversionError, unit_step
 from .errors import Problem
-from .ssp import (
+from .ssp_model import (
     LinearTransformationDef,
     MappingEntryDef,
     MappingTransformationDef,
     ParameterBindingDef,
     ParameterValue,
 )
+from .system_model import BoundSystem, ParameterAssignment, VariableInfo
 from .units import Unit
-
-if TYPE_CHECKING:
-    from .system import BoundSystem, ParameterAssignment, VariableInfo
 
 
 def _coerce(value: float | int | bool | str, type_name: str, var: VariableInfo) -> float | int | bool | str | None:
@@ -82,8 +79,6 @@ def _lookup(*scopes: dict[str, Unit]) -> Callable[[str], Unit | None]:
 def resolve_parameters(bound: BoundSystem, bindings: list[tuple[ParameterBindingDef, int | None]],
                        problems: list[Problem]) -> list[ParameterAssignment]:
     """Resolve every parameter value of every binding; later bindings override earlier ones."""
-    from .system import ParameterAssignment
-
     models = bound.components
     ssd_units = bound.definition.units
     resolved: dict[tuple[int, str, int], ParameterAssignment] = {}

@@ -26,11 +26,12 @@ from fmpy.fmi2 import (
     fmi2CallbackFreeMemoryTYPE,
     fmi2CallbackFunctions,
     fmi2CallbackLoggerTYPE,
+    fmi2FMUstate,
 )
 
 from .errors import SlaveError
 from .results import check_archive
-from .system import ComponentModel, VariableInfo
+from .system_model import ComponentModel, VariableInfo
 
 _STATUS = ("ok", "warning", "discard", "error", "fatal", "pending")
 _EXTRACTED: dict[tuple[str, int, int], str] = {}
@@ -164,6 +165,8 @@ class Slave:
         self._outputs: list[tuple[object, tuple[object, ...], str, IoBuffers]] = []
         self.time_s: float | None = None
         self.fatal = False
+        #: Input modifiers (see :mod:`.exchange`): (input vector, index, value) written before every set.
+        self.modifiers: list[tuple[np.ndarray, int, float]] = []
 
     # -- life cycle -------------------------------------------------------------------------
     def instantiate(self) -> None:
@@ -210,6 +213,24 @@ class Slave:
         out: list[object] = []
         self._guard(f"fmi2Get{var.type_name} of '{var.name}'", lambda: out.extend(fn([var.vr])))
         return out[0]  # type: ignore[return-value]
+
+    def get_state(self, previous: object | None = None) -> object:
+        """The FMU's state (fmi2GetFMUstate), written over ``previous`` when given (FMI 2.0 allows it)."""
+        state = previous if previous is not None else fmi2FMUstate()
+        self._guard("fmi2GetFMUstate", self.fmu.fmi2GetFMUstate, self.fmu.component, byref(state))
+        return state
+
+    def set_state(self, state: object) -> None:
+        """Put the FMU back in a state from :meth:`get_state` (fmi2SetFMUstate)."""
+        self._guard("fmi2SetFMUstate", self.fmu.fmi2SetFMUstate, self.fmu.component, state)
+
+    def free_state(self, state: object) -> None:
+        """Free a state from :meth:`get_state`; never raises (the instance may have failed)."""
+        if self.fmu is not None and not self.fatal:
+            try:
+                self.fmu.fmi2FreeFMUstate(self.fmu.component, byref(state))
+            except Exception:  # a failed FMU may refuse; the state goes with the instance
+                pass
 
     def terminate(self) -> None:
         self._guard("fmi2Terminate", self.fmu.terminate)
@@ -259,9 +280,15 @@ class Slave:
             if status > 1:
                 self._failed(fname, status)
 
+    def _modify(self) -> None:
+        for vector, index, value in self.modifiers:
+            vector[index] = value
+
     def set_inputs(self) -> None:
-        """One fmi2Set<Type> per type, from the bound buffers."""
+        """One fmi2Set<Type> per type, from the bound buffers, with the input modifiers applied first."""
         t0 = time.perf_counter()
+        if self.modifiers:
+            self._modify()
         self._batch(self._inputs)
         self.stats.set_s += time.perf_counter() - t0
 
@@ -285,6 +312,8 @@ class Slave:
         """set_inputs, do_step and get_outputs in one call (what Gauss-Seidel does per component)."""
         stats = self.stats
         t0 = time.perf_counter()
+        if self.modifiers:
+            self._modify()
         self._batch(self._inputs)
         t1 = time.perf_counter()
         self.time_s = time_s

@@ -27,6 +27,7 @@ from pathlib import Path, PurePosixPath
 from lxml import etree
 
 from .errors import Problem, SystemStructureError
+from .flatten import flatten
 from .results import archive_problems
 from .ssp_model import (
     ComponentDef,
@@ -375,8 +376,6 @@ def read_ssd(path: Path, archive_dir: tempfile.TemporaryDirectory[str] | None = 
     SystemStructureError
         With every problem found in the files.
     """
-    from .flatten import flatten
-
     path = Path(path)
     problems: list[Problem] = []
     root = _parse_xml(path, "SystemStructureDescription.xsd", problems)

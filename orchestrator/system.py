@@ -8,7 +8,6 @@ problems are collected before failing.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 from pathlib import Path
 
 from fmpy import read_model_description
@@ -16,119 +15,21 @@ from fmpy.model_description import ModelDescription
 
 from .conversion import ConversionError, discrete_path, real_path
 from .errors import Problem, SystemStructureError
-from .ssp import ComponentDef, FlatConnection, ParameterBindingDef, SystemDef, read_ssv
-from .units import IDENTITY, Affine, Unit, from_attributes
+from .parameters import resolve_parameters
+from .ssp import read_ssv
+from .ssp_model import ComponentDef, FlatConnection, ParameterBindingDef, SystemDef
+from .system_model import (  # re-exported: the types of a bound system are named through this module too
+    BUFFER_TYPE,
+    BoundSystem,
+    ComponentModel,
+    Link,
+    ParameterAssignment,
+    VariableInfo,
+)
+from .units import Unit, from_attributes
 
-#: FMI 2.0 variable types as the orchestrator buffers them (Enumeration travels as Integer).
-BUFFER_TYPE = {"Real": "Real", "Integer": "Integer", "Enumeration": "Integer", "Boolean": "Boolean", "String": "String"}
-
-
-@dataclass(frozen=True)
-class VariableInfo:
-    """One FMU variable, with what the orchestrator needs in the hot loop."""
-
-    name: str
-    vr: int
-    type_name: str  # Real, Integer, Boolean, String (Enumeration travels as Integer)
-    causality: str
-    variability: str
-    initial: str | None
-    start: float | int | bool | str | None
-    unit: str | None
-    description: str | None
-    enum_items: dict[str, int] | None = None  # for Enumeration variables: item name -> value
-
-    @property
-    def settable_before_init(self) -> bool:
-        """FMI 2.0: may the master set it between instantiate and exitInitializationMode?"""
-        if self.variability == "constant":
-            return False
-        return self.causality == "input" or self.initial in ("exact", "approx")
-
-
-@dataclass
-class ComponentModel:
-    """A component bound to its FMU's model description."""
-
-    definition: ComponentDef
-    model_description: ModelDescription
-    variables: dict[str, VariableInfo]
-    units: dict[str, Unit] = field(default_factory=dict)  # the FMU's UnitDefinitions
-
-    @property
-    def name(self) -> str:
-        return self.definition.name
-
-    @property
-    def fmu_path(self) -> Path:
-        return self.definition.source_path
-
-    def connector_unit(self, name: str) -> str | None:
-        """The unit of a connector: the SSD's if declared, else the FMU variable's."""
-        for k in self.definition.connectors:
-            if k.name == name and k.unit is not None:
-                return k.unit
-        v = self.variables.get(name)
-        return v.unit if v is not None else None
-
-
-@dataclass(frozen=True)
-class Link:
-    """A resolved connection: output of one component to input of another.
-
-    ``affine`` converts Real values (transformations and units composed);
-    ``mapping`` maps Boolean/Integer/Enumeration values (None: unchanged).
-    """
-
-    source: int  # component index
-    source_var: VariableInfo
-    target: int
-    target_var: VariableInfo
-    where: str
-    affine: Affine = IDENTITY
-    mapping: dict[int, int] | None = None
-
-
-@dataclass(frozen=True)
-class ParameterAssignment:
-    """A start or parameter value to set on a component before initialization."""
-
-    component: int
-    variable: VariableInfo
-    value: float | int | bool | str
-    where: str
-
-
-@dataclass
-class BoundSystem:
-    """An SSP system whose components, connections and parameters are resolved against the FMUs."""
-
-    definition: SystemDef
-    components: list[ComponentModel]
-    links: list[Link]
-    parameters: list[ParameterAssignment] = field(default_factory=list)
-
-    def index(self, component_name: str) -> int:
-        for i, c in enumerate(self.components):
-            if c.name == component_name:
-                return i
-        raise KeyError(component_name)
-
-    def split(self, path: str) -> tuple[int, str] | None:
-        """Split ``component.variable`` at the longest component name (names may contain dots)."""
-        best: tuple[int, str] | None = None
-        for i, c in enumerate(self.components):
-            if path.startswith(c.name + ".") and (best is None or len(c.name) > len(self.components[best[0]].name)):
-                best = (i, path[len(c.name) + 1:])
-        return best
-
-    def variable(self, path: str) -> tuple[int, VariableInfo]:
-        """Resolve ``component.variable``."""
-        hit = self.split(path)
-        if hit is not None and hit[1] in self.components[hit[0]].variables:
-            return hit[0], self.components[hit[0]].variables[hit[1]]
-        raise SystemStructureError([Problem(path, "no such variable: expected component.variable "
-                                                  "with a component of this system")])
+__all__ = ["BUFFER_TYPE", "BoundSystem", "ComponentModel", "Link", "ParameterAssignment", "VariableInfo",
+           "bind_system"]
 
 
 def _variables(md: ModelDescription) -> dict[str, VariableInfo]:
@@ -242,18 +143,20 @@ def _link(conn: FlatConnection, comps: dict[str, tuple[int, ComponentModel]], ss
         return None
 
 
-def bind_system(sysdef: SystemDef, parameter_files: list[Path] | tuple[Path, ...] = ()) -> BoundSystem:
+def bind_system(sysdef: SystemDef, parameter_files: list[Path] | tuple[Path, ...] = (),
+                model_descriptions: dict[Path, ModelDescription] | None = None) -> BoundSystem:
     """Resolve a system against its FMUs; ``parameter_files`` (.ssv, system-level names) override the SSD.
 
     Raises
     ------
     SystemStructureError
         With every problem found in the SSD, the FMUs and the parameter files.
-    """
-    from .parameters import resolve_parameters
 
+    ``model_descriptions`` (FMU path -> its model description) is filled with the FMUs read, and
+    read from: binding the same system again with other parameter files reads no FMU twice.
+    """
     problems: list[Problem] = list(sysdef.problems)
-    cache: dict[Path, ModelDescription] = {}
+    cache = model_descriptions if model_descriptions is not None else {}
     names: set[str] = set()
     models: list[ComponentModel] = []
     for c in sysdef.components:

@@ -1,52 +1,80 @@
 """Transfers: copying connected outputs to inputs, with the connection's conversion applied."""
 from __future__ import annotations
 
+from collections.abc import Sequence
+from dataclasses import dataclass
+
 import numpy as np
 
 
-class Transfer:
-    """Copy a contiguous range of inputs of one type from their sources, converting on the way.
+@dataclass(frozen=True)
+class Segment:
+    """A contiguous range of inputs of one FMI type and where each takes its value from.
 
-    A range of more than ``SMALL`` inputs is one ``take`` (a bound method, looked
-    up once); Real connections with a transformation or unit conversion add one
-    multiply and one add over the range. A small range (the usual case for one
-    component in Gauss-Seidel) is copied element by element, which costs less than
-    numpy's call overhead. Mapped Boolean/Integer/Enumeration connections are
-    looked up one by one.
+    ``inputs[j] = outputs[source_index[j]] * scale[j] + offset[j]``, then, for every ``(j, mapping)``
+    in ``mapped``, ``inputs[j] = mapping.get(inputs[j], inputs[j])`` (Boolean/Integer/Enumeration maps).
     """
 
-    SMALL = 4
-    __slots__ = ("_take", "_idx", "_inputs", "_scale", "_offset", "_mapped", "_pairs", "_outputs")
+    outputs: np.ndarray
+    source_index: np.ndarray
+    inputs: np.ndarray
+    scale: np.ndarray
+    offset: np.ndarray
+    mapped: tuple[tuple[int, dict[int, int]], ...] = ()
 
-    def __init__(self, outputs: np.ndarray, idx: np.ndarray, inputs: np.ndarray, scale: np.ndarray,
-                 offset: np.ndarray, mapped: list[tuple[int, dict[int, int]]]) -> None:
-        self._outputs = outputs
-        self._take = outputs.take
-        self._idx = idx
-        self._inputs = inputs
-        identity = bool(np.all(scale == 1.0) and np.all(offset == 0.0))
-        self._scale = None if identity else scale
-        self._offset = None if identity else offset
-        self._mapped = mapped
-        self._pairs = None
-        if len(idx) <= self.SMALL:
-            self._pairs = [(j, int(src), float(scale[j]), float(offset[j])) for j, src in enumerate(idx)]
+
+class Transfer:
+    """Copy one or more segments (one per FMI type) from their sources, converting on the way.
+
+    Few plain inputs (at most ``SMALL``, none mapped: the usual case for one component in
+    Gauss-Seidel) are copied element by element across all segments in one loop, which costs
+    less than numpy's call overhead per type. Otherwise a segment of more than ``SMALL_RANGE``
+    inputs is one ``take`` (a bound method, looked up once), plus one multiply and one add when a
+    Real connection has a transformation or unit conversion; a shorter one is copied element by
+    element. Mapped Boolean/Integer/Enumeration inputs are then looked up one by one.
+    """
+
+    SMALL = 8
+    SMALL_RANGE = 4
+    __slots__ = ("_pairs", "_ranges")
+
+    def __init__(self, segments: Sequence[Segment]) -> None:
+        segments = [s for s in segments if len(s.inputs)]
+        pairs = [(s.inputs, j, s.outputs, int(src),
+                  None if s.scale[j] == 1.0 and s.offset[j] == 0.0 else (float(s.scale[j]), float(s.offset[j])))
+                 for s in segments for j, src in enumerate(s.source_index)]
+        self._pairs: list[tuple[np.ndarray, int, np.ndarray, int, tuple[float, float] | None]] | None = None
+        self._ranges: list[tuple[object, ...]] = []
+        if len(pairs) <= self.SMALL and not any(s.mapped for s in segments):
+            self._pairs = pairs
+            return
+        for s in segments:
+            identity = bool(np.all(s.scale == 1.0) and np.all(s.offset == 0.0))
+            small = None
+            if len(s.source_index) <= self.SMALL_RANGE:
+                small = [(j, int(src), float(s.scale[j]), float(s.offset[j])) for j, src in enumerate(s.source_index)]
+            self._ranges.append((s.outputs.take, s.source_index, s.inputs, None if identity else s.scale,
+                                 None if identity else s.offset, small, s.outputs, s.mapped))
 
     def __call__(self) -> None:
-        inputs = self._inputs
-        if self._pairs is not None:
-            outputs = self._outputs
-            if self._scale is None:
-                for j, src, _, _ in self._pairs:
-                    inputs[j] = outputs[src]
+        pairs = self._pairs
+        if pairs is not None:
+            for inputs, j, outputs, src, linear in pairs:
+                inputs[j] = outputs[src] if linear is None else outputs[src] * linear[0] + linear[1]
+            return
+        for take, idx, inputs, scale, offset, small, outputs, mapped in self._ranges:
+            if small is not None:
+                if scale is None:
+                    for j, src, _, _ in small:
+                        inputs[j] = outputs[src]
+                else:
+                    for j, src, a, b in small:
+                        inputs[j] = outputs[src] * a + b
             else:
-                for j, src, a, b in self._pairs:
-                    inputs[j] = outputs[src] * a + b
-        else:
-            self._take(self._idx, out=inputs)
-            if self._scale is not None:
-                np.multiply(inputs, self._scale, out=inputs)
-                np.add(inputs, self._offset, out=inputs)
-        for j, mapping in self._mapped:
-            v = int(inputs[j])
-            inputs[j] = mapping.get(v, v)
+                take(idx, out=inputs)
+                if scale is not None:
+                    np.multiply(inputs, scale, out=inputs)
+                    np.add(inputs, offset, out=inputs)
+            for j, mapping in mapped:
+                v = int(inputs[j])
+                inputs[j] = mapping.get(v, v)

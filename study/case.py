@@ -27,6 +27,7 @@ from typing import Any
 
 from lxml import etree
 
+from openemss.orchestrator import algorithm_registry
 from openemss.orchestrator.results import atomic_write, check_name
 
 from .child import PARENT_ENV
@@ -52,7 +53,7 @@ class CaseDef:
     scenario: str | None = None
     stop_time_s: float | None = None
     rate_hz: float | None = None
-    algorithm: str = "jacobi"
+    algorithm: str = algorithm_registry.DEFAULT
     record: tuple[str, ...] = ()
     record_every: int = 1
     digest: str = ""  # of the definition and the contents of the files it reads

@@ -10,7 +10,7 @@ grid point, a mission and a scenario is one case (:func:`expand_cases`).
     system: ../ssp                    # folder with SystemStructure.ssd, an .ssd or an .ssp (relative to this file)
     stop_time_s: 4000                 # optional, default: the SSD's DefaultExperiment
     rate_hz: 20                       # optional communication rate [Hz]
-    algorithm: jacobi                 # optional: jacobi or gauss-seidel
+    algorithm: jacobi                 # optional: a name of orchestrator/algorithm_registry.py (emss run --help)
     record: [engine.*, fcs.section_index]   # optional: variables to record (default: every connector)
     record_every: 1                   # optional
     params: [../ssp/engine_reference_study.ssv]   # parameter sets applied to every case
@@ -39,6 +39,7 @@ from typing import Any
 import yaml
 
 from openemss.models.common import safe_yaml
+from openemss.orchestrator import algorithm_registry
 from openemss.orchestrator.errors import ConfigurationError
 from openemss.orchestrator.results import check_name
 
@@ -90,7 +91,7 @@ class StudyDef:
     description: str = ""
     stop_time_s: float | None = None
     rate_hz: float | None = None
-    algorithm: str = "jacobi"
+    algorithm: str = algorithm_registry.DEFAULT
     record: tuple[str, ...] = ()
     record_every: int = 1
     params: tuple[Path, ...] = ()
@@ -246,9 +247,9 @@ def parse_study(doc: Any, source: Path) -> StudyDef:
     for k in ("study", "system"):
         if k not in doc:
             raise StudyError(f"{source}: field '{k}' is required")
-    algorithm = doc.get("algorithm", "jacobi")
-    if algorithm not in ("jacobi", "gauss-seidel"):
-        raise ctx.fail(doc, "algorithm", f"{algorithm!r}: expected jacobi or gauss-seidel")
+    algorithm = doc.get("algorithm", algorithm_registry.DEFAULT)
+    if algorithm not in algorithm_registry.REGISTRY:
+        raise ctx.fail(doc, "algorithm", f"{algorithm!r}: expected one of {', '.join(algorithm_registry.names())}")
     record = doc.get("record") or []
     if isinstance(record, str):
         record = [record]

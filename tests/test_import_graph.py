@@ -1,5 +1,7 @@
-"""No import cycles inside a model package (issue 18): every relative import that runs, at module level or inside
-a function (a lazy import hides a cycle, it does not remove it), makes an edge of the package's graph."""
+"""No import cycles inside a model package (issue 18) or the orchestrator (issue 20): every relative import that
+runs, at module level or inside a function (a lazy import hides a cycle, it does not remove it), makes an edge of
+the package's graph. The orchestrator's modules also import one way only, from the command line down to the SSP
+model (issue 20), so that grouping them into sub-packages by part is a pure move."""
 from __future__ import annotations
 
 import ast
@@ -8,6 +10,21 @@ from pathlib import Path
 import pytest
 
 MODELS = Path(__file__).resolve().parents[1] / "models"
+ORCHESTRATOR = Path(__file__).resolve().parents[1] / "orchestrator"
+
+#: The part of every orchestrator module, lowest first (orchestrator/README.md describes them). A module imports
+#: modules of its own part or of lower parts only; "export" and "scenarios" are side by side, both over "master".
+PART_LEVEL = {"shared": 0, "ssp": 1, "master": 2, "scenarios": 3, "export": 3, "cli": 4}
+PARTS = {
+    "__init__": "shared", "errors": "shared", "results": "shared",
+    "units": "ssp", "conversion": "ssp", "ssp_model": "ssp", "ssp": "ssp", "flatten": "ssp", "ssp_write": "ssp",
+    "system_model": "ssp", "parameters": "ssp", "system": "ssp",
+    "transfer": "master", "slave": "master", "exchange": "master", "algorithm": "master",
+    "iterative": "master", "algorithm_registry": "master", "condition": "master", "execution": "master",
+    "manipulators": "scenarios", "observers": "scenarios",
+    "build": "export", "export": "export",
+    "cli": "cli", "plugins": "cli",
+}
 
 
 def _runtime_nodes(tree: ast.AST) -> list[ast.AST]:
@@ -75,3 +92,21 @@ def test_the_search_finds_a_cycle() -> None:
 def test_no_import_cycle_in_model_package(pkg: str) -> None:
     cycle = _cycle(_graph(MODELS / pkg))
     assert cycle is None, " -> ".join(cycle or [])
+
+
+def test_no_import_cycle_in_the_orchestrator() -> None:
+    cycle = _cycle(_graph(ORCHESTRATOR))
+    assert cycle is None, " -> ".join(cycle or [])
+
+
+def test_every_orchestrator_module_has_a_part() -> None:
+    on_disk = {f.stem for f in ORCHESTRATOR.glob("*.py")}
+    assert on_disk - set(PARTS) == set(), "give the new module its part in PARTS (and in orchestrator/README.md)"
+
+
+
+def test_orchestrator_imports_go_one_way_down_the_parts() -> None:
+    upward = [f"{m} ({PARTS[m]}) imports {e} ({PARTS[e]})" for m, edges in sorted(_graph(ORCHESTRATOR).items())
+              for e in sorted(edges) if m in PARTS and e in PARTS and PART_LEVEL[PARTS[e]] > PART_LEVEL[PARTS[m]]
+              or (m in PARTS and e in PARTS and PART_LEVEL[PARTS[e]] == PART_LEVEL[PARTS[m]] and PARTS[e] != PARTS[m])]
+    assert upward == []

@@ -22,14 +22,14 @@ from .estimation import AirspeedRateEstimator
 from .fuel_control import FuelController
 from .geo import wrap_pi
 from .guidance import L1Guidance
-from .lateral import LateralController, LateralState
+from .lateral import LateralController
 from .mission import Mission
 from .performance import Performance
 from .pitch import PitchController, turn_pitch_rate
 from .records import fast_init
 from .state import AircraftState, EngineState, Targets
 from .state_machine import MissionRunner
-from .tecs import Tecs, TecsInput
+from .tecs import Tecs
 from .tunable import Tunable
 from .vertical import VNAV_MODES
 from .vnav import Vnav
@@ -229,14 +229,15 @@ class FlightControlSystem:
         low-passed with ``tecs.tau_Vdot_s``; the TECS flies the estimated airspeed.
         """
         vdot, tas = x.Vdot_m_s2, x.tas_m_s
-        if math.isnan(vdot):  # (not a dataclasses.replace of the state: a third of this step's cost)
-            raw = self._estimator.step(dt_s, x.tas_m_s, x.vn_m_s, x.ve_m_s, x.tas_m_s * math.sin(x.gamma_rad),
+        if vdot != vdot:  # NaN (not a dataclasses.replace of the state: a third of this step's cost)
+            raw = self._estimator.step(dt_s, tas, x.vn_m_s, x.ve_m_s, tas * math.sin(x.gamma_rad),
                                        x.phi_rad, x.theta_rad, x.psi_rad, x.beta_rad, x.gamma_rad)
             tau = self.tecs.parameters.tau_Vdot_s   # first-order low-pass of the estimate
             self._vdot_f = raw if self._vdot_f is None else self._vdot_f + (raw - self._vdot_f) * dt_s / (tau + dt_s)
             vdot = self._vdot_f
             tas = self._estimator.tas_m_s if self._estimator.tas_m_s is not None else tas
-        tg = self.runner.step(t_s, dt_s, x)
+        runner = self.runner
+        tg = runner.step(t_s, dt_s, x)
         tas_cmd = math.nan
         airbrake = 0.0
         if tg.theta_cmd_rad is not None:
@@ -244,39 +245,43 @@ class FlightControlSystem:
             lever = tg.lever if tg.lever is not None else 0.0
             self._tecs_engaged = False
         else:
-            W = x.mass_kg * G0_M_S2
+            tecs = self.tecs
             if not self._tecs_engaged:
                 # bumpless: from the last lever, or at the start the lever that demands the engine's N1c
                 lever0 = self._lever if self._lever is not None else \
                     clip(eng.N1c_pct / max(self.fuel.parameters.k_delta_pct, 1e-6), 0.0, 1.0)
-                self.tecs.reset(lever0 * self.tecs.available_thrust_N(x.alt_m, x.dT_isa_K), W, x.theta_rad)
+                tecs.reset(lever0 * tecs.available_thrust_N(x.alt_m, x.dT_isa_K), x.mass_kg * G0_M_S2, x.theta_rad)
                 self._tecs_engaged = True
-            alt_cmd = tg.alt_cmd_m if tg.gamma_cmd_rad is None else None
+            if tg.gamma_cmd_rad is None:
+                alt_cmd, gamma_cmd = tg.alt_cmd_m, None
+                if alt_cmd is not None and tg.hdot_ff_m_s != 0.0:  # held targets: the path's altitude moves on
+                    alt_cmd += tg.hdot_ff_m_s * (t_s - runner.targets_time_s)
+            else:
+                alt_cmd, gamma_cmd = None, tg.gamma_cmd_rad
             e_min, e_max, ab_max = self._energy_rates(t_s, x, tg)
-            out = self.tecs.step(dt_s, TecsInput(x.alt_m, tas, vdot, x.gamma_rad, x.mass_kg, x.dT_isa_K,
-                                                 e_min, e_max),
-                                 tg.speed, alt_cmd if alt_cmd is not None else None,
-                                 tg.gamma_cmd_rad if alt_cmd is None else None, lever_fixed=tg.lever,
-                                 hdot_ff_m_s=tg.hdot_ff_m_s, priority=tg.priority, airbrake_max_N=ab_max)
-            theta_c, lever, tas_cmd = out.theta_cmd_rad, out.lever, out.tas_cmd_m_s
-            if out.airbrake_drag_N > 0.0:
-                airbrake = self.perf.airbrake_position(out.airbrake_drag_N, x.qbar_Pa)
+            out = tecs.step_values(dt_s, x.alt_m, tas, vdot, x.gamma_rad, x.mass_kg, x.dT_isa_K, e_min, e_max,
+                                   tg.speed, alt_cmd, gamma_cmd, tg.lever, tg.hdot_ff_m_s, tg.priority, ab_max)
+            # (the fields of TecsOutput: thrust, lever, theta_cmd, gamma_cmd, Vdot_cmd, tas_cmd, ..., airbrake)
+            lever, theta_c, tas_cmd = out[1], out[2], out[5]
+            if out[10] > 0.0:
+                airbrake = self.perf.airbrake_position(out[10], x.qbar_Pa)
         self._lever = lever
-        q_turn = turn_pitch_rate(x.phi_rad, x.tas_m_s) if not x.on_ground else 0.0
+        on_ground = x.on_ground
+        q_turn = 0.0 if on_ground else turn_pitch_rate(x.phi_rad, x.tas_m_s)
         # The ground gains act on the runway and until the climb law takes over after lift-off, so that
         # the gains do not switch while the aircraft leaves the ground.
-        ground = x.on_ground or tg.phase in _GROUND_PITCH_PHASES
-        elevator = self.pitch.step(dt_s, theta_c, x.theta_rad, x.q_rad_s, x.qbar_Pa, q_turn, on_ground=ground)
-        lat = self.lateral.step(dt_s, LateralState(x.phi_rad, x.theta_rad, x.psi_rad, x.chi_rad, x.p_rad_s, x.r_rad_s,
-                                                   x.beta_rad, x.tas_m_s, x.qbar_Pa),
-                                phi_cmd_rad=tg.phi_cmd_rad, heading_cmd_rad=tg.heading_cmd_rad)
-        rudder = lat.rudder
+        elevator = self.pitch.step(dt_s, theta_c, x.theta_rad, x.q_rad_s, x.qbar_Pa, q_turn,
+                                   on_ground or tg.phase in _GROUND_PITCH_PHASES)
+        # (no track command: the track, the fourth argument, is not used)
+        aileron, rudder, phi_cmd = self.lateral.step_values(dt_s, x.phi_rad, x.theta_rad, x.psi_rad, math.nan,
+                                                            x.p_rad_s, x.r_rad_s, x.beta_rad, x.tas_m_s, x.qbar_Pa,
+                                                            tg.phi_cmd_rad, tg.heading_cmd_rad)
         if tg.align_heading_rad is not None:
-            ap = self.runner.approach_params
+            ap = runner.approach_params
             rudder = clip(-ap.k_psi_steer_1_rad * wrap_pi(x.psi_rad - tg.align_heading_rad), -1.0, 1.0)
-        f = self.fuel.step(dt_s, lever, eng.N1c_pct, eng.N1_pct, eng.Tt41_K)
-        return FcsOutput(elevator, lat.aileron, rudder, tg.steer, tg.brake, tg.gear_down, lever, f.Wf_cmd_kg_s,
-                         theta_c, lat.phi_cmd_rad, tg, tas_cmd, FUEL_LIMITERS.index(f.limiter), airbrake,
+        f = self.fuel.step_values(dt_s, lever, eng.N1c_pct, eng.N1_pct, eng.Tt41_K)
+        return FcsOutput(elevator, aileron, rudder, tg.steer, tg.brake, tg.gear_down, lever, f[0],
+                         theta_c, phi_cmd, tg, tas_cmd, _LIMITER_CODE[f[4]], airbrake,
                          _MODE_CODE.get(tg.vnav_mode, 0),
                          _PHASE_CODE.get(tg.phase, 0) if tg.section_type == "Landing" else 0)
 
@@ -294,4 +299,5 @@ class FlightControlSystem:
 
 
 _MODE_CODE = {m: i for i, m in enumerate(VNAV_MODES)}
+_LIMITER_CODE = {m: i for i, m in enumerate(FUEL_LIMITERS)}
 _PHASE_CODE = {m: i for i, m in enumerate(APPROACH_PHASES)}

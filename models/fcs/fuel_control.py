@@ -192,24 +192,31 @@ class FuelController(Tunable[FuelControlParams]):
         -------
         FuelControlOutput
         """
+        return FuelControlOutput(*self.step_values(dt_s, delta, N1c_pct, N1_pct, Tt41_K))
+
+    def step_values(self, dt_s: float, delta: float, N1c_pct: float, N1_pct: float,
+                    Tt41_K: float) -> tuple[float, float, float, float, str]:
+        """:meth:`step` returning the fields of :class:`FuelControlOutput` in their order, as a tuple (the
+        FCS's per-step path, which builds no records). The one implementation of the controller."""
         p = self._params
         d = clip(delta, 0.0, 1.0)
         N1c_dem = max(p.k_delta_pct * d, p.N1c_idle_pct)
-        e = (N1c_dem - N1c_pct, p.Tt41_max_K - Tt41_K, p.N1_max_pct - N1_pct)
-        e0 = e if self._e_prev is None else self._e_prev
-        dWf, limiter = p.kp_kg_s_pct * (e[0] - e0[0]) + p.ki_kg_s2_pct * dt_s * e[0], "demand"
-        d_T = p.kp_T_kg_s_K * (e[1] - e0[1]) + p.ki_T_kg_s2_K * dt_s * e[1]
+        e0_, e1_, e2_ = e = (N1c_dem - N1c_pct, p.Tt41_max_K - Tt41_K, p.N1_max_pct - N1_pct)
+        p0, p1, p2 = e if self._e_prev is None else self._e_prev
+        dWf, limiter = p.kp_kg_s_pct * (e0_ - p0) + p.ki_kg_s2_pct * dt_s * e0_, "demand"
+        d_T = p.kp_T_kg_s_K * (e1_ - p1) + p.ki_T_kg_s2_K * dt_s * e1_
         if d_T < dWf:
             dWf, limiter = d_T, "Tt41"
-        d_N = p.kp_N1_kg_s_pct * (e[2] - e0[2]) + p.ki_N1_kg_s2_pct * dt_s * e[2]
+        d_N = p.kp_N1_kg_s_pct * (e2_ - p2) + p.ki_N1_kg_s2_pct * dt_s * e2_
         if d_N < dWf:
             dWf, limiter = d_N, "N1"
-        dWf = clip(dWf, -p.stp_max_kg_s, p.stp_max_kg_s)
+        stp = p.stp_max_kg_s
+        dWf = clip(dWf, -stp, stp)
         # bounds, approached at the same limited rate if the command was outside them
         target = clip(self._Wf + dWf, p.Wf_min_kg_s, p.Wf_max_kg_s)
-        dWf = clip(target - self._Wf, -p.stp_max_kg_s, p.stp_max_kg_s)
+        dWf = clip(target - self._Wf, -stp, stp)
         Wf_new = self._Wf + dWf
         self._Wf = Wf_new
         self._e_prev = e
         N1c_lim = N1c_dem if limiter == "demand" else N1c_pct
-        return FuelControlOutput(Wf_new, dWf, N1c_dem, N1c_lim, limiter)
+        return Wf_new, dWf, N1c_dem, N1c_lim, limiter

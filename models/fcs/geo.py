@@ -46,6 +46,8 @@ WGS84_A_M: float = 6378137.0
 WGS84_F: float = 1.0 / 298.257223563
 
 _TWO_PI = 2.0 * math.pi
+_E2 = WGS84_F * (2.0 - WGS84_F)  # first eccentricity squared of WGS-84 [-]
+_A_1_E2_M = WGS84_A_M * (1.0 - _E2)  # a (1 - e^2) [m]
 
 
 @fast_init
@@ -189,10 +191,9 @@ def midpoint(p1: LatLon, p2: LatLon) -> LatLon:
 
 def _radii_m(lat_rad: float) -> tuple[float, float]:
     """Meridian (M) and prime-vertical (N) radii of curvature of WGS-84 at ``lat_rad`` [m]."""
-    e2 = WGS84_F * (2.0 - WGS84_F)
     s2 = math.sin(lat_rad) ** 2
-    w = math.sqrt(1.0 - e2 * s2)
-    return WGS84_A_M * (1.0 - e2) / w**3, WGS84_A_M / w
+    w = math.sqrt(1.0 - _E2 * s2)
+    return _A_1_E2_M / w**3, WGS84_A_M / w
 
 
 def local_ne_m(ref: LatLon, p: LatLon, alt_m: float = 0.0) -> tuple[float, float]:

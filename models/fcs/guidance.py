@@ -66,6 +66,7 @@ class GuidanceParams:
     fly_by_bank_frac: float
     orbit_capture_frac: float
     orbit_capture_track_rad: float
+    outer_period_s: float
 
     @classmethod
     def from_file(cls, **overrides: float) -> GuidanceParams:

@@ -147,21 +147,32 @@ class LateralController(Tunable[LateralParams]):
         -------
         LateralOutput
         """
+        return LateralOutput(*self.step_values(dt_s, x.phi_rad, x.theta_rad, x.psi_rad, x.chi_rad, x.p_rad_s,
+                                               x.r_rad_s, x.beta_rad, x.tas_m_s, x.qbar_Pa, phi_cmd_rad,
+                                               heading_cmd_rad, track_cmd_rad))
+
+    def step_values(self, dt_s: float, phi_rad: float, theta_rad: float, psi_rad: float, chi_rad: float,
+                    p_rad_s: float, r_rad_s: float, beta_rad: float, tas_m_s: float, qbar_Pa: float,
+                    phi_cmd_rad: float | None = None, heading_cmd_rad: float | None = None,
+                    track_cmd_rad: float | None = None) -> tuple[float, float, float]:
+        """:meth:`step` on plain values (the fields of :class:`LateralState` in their order, then the
+        commands); returns (aileron, rudder, phi_cmd_rad), the fields of :class:`LateralOutput` (the FCS's
+        per-step path, which builds no records). The one implementation of the loops."""
         p = self._params
         if phi_cmd_rad is None:
             if track_cmd_rad is not None:
-                phi_cmd_rad = self.phi_for_heading(track_cmd_rad, x.chi_rad)
+                phi_cmd_rad = self.phi_for_heading(track_cmd_rad, chi_rad)
             elif heading_cmd_rad is not None:
-                phi_cmd_rad = self.phi_for_heading(heading_cmd_rad, x.psi_rad)
+                phi_cmd_rad = self.phi_for_heading(heading_cmd_rad, psi_rad)
             else:
                 phi_cmd_rad = 0.0
-        s = clip(p.qbar_ref_Pa / max(x.qbar_Pa, 1.0), p.gain_sched_min, p.gain_sched_max)
-        e = phi_cmd_rad - x.phi_rad
-        u_p = s * (p.k_phi_1_rad * e - p.k_p_s_rad * x.p_rad_s)
+        s = clip(p.qbar_ref_Pa / (1.0 if 1.0 > qbar_Pa else qbar_Pa), p.gain_sched_min, p.gain_sched_max)
+        e = phi_cmd_rad - phi_rad
+        u_p = s * (p.k_phi_1_rad * e - p.k_p_s_rad * p_rad_s)
         u = u_p + self._i_phi
         if abs(e) < p.phi_i_band_rad and (-1.0 < u < 1.0 or (u >= 1.0) != (e > 0)):
             self._i_phi = clip(self._i_phi + s * p.k_phi_i_1_rad_s * e * dt_s, -p.phi_i_limit, p.phi_i_limit)
         aileron = clip(u_p + self._i_phi, -1.0, 1.0)
-        r_c = G0_M_S2 * math.sin(x.phi_rad) * math.cos(x.theta_rad) / max(x.tas_m_s, 1.0)
-        rudder = clip(s * (p.k_beta_1_rad * x.beta_rad - p.k_r_s_rad * (x.r_rad_s - r_c)), -1.0, 1.0)
-        return LateralOutput(aileron, rudder, phi_cmd_rad)
+        r_c = G0_M_S2 * math.sin(phi_rad) * math.cos(theta_rad) / (1.0 if 1.0 > tas_m_s else tas_m_s)
+        rudder = clip(s * (p.k_beta_1_rad * beta_rad - p.k_r_s_rad * (r_rad_s - r_c)), -1.0, 1.0)
+        return aileron, rudder, phi_cmd_rad

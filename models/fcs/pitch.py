@@ -107,5 +107,10 @@ def turn_pitch_rate(phi_rad: float, tas_m_s: float) -> float:
     ``q = Omega sin(phi) = g sin(phi) tan(phi) / V`` (Etkin and Reid, *Dynamics of Flight*, 3rd ed.,
     sect. 4.7). Bank held to 80 deg and speed above 10 m/s so that the rate stays finite.
     """
-    phi = min(abs(phi_rad), math.radians(80.0))
-    return G0_M_S2 * math.sin(phi) * math.tan(phi) / max(tas_m_s, 10.0)
+    phi = abs(phi_rad)
+    if _PHI_TURN_MAX_RAD < phi:  # min(|phi|, 80 deg)
+        phi = _PHI_TURN_MAX_RAD
+    return G0_M_S2 * math.sin(phi) * math.tan(phi) / (10.0 if 10.0 > tas_m_s else tas_m_s)
+
+
+_PHI_TURN_MAX_RAD = math.radians(80.0)

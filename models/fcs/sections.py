@@ -20,6 +20,8 @@ Custom             ``duration_s`` elapsed
 =================  ==============================================================
 
 A new section type is a subclass of :class:`SectionType` with ``@register``: nothing else names it.
+The navigation types (waypoints, orbits, turns, levelling) set :attr:`SectionType.outer_rate`: the state
+machine steps them every ``guidance.outer_period_s`` and holds their targets in between.
 """
 
 from __future__ import annotations
@@ -65,12 +67,18 @@ class SectionType:
     speed_field : str or None
         The field holding the speed the section leaves the aircraft at (the next section's
         descent holds it until its deceleration).
+    outer_rate : bool
+        The section is navigation at the outer loops' rate: its step may be run every
+        ``guidance.outer_period_s`` only, its targets held in between (its step must not integrate
+        ``dt_s``). False (the default) for the sections that fly the aircraft near the ground
+        (take-off, landing) or by the clock (custom commands): they run every step.
     """
 
     type_name: ClassVar[str] = ""
     fields: ClassVar[dict[str, Field]] = {}
     completion: ClassVar[str] = ""
     speed_field: ClassVar[str | None] = "speed"
+    outer_rate: ClassVar[bool] = False
 
     def __init__(self, sec: Section, x: AircraftState, t_s: float, ctx: MissionRunner) -> None:
         self.sec, self.t0, self.ctx = sec, t_s, ctx
@@ -183,6 +191,7 @@ class WaypointFollowing(SectionType):
     """WaypointFollowing section; completes when every waypoint passed (fly-over within ``wp_accept_m`` or abeam; fly-by at the turn anticipation distance), and a planned hold at the constraint's waypoint flown."""
 
     type_name = "WaypointFollowing"
+    outer_rate = True
     completion = "every waypoint passed (fly-over within ``wp_accept_m`` or abeam; fly-by at the turn anticipation distance), and a planned hold at the constraint's waypoint flown"
     fields: ClassVar[dict[str, Field]] = {
         "waypoints": ("waypoints", True, None, None, "names of waypoints, in order"),
@@ -261,6 +270,7 @@ class Orbiting(SectionType):
     """Orbiting section; completes when ``turns`` full turns swept around the centre after capture."""
 
     type_name = "Orbiting"
+    outer_rate = True
     completion = "``turns`` full turns swept around the centre after capture"
     fields: ClassVar[dict[str, Field]] = {
         "center": ("waypoint", True, None, None, "waypoint at the centre"),
@@ -290,6 +300,7 @@ class GTurns(SectionType):
     """GTurns section; completes when ``|heading change|`` >= ``heading_change_deg``, or ``duration_s`` elapsed."""
 
     type_name = "GTurns"
+    outer_rate = True
     completion = "``|heading change|`` >= ``heading_change_deg``, or ``duration_s`` elapsed"
     fields: ClassVar[dict[str, Field]] = {
         "load_factor": ("number", True, None, (1.02, 6.0), "load factor of the level turn [g]"),
@@ -332,6 +343,7 @@ class Levelling(SectionType):
     """Levelling section; completes when ``|h - altitude_m|`` < ``tolerance_m`` continuously for ``hold_s``."""
 
     type_name = "Levelling"
+    outer_rate = True
     completion = "``|h - altitude_m|`` < ``tolerance_m`` continuously for ``hold_s``"
     fields: ClassVar[dict[str, Field]] = {
         "altitude_m": ("number", True, None, (-400.0, 15000.0), "altitude to capture [m]"),

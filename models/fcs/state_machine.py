@@ -62,13 +62,18 @@ class MissionRunner:
         self.flown_by: LatLon | None = None
         self.approach_params = approach_params if approach_params is not None else ApproachParams.from_file()
         self.active_index = 0
+        self._n_sections = len(mission.sections)
         self._exec: SectionType | None = None
         self.history: list[tuple[float, int, str]] = []
+        #: time the held targets were computed [s] (a managed path's altitude moves on from there)
+        self.targets_time_s = 0.0
+        self._held: Targets | None = None  # targets of an outer-rate section, held until _next_s
+        self._next_s = 0.0
 
     @property
     def finished(self) -> bool:
         """All sections completed."""
-        return self.active_index >= len(self.mission.sections)
+        return self.active_index >= self._n_sections
 
     @property
     def active_name(self) -> str:
@@ -90,7 +95,17 @@ class MissionRunner:
         return REGISTRY[nxt.type].entry_fix(nxt)
 
     def step(self, t_s: float, dt_s: float, x: AircraftState) -> Targets:
-        """Targets of the active section at time ``t_s`` [s]; advances on completion."""
+        """Targets of the active section at time ``t_s`` [s]; advances on completion.
+
+        A section of an outer-rate type (:attr:`.sections.SectionType.outer_rate`) is stepped every
+        ``guidance.outer_period_s``; in between its last targets are returned as they were
+        (:attr:`targets_time_s` says when they were computed).
+        """
+        held = self._held
+        if held is not None and t_s < self._next_s:
+            return held
+        self._held = None
+        self.targets_time_s = t_s
         while not self.finished:
             sec = self.mission.sections[self.active_index]
             if self._exec is None:
@@ -98,6 +113,11 @@ class MissionRunner:
                 self.history.append((t_s, sec.index, sec.name))
             tg = self._exec.step(t_s, dt_s, x)
             if not self._exec.done:
+                if self._exec.outer_rate:
+                    period = self.guidance.parameters.outer_period_s
+                    if period > dt_s:
+                        # half a step early, so that t0 + k h meets it whatever the rounding of the sums
+                        self._held, self._next_s = tg, t_s + period - 0.5 * dt_s
                 return tg
             self.flown_by = self._exec.flown_by()
             field = self._exec.speed_field

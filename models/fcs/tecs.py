@@ -298,23 +298,40 @@ class Tecs(Tunable[TecsParams]):
         -------
         TecsOutput
         """
+        return TecsOutput(*self.step_values(dt_s, x.alt_m, x.tas_m_s, x.Vdot_m_s2, x.gamma_rad, x.mass_kg,
+                                            x.dT_isa_K, x.E_rate_min, x.E_rate_max, speed, alt_cmd_m, gamma_cmd_rad,
+                                            lever_fixed, hdot_ff_m_s, priority, airbrake_max_N))
+
+    def step_values(self, dt_s: float, alt_m: float, tas_m_s: float, Vdot_m_s2: float, gamma_rad: float,
+                    mass_kg: float, dT_isa_K: float, E_rate_min: float, E_rate_max: float, speed: SpeedCommand,
+                    alt_cmd_m: float | None = None, gamma_cmd_rad: float | None = None,
+                    lever_fixed: float | None = None, hdot_ff_m_s: float = 0.0, priority: str | None = None,
+                    airbrake_max_N: float = 0.0) -> tuple:
+        """:meth:`step` on plain values: the fields of :class:`TecsInput` in their order, then :meth:`step`'s
+        arguments; returns the fields of :class:`TecsOutput` in their order, as a tuple (the FCS's per-step
+        path, which builds no records). The one implementation of the loops."""
         p = self._params
         if alt_cmd_m is None and gamma_cmd_rad is None:
             raise FcsError("tecs.step: give alt_cmd_m (altitude mode) or gamma_cmd_rad (path mode)")
-        V = max(x.tas_m_s, 1.0)
-        atm = isa(x.alt_m, x.dT_isa_K)
-        W = x.mass_kg * G0_M_S2
-        V_c = min(speed.tas_m_s(x.alt_m, x.dT_isa_K, atm), p.mach_max * atm.a_m_s)
+        sin = math.sin
+        V = 1.0 if 1.0 > tas_m_s else tas_m_s  # max(tas, 1.0), NaN kept
+        atm = isa(alt_m, dT_isa_K)
+        W = mass_kg * G0_M_S2
+        V_c = speed.tas_m_s(alt_m, dT_isa_K, atm)
+        V_max = p.mach_max * atm.a_m_s
+        if V_max < V_c:
+            V_c = V_max
         underspeed = cas_from_tas(V, atm) < p.V_min_cas_m_s
         if underspeed:
             V_c = max(V_c, tas_from_cas(p.V_min_cas_m_s * p.underspeed_margin, atm))
         if alt_cmd_m is not None:
             ff = clip(hdot_ff_m_s / V, -1.0, 1.0)
-            g_raw = math.asin(ff) + p.k_h_1_s * (alt_cmd_m - x.alt_m) / V
+            g_raw = math.asin(ff) + p.k_h_1_s * (alt_cmd_m - alt_m) / V
         else:
             g_raw = float(gamma_cmd_rad)  # type: ignore[arg-type]
         g_c = clip(g_raw, p.gamma_min_rad, p.gamma_max_rad)
-        a_c = clip(p.k_V_1_s * (V_c - V), -p.Vdot_max_m_s2, p.Vdot_max_m_s2)
+        a_max = p.Vdot_max_m_s2
+        a_c = clip(p.k_V_1_s * (V_c - V), -a_max, a_max)
         if not underspeed and p.jerk_max_m_s3 > 0.0:
             da = p.jerk_max_m_s3 * dt_s
             a_c = clip(a_c, self._a_c - da, self._a_c + da)
@@ -324,14 +341,16 @@ class Tecs(Tunable[TecsParams]):
         elif strict:
             priority = "path"
         limited = False
+        s_gc = sin(g_c)
         if lever_fixed is None and not underspeed:
             # energy-rate command limiting: cut the channel without priority back to what the thrust gives
             # the margin shrinks with the headroom over the path's own need, so a small but feasible speed
             # change is still flown (slowly) rather than cut to nothing
-            demand = math.sin(g_c) + a_c / G0_M_S2
+            demand = s_gc + a_c / G0_M_S2
             lim = math.nan
-            hi = x.E_rate_max - min(p.energy_margin, 0.25 * max(x.E_rate_max - math.sin(g_c), 0.0))
-            lo = x.E_rate_min + min(p.energy_margin, 0.25 * max(math.sin(g_c) - x.E_rate_min, 0.0))
+            margin = p.energy_margin
+            hi = E_rate_max - min(margin, 0.25 * max(E_rate_max - s_gc, 0.0))
+            lo = E_rate_min + min(margin, 0.25 * max(s_gc - E_rate_min, 0.0))
             if demand > hi:
                 lim = hi
             elif demand < lo:
@@ -339,18 +358,19 @@ class Tecs(Tunable[TecsParams]):
             if lim == lim:  # not NaN
                 limited = True
                 if priority == "path":
-                    a_c = clip(G0_M_S2 * (lim - math.sin(g_c)), -p.Vdot_max_m_s2, p.Vdot_max_m_s2)
+                    a_c = clip(G0_M_S2 * (lim - s_gc), -a_max, a_max)
                 else:
                     # the flight path is cut, but a climb is not turned into a descent (nor a descent into a
                     # climb) to pay for a speed change: beyond level flight the acceleration is cut instead
                     sg = lim - a_c / G0_M_S2
                     if (g_c > 0.0 and sg < 0.0) or (g_c < 0.0 and sg > 0.0):
                         sg = 0.0
-                        a_c = clip(G0_M_S2 * lim, -p.Vdot_max_m_s2, p.Vdot_max_m_s2)
-                    g_c = math.asin(clip(sg, math.sin(p.gamma_min_rad), math.sin(p.gamma_max_rad)))
+                        a_c = clip(G0_M_S2 * lim, -a_max, a_max)
+                    g_c = math.asin(clip(sg, sin(p.gamma_min_rad), sin(p.gamma_max_rad)))
+                    s_gc = sin(g_c)
         self._a_c = a_c
-        e_g = math.sin(g_c) - math.sin(x.gamma_rad)
-        e_v = (a_c - x.Vdot_m_s2) / G0_M_S2
+        e_g = s_gc - sin(gamma_rad)
+        e_v = (a_c - Vdot_m_s2) / G0_M_S2
         E_err = e_g + e_v
 
         T_avail = p.thrust_sls_N * (atm.rho_kg_m3 / RHO0_KG_M3) ** p.thrust_lapse_exp  # available_thrust_N
@@ -361,17 +381,17 @@ class Tecs(Tunable[TecsParams]):
             T_c = lever * T_avail
             prio = "path" if alt_cmd_m is None else "speed"
             self._iT = T_c / W  # tracks, for a bumpless return to energy control
-            sigma_target = 1.0
             self._sigma = 1.0
         else:
             T_c = W * (p.k_TP * E_err + self._iT)
             T_lo = T_idle - max(airbrake_max_N, 0.0)
-            sat_hi = T_c >= p.lever_max * T_avail or underspeed
+            T_hi = p.lever_max * T_avail
+            sat_hi = T_c >= T_hi or underspeed
             sat_lo = T_c <= T_lo
             saturated = (sat_hi and E_err > 0) or (sat_lo and E_err < 0)
             if not saturated:
                 self._iT += p.k_TI_1_s * E_err * dt_s
-            T_c = p.lever_max * T_avail if underspeed else clip(T_c, T_lo, p.lever_max * T_avail)
+            T_c = T_hi if underspeed else clip(T_c, T_lo, T_hi)
             if T_c < T_idle:
                 airbrake, T_c = T_idle - T_c, T_idle
             # the airbrake acts at once on the drag (the engine's thrust with its spool lag): filtered to the
@@ -388,12 +408,16 @@ class Tecs(Tunable[TecsParams]):
                 self._sigma += (sigma_target - self._sigma) * min(dt_s / p.tau_priority_s, 1.0)
             else:
                 self._sigma = sigma_target
-        wp = (2.0, 0.0) if (prio == "path" or (prio == "normal" and priority == "path")) else (0.0, 2.0)
         sg = self._sigma
-        w_g, w_v = 1.0 + sg * (wp[0] - 1.0), 1.0 + sg * (wp[1] - 1.0)
+        if prio == "path" or (prio == "normal" and priority == "path"):  # weights (w_g, w_v) -> (2, 0)
+            w_g, w_v = 1.0 + sg * (2.0 - 1.0), 1.0 + sg * (0.0 - 1.0)
+        else:  # -> (0, 2)
+            w_g, w_v = 1.0 + sg * (0.0 - 1.0), 1.0 + sg * (2.0 - 1.0)
         L_err = w_g * e_g - w_v * e_v
-        theta_c = p.k_EP * L_err + self._iL
-        if p.theta_min_rad < theta_c < p.theta_max_rad or (theta_c >= p.theta_max_rad) != (L_err > 0):
+        k_EP = p.k_EP
+        theta_c = k_EP * L_err + self._iL
+        th_max = p.theta_max_rad
+        if p.theta_min_rad < theta_c < th_max or (theta_c >= th_max) != (L_err > 0):
             self._iL += p.k_EI_1_s * L_err * dt_s
-        theta_c = clip(p.k_EP * L_err + self._iL, p.theta_min_rad, p.theta_max_rad)
-        return TecsOutput(T_c, lever, theta_c, g_c, a_c, V_c, E_err, L_err, prio, underspeed, airbrake, limited)
+        theta_c = clip(k_EP * L_err + self._iL, p.theta_min_rad, th_max)
+        return T_c, lever, theta_c, g_c, a_c, V_c, E_err, L_err, prio, underspeed, airbrake, limited

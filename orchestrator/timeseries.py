@@ -269,15 +269,18 @@ class ParquetRecorder:
         final = self.path / f"part-{self._parts:05d}.parquet"
         tmp = self.path / f".{final.name}.tmp"
         try:
-            pq.write_table(table, tmp, compression="zstd", compression_level=ZSTD_LEVEL,
-                           use_byte_stream_split=[c.name for c in s.columns if c.type_name == "Real"],
-                           use_dictionary=[c.name for c in s.columns if c.type_name != "Real"],
-                           row_group_size=rows)
+            with open(tmp, "wb") as f:  # our own handle: closed here even when the disk is full
+                pq.write_table(table, f, compression="zstd", compression_level=ZSTD_LEVEL,
+                               use_byte_stream_split=[c.name for c in s.columns if c.type_name == "Real"],
+                               use_dictionary=[c.name for c in s.columns if c.type_name != "Real"],
+                               row_group_size=rows)
             os.replace(tmp, final)
-        except OSError as exc:
+        except (OSError, pa.ArrowException) as exc:
             with contextlib.suppress(OSError):
                 tmp.unlink()
             self._open = False
+            if not isinstance(exc, OSError):  # pyarrow's IOError text carries the cause
+                exc = OSError(getattr(exc, "errno", None), str(exc))
             kept = f"; rows up to t = {self._last_time_s:.6g} s kept" if self._last_time_s is not None else ""
             raise ResultsError(f"cannot write {final} at t = {last:.6g} s: {os_reason(exc)}{kept}") from None
         self._parts += 1

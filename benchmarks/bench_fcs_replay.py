@@ -2,8 +2,8 @@
 
 The Munich mission is run once (``emss run --record fcs.lat_deg,...,fcs.on_ground``: the FCS's 19
 inputs at every 50 ms step, and its parameters from ``run.json``), or a recorded run is given
-(``--run DIR``, a folder of ``emss run`` holding ``timeseries.csv`` with the FCS's inputs, as the default
-recording of every connector has them, and ``run.json``). The FCS is then
+(``--run DIR``, a folder of ``emss run`` holding its time series with the FCS's inputs, as ``--record-inputs``
+records them, and ``run.json``). The FCS is then
 stepped alone over those inputs, open loop, in this process: the FMU's slave class of
 ``fmus/fcs.py`` called directly (``set_real`` of the inputs, ``set_boolean`` of ``on_ground``,
 ``do_step``, ``get_real`` of the outputs), without pythonfmu's C layer and without the engine and
@@ -40,7 +40,6 @@ Run: ``python benchmarks/bench_fcs_replay.py [--run DIR] [--repeat 3] [--steps N
 from __future__ import annotations
 
 import argparse
-import csv
 import gc
 import json
 import os
@@ -76,26 +75,23 @@ def load_run(run: Path) -> tuple[list[float], list[list[float]], list[bool], dic
     """(times, Real inputs per step in the order of fmus.fcs.INPUTS, on_ground per step, the FCS's parameters,
     run.json) of a recorded run."""
     from openemss.fmus.fcs import INPUTS
+    from openemss.orchestrator.timeseries import TimeSeriesError, read_timeseries
 
-    for name in ("run.json", "timeseries.csv"):
-        if not (run / name).is_file():
-            raise SystemExit(f"bench_fcs_replay: --run {run}: no {name}; give the folder of a finished emss run")
+    if not (run / "run.json").is_file():
+        raise SystemExit(f"bench_fcs_replay: --run {run}: no run.json; give the folder of a finished emss run")
     meta = json.loads((run / "run.json").read_text(encoding="utf-8"))
     params = {k[4:]: v for k, v in meta.get("parameters", {}).items() if k.startswith("fcs.")}
-    with open(run / "timeseries.csv", newline="", encoding="utf-8") as f:
-        rows = csv.reader(f)
-        head = next(rows)
-        try:
-            cols = [head.index(f"fcs.{name}") for name, _ in INPUTS]
-            i_t, i_g = head.index("time_s"), head.index("fcs.on_ground")
-        except ValueError as exc:
-            raise SystemExit(f"bench_fcs_replay: {run / 'timeseries.csv'} lacks an FCS input ({exc}); record "
-                             "every connector (emss run's default) or the FCS's inputs") from None
-        t, u, g = [], [], []
-        for r in rows:
-            t.append(float(r[i_t]))
-            u.append([float(r[c]) for c in cols])
-            g.append(float(r[i_g]) > 0.5)
+    try:
+        data = read_timeseries(run).floats()  # any format emss run writes (Parquet by default)
+    except TimeSeriesError as exc:
+        raise SystemExit(f"bench_fcs_replay: --run {run}: {exc}") from None
+    missing = [n for n in ["time_s", "fcs.on_ground", *(f"fcs.{name}" for name, _ in INPUTS)] if n not in data]
+    if missing:
+        raise SystemExit(f"bench_fcs_replay: --run {run} lacks FCS inputs ({', '.join(missing[:3])}); record them "
+                         "(emss run --record-inputs, or --record fcs.<inputs>)")
+    t = data["time_s"].tolist()
+    u = [list(row) for row in zip(*(data[f"fcs.{name}"].tolist() for name, _ in INPUTS), strict=True)]
+    g = (data["fcs.on_ground"] > 0.5).tolist()
     return t, u, g, params, meta
 
 

@@ -10,7 +10,12 @@ Runs ``ssp/`` (engine, airframe and FCS FMUs wired by the shipped SSD, the Munic
 * per component: time in ``fmi2DoStep``, in the batched gets and sets (the FMI calls into
   pythonfmu), µs per macro step and share of the wall time;
 * the orchestrator's own share: wall time minus everything spent inside the FMUs (transfers,
-  recording, the loop itself).
+  recording, the loop itself);
+* the recorders' cost per macro step (sampling and writing, the end of the run included), for every
+  format of ``--formats`` (default ``csv,parquet``: the former default and today's), all attached to
+  the same run and recording the same columns, so their ratio is free of the machine's load; the
+  columns are ``emss run``'s default (outputs, and inputs not merely copying a connected output), or
+  every connector with ``--record-inputs`` (the former default).
 
 The set-up (instantiating the FMUs, the engine's steady start, compiling its kernels on a
 first run) is timed apart and printed, not counted in the real-time factor.
@@ -20,7 +25,7 @@ so). ``--stop-time`` runs a part of the mission; ``--profile FILE`` writes a cPr
 (read it with ``python -m pstats FILE`` or snakeviz). Nothing is asserted (DESIGN.md rule 12).
 
 Run: ``python benchmarks/mission.py [--stop-time S] [--params X.ssv ...] [--record-every N]
-[--profile FILE]``
+[--formats csv,parquet,mat] [--record-inputs] [--profile FILE]``
 """
 from __future__ import annotations
 
@@ -44,21 +49,28 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--until", default="fcs.mission_completed == 1",
                     help="stop condition, as emss run --until (default: the mission completed; 'never' for none)")
     ap.add_argument("--profile", type=Path, help="write a cProfile of the run to this file")
+    ap.add_argument("--formats", default="csv,parquet", help="recorders to attach, comma-separated (csv, parquet, mat)")
+    ap.add_argument("--record-inputs", action="store_true",
+                    help="record every connector (the former default) instead of emss run's default columns")
     args = ap.parse_args(argv)
 
     from openemss.orchestrator.build import ensure_built
     from openemss.orchestrator.errors import EmssError
     from openemss.orchestrator.execution import Execution
-    from openemss.orchestrator.observers import CsvRecorder
     from openemss.orchestrator.ssp import load_system
     from openemss.orchestrator.system import bind_system
+    from openemss.orchestrator.timeseries import default_record, recorder
 
     ensure_built(ROOT / "fmus", ROOT / "ssp" / "resources")
     work = Path(tempfile.mkdtemp(prefix="emss-bench-mission-"))
     try:
         bound = bind_system(load_system(ROOT / "ssp"), list(args.params))
-        ex = Execution(bound, algorithm="jacobi")
-        ex.add_observer(CsvRecorder(work / "timeseries.csv", every=args.record_every))
+        ex = Execution(bound, algorithm="jacobi", record=default_record(bound, inputs=args.record_inputs))
+        timed = {}
+        for fmt in [f.strip() for f in args.formats.split(",") if f.strip()]:
+            (work / fmt).mkdir()
+            timed[fmt] = Timed(recorder(fmt, work / fmt, every=args.record_every))
+            ex.add_observer(timed[fmt])
         if args.until.strip().lower() != "never":
             ex.stop_when(args.until)
         stop = args.stop_time if args.stop_time is not None else bound.definition.stop_time_s
@@ -82,11 +94,52 @@ def main(argv: list[str] | None = None) -> int:
         wall = time.perf_counter() - t0
         sim = ex.time_s - ex.start_time_s
         _report(ex.stats(), sim, wall, setup_s, error)
+        _report_recorders(timed, work, ex.k, len(ex.signals) + 1)
         print(f"machine speed: a fixed Python workload took {cal_before:.1f} ms before the run and "
               f"{calibration_ms():.1f} ms after (compare runs at equal calibration)")
     finally:
         shutil.rmtree(work, ignore_errors=True)
     return 0
+
+
+class Timed:
+    """An observer around a recorder, adding up the wall time of its sample and finish calls."""
+
+    def __init__(self, inner: object) -> None:
+        self.inner = inner
+        self.seconds = 0.0
+
+    def start(self, execution: object) -> None:
+        t0 = time.perf_counter()
+        self.inner.start(execution)
+        self.seconds += time.perf_counter() - t0
+
+    def sample(self, k: int, time_s: float) -> None:
+        t0 = time.perf_counter()
+        self.inner.sample(k, time_s)
+        self.seconds += time.perf_counter() - t0
+
+    def finish(self, execution: object, error: BaseException | None) -> None:
+        t0 = time.perf_counter()
+        self.inner.finish(execution, error)
+        self.seconds += time.perf_counter() - t0
+
+
+def _size(path: Path) -> int:
+    return sum(f.stat().st_size for f in path.rglob("*") if f.is_file()) if path.is_dir() else path.stat().st_size
+
+
+def _report_recorders(timed: dict[str, Timed], work: Path, steps: int, columns: int) -> None:
+    if not timed:
+        return
+    print(f"\nrecorders, same run, {columns} columns, {steps} macro steps (perf_counter around each call: "
+          "about 0.1 us of it is the timing itself)")
+    print(f"{'format':<10}{'us/step':>10}{'ratio':>8}{'file MB':>10}")
+    base = next(iter(timed.values())).seconds
+    for fmt, t in timed.items():
+        files = [p for p in (work / fmt).iterdir()]
+        size = sum(_size(p) for p in files) / 1e6
+        print(f"{fmt:<10}{1e6 * t.seconds / max(steps, 1):>10.2f}{t.seconds / base if base else 0:>8.2f}{size:>10.2f}")
 
 
 def calibration_ms() -> float:

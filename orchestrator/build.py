@@ -387,7 +387,9 @@ def main(argv: list[str] | None = None) -> int:
                     "source changed.")
     parser.add_argument("names", nargs="*", help="slaves to build (file names without .py); default: all")
     parser.add_argument("--src", type=Path, default=DEFAULT_SOURCE_DIR, help="folder of slave scripts")
-    parser.add_argument("--out", type=Path, default=Path("build/fmus"), help="where to write the FMUs")
+    parser.add_argument("--out", type=Path, default=PACKAGE_ROOT / "ssp" / "resources",
+                        help="where to write the FMUs (default: ssp/resources/, where emss run builds and finds "
+                             "them)")
     parser.add_argument("--force", action="store_true", help="rebuild even when up to date")
     args = parser.parse_args(argv)
     try:

@@ -6,45 +6,28 @@ exit code, never a traceback; a run that fails keeps what it recorded.
 from __future__ import annotations
 
 import argparse
-import fnmatch
 import importlib
 import json
 import math
 import os
 import pkgutil
-import signal
 import sys
-import tempfile
-import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, NoReturn
 
-from . import algorithm_registry
+from . import algorithm_registry, api
 from .algorithm import step_order
-from .build import PACKAGE_ROOT, ensure_built
-from .errors import ConfigurationError, EmssError, Problem, SystemStructureError
-from .execution import DEFAULT_RATE_HZ, MAX_RATE_HZ, MAX_STEP_MULTIPLE, MIN_RATE_HZ, Execution
-from .manipulators import INT32_RANGE, ScenarioManipulator, load_scenario
-from .observers import CsvRecorder, Progress, RealTimePacer, RunRecord
-from .plugins import load_problems, plugin_name, plugins
-from .results import (
-    ResultsError,
-    ResultsFolder,
-    RunInterrupted,
-    atomic_write,
-    check_name,
-    os_reason,
-    stop_on_signals,
-)
-from .ssp import load_system
-from .ssp_model import SystemDef
-from .system import BoundSystem, bind_system
+from .errors import EmssError, Problem, SystemStructureError
+from .execution import DEFAULT_RATE_HZ, MAX_RATE_HZ, MIN_RATE_HZ
+from .hooks import USER_ERRORS
+from .plugins import plugins
+from .results import RunInterrupted, os_reason
+from .system import BoundSystem
+from .timeseries import DEFAULT_FORMAT, FORMATS
 
-#: The job ``emss run`` runs without a SYSTEM argument: the project's coupled system in ssp/, which
-#: flies the Munich demonstration mission.
-DEFAULT_SYSTEM = PACKAGE_ROOT / "ssp"
-MIN_REALTIME, MAX_REALTIME = 1e-3, 1e6  #: pacing factors allowed (a factor of 1e-300 would sleep for ever)
+#: The system ``emss run`` and ``emss info`` use without a SYSTEM argument (ssp/, the Munich mission).
+DEFAULT_SYSTEM = api.DEFAULT_SYSTEM
 
 
 class _Parser(argparse.ArgumentParser):
@@ -72,10 +55,10 @@ def folder_name(text: str) -> Path:
     return Path(text)
 
 
-def _add_system_args(p: argparse.ArgumentParser, optional: bool = False) -> None:
-    p.add_argument("system", nargs="?" if optional else None, type=Path,
-                   help="folder holding SystemStructure.ssd, an .ssd file or an .ssp archive"
-                        + (" (default: ssp/, the Munich mission)" if optional else ""))
+def _add_system_args(p: argparse.ArgumentParser) -> None:
+    p.add_argument("system", nargs="?", type=Path,
+                   help="folder holding SystemStructure.ssd, an .ssd file or an .ssp archive (default: ssp/, the "
+                        "Munich mission)")
     p.add_argument("--params", type=Path, nargs="+", action="extend", default=[], metavar="FILE.ssv",
                    help="system-level parameter sets (names component.variable), applied after the SSD's")
     p.add_argument("--set", nargs="+", action="extend", default=[], metavar="COMPONENT.VARIABLE=VALUE",
@@ -89,7 +72,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     run = sub.add_parser("run", help="run a system and record its time histories",
                          description="Run a system with a fixed-step master; writes timeseries.csv and run.json.")
-    _add_system_args(run, optional=True)
+    _add_system_args(run)
     run.add_argument("--stop-time", type=finite_number, metavar="S", help="stop time [s] (default: the SSD's)")
     run.add_argument("--rate", type=float, metavar="HZ",
                      help=f"communication rate [Hz], {MIN_RATE_HZ} to {MAX_RATE_HZ} "
@@ -106,7 +89,14 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--record", nargs="+", action="extend", metavar="VARS",
                      help="variables to record, component.variable, wildcards and commas allowed "
                           "(default: every connector)")
+    run.add_argument("--record-inputs", action="store_true",
+                     help="also record the inputs that only copy a connected output (by default: outputs, and "
+                          "inputs that are not connected or whose connection converts the value)")
     run.add_argument("--record-every", type=int, default=1, metavar="N", help="record every N-th step")
+    run.add_argument("--format", choices=FORMATS, default=DEFAULT_FORMAT,
+                     help="time series format: parquet (timeseries.parquet/, typed, compressed, units in the "
+                          "column metadata; default), csv (timeseries.csv with a units row), mat (timeseries.mat, "
+                          "MATLAB v5)")
     run.add_argument("--scenario", type=Path, metavar="FILE",
                      help="YAML file of timed events: set, ramp, hold, release inputs and tunable parameters")
     run.add_argument("--until", metavar="CONDITION",
@@ -129,6 +119,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     info = sub.add_parser("info", help="describe a system: components, connections, parameters, step order")
     _add_system_args(info)
+    info.add_argument("--parameters", action="store_true",
+                      help="list every settable parameter (for --set) with type, unit, default, range and "
+                           "description")
     info.add_argument("--json", action="store_true", help="print as JSON")
 
     exp = sub.add_parser("export", help="export a system as one FMU (fmpy's container FMU)",
@@ -150,10 +143,6 @@ def build_parser() -> argparse.ArgumentParser:
                                      "connections, parameters. The exit code is the number of problems.")
     _add_system_args(val)
     return parser
-
-
-#: Exception types that model commands raise for bad input (reported as one line, no traceback).
-USER_ERRORS: list[type[Exception]] = []
 
 
 def _register_model_commands(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -191,269 +180,53 @@ def _register_plugin_commands(sub: argparse._SubParsersAction) -> None:  # type:
             USER_ERRORS.extend(register(sub))
 
 
-def _status_variable(bound: BoundSystem, requested: str | None) -> str | None:
-    """The progress bar's status variable: ``--status`` (checked), else the first a plugin proposes."""
-    if requested is not None:
-        try:
-            bound.variable(requested)
-        except EmssError:
-            raise ConfigurationError(f"--status '{requested}': no such variable (write component.variable "
-                                     "with a component of this system)") from None
-        return requested
-    return _proposed(bound, "status_variable")
-
-
-def _proposed(bound: BoundSystem, hook: str) -> str | None:
-    """The first non-empty answer of the plugins' ``hook(variables)`` for this system, or None."""
-    every = [f"{c.name}.{v}" for c in bound.components for v in c.variables]
-    for module in plugins():
-        propose = getattr(module, hook, None)
-        answer = propose(every) if propose is not None else None
-        if answer:
-            return str(answer)
-    return None
-
-
-def _each_hook(hook_name: str, *args: object) -> list[tuple[list[object], str | None]]:
-    """Call every plugin's ``hook_name(*args)``: per plugin that has it, (what it returned, as a list; None)
-    or ([], one line saying how it failed). A failing hook never stops the run."""
-    label = hook_name.replace("_", "-")
-    out: list[tuple[list[object], str | None]] = []
-    for module in plugins():
-        hook = getattr(module, hook_name, None)
-        if hook is None:
-            continue
-        try:
-            out.append((list(hook(*args)), None))
-        except (EmssError, *USER_ERRORS) as exc:
-            out.append(([], f"{label} hook '{plugin_name(module)}' failed: {exc}"))
-        except Exception as exc:
-            if os.environ.get("EMSS_DEBUG"):
-                raise
-            out.append(([], f"{label} hook '{plugin_name(module)}' failed: internal error: "
-                            f"{type(exc).__name__}: {exc} (set EMSS_DEBUG=1 for the traceback)"))
-    return out
-
-
-def _pre_run(bound: BoundSystem) -> list[str]:
-    """Every plugin's pre-run hook on the bound system: the warning lines they return, and one line per
-    hook that failed (a failed check never stops the run)."""
-    components = {c.name: c.fmu_path for c in bound.components}
-    parameters = {f"{bound.components[p.component].name}.{p.variable.name}": p.value for p in bound.parameters}
-    lines: list[str] = []
-    for result, failure in _each_hook("pre_run", components, parameters):
-        lines.extend(str(line) for line in result)
-        if failure is not None:
-            lines.append(failure)
-    return lines
-
-
-def _post_run(out: Path, error: BaseException | None) -> tuple[list[Path], list[str]]:
-    """Run every plugin's post-run hook on the results folder: (files written, one line per failure)."""
-    written: list[Path] = []
-    failures: list[str] = []
-    for result, failure in _each_hook("post_run", out, error):
-        written.extend(Path(str(f)) for f in result)
-        if failure is not None:
-            failures.append(failure)
-    return written, failures
-
-
-def _load(system: Path | SystemDef, params: Sequence[Path], settings: Sequence[str] = (),
-          folder: Path | None = None) -> BoundSystem:
-    """Bind the system (read once, here or by the caller) with its parameter sets; ``settings``
-    (``component.variable=value``) are typed by the variables they set, written as one more parameter
-    set into ``folder`` (the results, so a run records what it was given) and applied last."""
-    sysdef = system if isinstance(system, SystemDef) else load_system(system)
-    model_descriptions: dict[Path, Any] = {}
-    bound = bind_system(sysdef, list(params), model_descriptions)
-    if not settings:
-        return bound
-    from lxml import etree
-
-    from .ssp_write import ParameterSet
-
-    values: dict[str, bool | int | float | str] = {}
-    for item in settings:
-        path, eq, text = item.partition("=")
-        if not eq:
-            raise ConfigurationError(f"--set {item!r}: write component.variable=value")
-        try:
-            _, var = bound.variable(path.strip())
-        except EmssError:
-            raise ConfigurationError(f"--set {item!r}: no variable '{path.strip()}' (write component.variable "
-                                     "with a component of this system)") from None
-        values[path.strip()] = _typed(text.strip(), var.type_name, item)
-    target = (folder or Path(tempfile.mkdtemp(prefix="emss-set-"))) / "cli_parameters.ssv"
-    target.parent.mkdir(parents=True, exist_ok=True)
-    atomic_write(target, etree.tostring(ParameterSet("cli_parameters", values).element(), xml_declaration=True,
-                                        encoding="UTF-8", pretty_print=True))
-    return bind_system(sysdef, [*params, target], model_descriptions)
-
-
-def _typed(text: str, type_name: str, item: str) -> bool | int | float | str:
-    """``text`` as a value of an FMI type; a String that names an existing file becomes its absolute path."""
-    try:
-        if type_name == "Real":
-            value = float(text)
-            if not math.isfinite(value):
-                raise ValueError
-            return value
-        if type_name in ("Integer", "Enumeration"):
-            value = int(text)
-            if not INT32_RANGE[0] <= value <= INT32_RANGE[1]:
-                raise ConfigurationError(f"--set {item!r}: outside the range of an FMI Integer "
-                                         f"({INT32_RANGE[0]} to {INT32_RANGE[1]})")
-            return value
-        if type_name == "Boolean":
-            if text.lower() not in ("true", "false", "1", "0"):
-                raise ValueError
-            return text.lower() in ("true", "1")
-    except ValueError:
-        raise ConfigurationError(f"--set {item!r}: not a valid {type_name} value"
-                                 + (" (a finite number)" if type_name == "Real" else "")) from None
-    return str(Path(text).resolve()) if Path(text).is_file() else text
-
-
-def _multiples(items: Sequence[str]) -> dict[str, int]:
-    out: dict[str, int] = {}
-    for item in items:
-        name, sep, value = item.partition("=")
-        if not sep or not value.strip().isdigit() or not 1 <= int(value) <= MAX_STEP_MULTIPLE:
-            raise ConfigurationError(f"--step-multiple '{item}': expected COMPONENT=N with an integer N from 1 "
-                                     f"to {MAX_STEP_MULTIPLE}")
-        out[name.strip()] = int(value)
-    return out
-
-
-def _record_paths(bound: BoundSystem, patterns: Sequence[str] | None) -> list[str] | None:
-    if not patterns:
-        return None
-    every = [f"{c.name}.{v}" for c in bound.components for v in c.variables]
-    chosen: list[str] = []
-    for pattern in (p.strip() for item in patterns for p in item.split(",") if p.strip()):
-        hits = [p for p in every if fnmatch.fnmatchcase(p, pattern)]
-        if not hits:
-            raise ConfigurationError(f"--record '{pattern}' matches no variable (write component.variable; "
-                                     "wildcards * and ? are allowed)")
-        chosen.extend(h for h in hits if h not in chosen)
-    return chosen
-
-
-def _default_system() -> Path:
-    if not (DEFAULT_SYSTEM / "SystemStructure.ssd").is_file():
-        raise ConfigurationError("no SYSTEM given and the project's system is not available "
-                                 f"({DEFAULT_SYSTEM}); give a system folder, .ssd or .ssp")
-    return DEFAULT_SYSTEM
-
-
-def _ensure_project_fmus(system: Path) -> None:
-    """The project's own systems (ssp/ and its sub-folders, e.g. ssp/hybrid/) get their FMUs built from fmus/
-    when they are missing or stale."""
-    project = PACKAGE_ROOT / "ssp"
-    if system.is_dir() and project.is_dir() and project.resolve() in (system.resolve(), system.resolve().parent):
-        ensure_built(PACKAGE_ROOT / "fmus", system / "resources", report=lambda m: print(m, file=sys.stderr))
-
-
 def cmd_run(args: argparse.Namespace) -> int:
-    system = args.system if args.system is not None else _default_system()
-    _ensure_project_fmus(system)
-    sysdef = load_system(system)  # the one reading of the SSD in this command
-    if args.out is None:  # the default folder is named after the system: that name must be one path component
-        name = check_name(str(sysdef.name), "the system's name (the SSD's System name; or give --out)")
-        out = Path("results") / f"{name}-{time.strftime('%Y%m%d-%H%M%S')}"
-    else:
-        out = args.out
-    with ResultsFolder(out) as _:  # locked for this run, cleared of an earlier run's files
-        return _run(args, system, sysdef, out)
-
-
-def _run(args: argparse.Namespace, system: Path, sysdef: SystemDef, out: Path) -> int:
-    bound = _load(sysdef, args.params, args.set, out)
-    sysdef = bound.definition
-    stop = args.stop_time if args.stop_time is not None else sysdef.stop_time_s
-    if stop is None:
-        raise ConfigurationError("no stop time: give --stop-time or a DefaultExperiment stopTime in the SSD")
-    if args.record_every < 1:
-        raise ConfigurationError(f"--record-every {args.record_every}: must be an integer >= 1")
-    ex = Execution(bound, rate_hz=args.rate, algorithm=args.algorithm, multiples=_multiples(args.step_multiple),
-                   record=_record_paths(bound, args.record))
-    if args.scenario is not None:
-        ex.add_manipulator(ScenarioManipulator(load_scenario(args.scenario)))
-    until = _stop_condition(bound, args.until)
-    if until:
-        ex.stop_when(until)
-    if not (args.realtime == 0 or MIN_REALTIME <= args.realtime <= MAX_REALTIME):
-        raise ConfigurationError(f"--realtime {args.realtime}: must be >= 0 (0 = as fast as possible; else "
-                                 f"{MIN_REALTIME:g} to {MAX_REALTIME:g} simulated seconds per wall second)")
-    pacer = RealTimePacer(args.realtime) if args.realtime > 0 else None
-    csv = CsvRecorder(out / "timeseries.csv", every=args.record_every)
-    record = RunRecord(out / "run.json", str(system), [str(p) for p in args.params],
-                       {"stop_time_s": stop, "scenario": str(args.scenario) if args.scenario else None},
-                       reporters=[pacer] if pacer else [])
-    record.add_files([csv.path.name] + (["cli_parameters.ssv"] if args.set else []))
-    for o in (pacer, csv, record, Progress(stop, status=_status_variable(bound, args.status))):
-        if o is not None:
-            ex.add_observer(o)
-    for line in load_problems:
-        print(f"emss run: warning: {line}", file=sys.stderr)
-    pre = [] if args.no_pre_run else _pre_run(bound)
-    for line in pre:
-        print(f"emss run: warning: {line}", file=sys.stderr)
-    try:
-        with stop_on_signals(ex.request_stop):
-            ex.run(stop)
-    except (EmssError, KeyboardInterrupt) as exc:
-        if not args.no_post_run and not isinstance(exc, ResultsError):  # what was recorded is on disk
-            written, failures = _post_run(out, exc)
-            _list_files(record, written)
-            for line in failures:
-                print(f"emss run: {line}", file=sys.stderr)
-        if isinstance(exc, KeyboardInterrupt):  # a second Ctrl-C, or one before the handlers were in place
-            exc = RunInterrupted(signal.SIGINT, ex.time_s)
-        if isinstance(exc, RunInterrupted):
-            print(f"emss run: {exc} (results so far in {out})", file=sys.stderr)
-            return exc.exit_code
-        raise EmssError(f"{exc}" + (f" (results so far in {out})" if csv.rows_written else "")) from None
-    written, failures = ([], []) if args.no_post_run else _post_run(out, None)
-    _list_files(record, written)
-    summary = {k: record.info.get(k) for k in ("status", "algorithm", "rate_hz", "stop_time_s", "steps",
-                                                "wall_time_s", "realtime_factor", "realtime")}
-    summary.update(system=sysdef.name, out=str(out), rows=csv.rows_written, pre_run=pre,
-                   post_run=[str(f) for f in written])
+    """``emss run``: :func:`.api.run` with the command line's arguments, and its outcome printed."""
+    res = api.run(args.system, stop_time=args.stop_time, params=args.params, set=args.set, scenario=args.scenario,
+                  out=args.out, rate=args.rate, algorithm=args.algorithm, step_multiple=args.step_multiple,
+                  record=args.record, record_inputs=args.record_inputs, record_every=args.record_every,
+                  format=args.format, until=args.until, realtime=args.realtime, status=args.status,
+                  pre_run=not args.no_pre_run, post_run=not args.no_post_run, progress=True)
+    out = res.out
+    if res.status == "interrupted":
+        for line in res.post_run_failures:
+            print(f"emss run: {line}", file=sys.stderr)
+        print(f"emss run: {res.error} (results so far in {out})", file=sys.stderr)
+        return res.exit_code
+    if res.status != "completed":
+        for line in res.post_run_failures:
+            print(f"emss run: {line}", file=sys.stderr)
+        raise EmssError(f"{res.error}" + (f" (results so far in {out})" if res.rows else ""))
+    info = res.info
+    summary = {k: info.get(k) for k in ("status", "algorithm", "rate_hz", "stop_time_s", "steps",
+                                         "wall_time_s", "realtime_factor", "realtime")}
+    summary.update(system=load_system_name(info), out=str(out), rows=res.rows, pre_run=res.pre_run,
+                   post_run=[str(f) for f in res.files])
     if args.stats:
-        summary["step_statistics"] = ex.stats()
-    for line in failures:
+        summary["step_statistics"] = info["stats"]
+    for line in res.post_run_failures:
         print(f"emss run: error: {line}", file=sys.stderr)
+    code = 1 if res.post_run_failures else 0
     if args.json:
         print(json.dumps(summary, indent=2))
-        return 1 if failures else 0
-    print(f"{sysdef.name}: {summary['steps']} steps of {ex.step_size_s:g} s ({args.algorithm}) to "
-          f"t = {ex.time_s:g} s in {summary['wall_time_s']:.3f} s wall, {summary['realtime_factor']:.1f}x "
-          f"real time; results in {out}" + (f" (stopped early: {ex.stopped_by})" if ex.stopped_by else ""))
-    if pacer is not None:
-        rt = summary["realtime"]
+        return code
+    print(f"{summary['system']}: {summary['steps']} steps of {res.step_size_s:g} s ({args.algorithm}) to "
+          f"t = {info['stop_time_s']:g} s in {summary['wall_time_s']:.3f} s wall, {summary['realtime_factor']:.1f}x "
+          f"real time; results in {out}" + (f" (stopped early: {res.stopped_by})" if res.stopped_by else ""))
+    if info.get("realtime"):
+        rt = info["realtime"]
         print(f"paced at {rt['target_factor']:g}x real time: achieved {rt['achieved_factor']:.3f}x, "
               f"{rt['overruns']} overrun(s), largest lag {rt['max_lag_s'] * 1e3:.1f} ms")
-    if written:
-        print(f"written after the run: {', '.join(f.name for f in written)}")
+    if res.files:
+        print(f"written after the run: {', '.join(f.name for f in res.files)}")
     if args.stats:
-        print(_stats_table(ex.stats()))
-    return 1 if failures else 0
+        print(_stats_table(info["stats"]))
+    return code
 
 
-def _list_files(record: RunRecord, written: list[Path]) -> None:
-    """Add the post-run hooks' files to run.json's list of the run's files (the next run removes them)."""
-    if written:
-        record.add_files([f.name for f in written])
-        record.rewrite()
-
-
-def _stop_condition(bound: BoundSystem, requested: str | None) -> str | None:
-    """``--until``, else the first stop condition a plugin proposes for this system; None for none."""
-    if requested is not None:
-        return None if requested.strip().lower() == "never" else requested
-    return _proposed(bound, "stop_condition")
+def load_system_name(info: dict[str, Any]) -> str:
+    """The system's name as run.json records it (the SSD's System name)."""
+    return str(info.get("system_name") or Path(str(info.get("system", "system"))).name)
 
 
 def _stats_table(stats: dict[str, dict[str, float]]) -> str:
@@ -492,11 +265,30 @@ def _describe(bound: BoundSystem) -> dict[str, Any]:
     }
 
 
+def _load(args: argparse.Namespace) -> BoundSystem:
+    """The command's system (default ssp/) bound with ``--params`` and ``--set``."""
+    system = args.system if args.system is not None else api.default_system()
+    api.ensure_project_fmus(system)
+    return api.load(system, args.params, args.set)
+
+
+def fix_swallowed_system(args: argparse.Namespace) -> None:
+    """``--params A.ssv B.ssv SYSTEM``: argparse gives SYSTEM to ``--params`` (nargs='+'); a folder, ``.ssd``
+    or ``.ssp`` among them is the SYSTEM argument when none was given."""
+    params = getattr(args, "params", None)
+    if not params or not hasattr(args, "system"):
+        return
+    systems = [p for p in params if p.is_dir() or p.suffix.lower() in (".ssd", ".ssp")]
+    if len(systems) == 1 and args.system is None:
+        args.system = systems[0]
+        args.params = [p for p in params if p is not systems[0]]
+
+
 def cmd_export(args: argparse.Namespace) -> int:
     from .execution import check_rate
     from .export import export_container
 
-    bound = _load(args.system, args.params, args.set)
+    bound = _load(args)
     sysdef = bound.definition
     rate = args.rate if args.rate is not None else (1.0 / sysdef.step_size_s if sysdef.step_size_s
                                                    else DEFAULT_RATE_HZ)
@@ -509,7 +301,18 @@ def cmd_export(args: argparse.Namespace) -> int:
 
 
 def cmd_info(args: argparse.Namespace) -> int:
-    d = _describe(_load(args.system, args.params, args.set))
+    bound = _load(args)
+    if args.parameters:
+        from .describe import parameter_lines, parameters
+
+        rows = parameters(bound)
+        if args.json:
+            print(json.dumps(rows, indent=2, default=str))
+        else:
+            print("\n".join(parameter_lines(rows)))
+            print(f"{len(rows)} parameter(s); set one with --set component.variable=value", file=sys.stderr)
+        return 0
+    d = _describe(bound)
     if args.json:
         print(json.dumps(d, indent=2, default=str))
         return 0
@@ -545,19 +348,20 @@ def _fmu_problems(bound: BoundSystem) -> list[Problem]:
 
 def cmd_validate(args: argparse.Namespace) -> int:
     try:
-        bound = _load(args.system, args.params, args.set)
+        bound = _load(args)
         problems = _fmu_problems(bound)
     except SystemStructureError as exc:
         problems = exc.problems
     for p in problems:
         print(p)
-    print(f"{len(problems)} problem(s) found in {args.system}", file=sys.stderr)
+    print(f"{len(problems)} problem(s) found in {args.system or api.DEFAULT_SYSTEM}", file=sys.stderr)
     return min(len(problems), 125)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``emss`` command."""
     args = build_parser().parse_args(argv)
+    fix_swallowed_system(args)
     builtin: dict[str, Callable[[argparse.Namespace], int]] = {"run": cmd_run, "info": cmd_info,
                                                                "validate": cmd_validate, "export": cmd_export}
     handler = builtin.get(args.command) or args.handler

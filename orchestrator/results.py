@@ -30,8 +30,8 @@ from .errors import ConfigurationError, EmssError
 
 LOCK_NAME = ".emss.lock"
 #: Files of a run, removed from a reused folder before a new run (besides those its run.json lists).
-RUN_FILES = ("timeseries.csv", "run.json", "summary.json", "cli_parameters.ssv")
-STALE_PATTERNS = ("*.png", "mission.*", ".*.tmp")
+RUN_FILES = ("timeseries.csv", "timeseries.mat", "run.json", "summary.json", "cli_parameters.ssv")
+STALE_PATTERNS = ("*.png", "mission.*", ".*.tmp", "report*.html")
 #: Limits of a zip archive (.ssp, .fmu) before anything is extracted.
 MAX_ARCHIVE_ENTRIES = 10_000
 MAX_ARCHIVE_BYTES = 2 * 1024 ** 3  # total uncompressed size [bytes]

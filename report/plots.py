@@ -20,11 +20,12 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from openemss.models.common.files import figure_bytes
-from openemss.models.fcs.geo import from_local_ne
+from openemss.models.fcs.geo import R_EARTH_M
 from openemss.models.fcs.mission import Mission
 from openemss.orchestrator.results import atomic_write
 
 from .errors import ReportError
+from .panels import runway_lines, waypoints_deg
 from .rundata import RunData
 
 STYLES = ("-", "--", ":", "-.")
@@ -61,22 +62,40 @@ def _sections(runs: Sequence[PlotRun]) -> PlotRun | None:
 
 
 def shade_sections(ax: Axes, r: PlotRun, label: bool) -> None:
-    """Shade each section's time span in alternating tones; with ``label``, write its index and name."""
-    t, idx = r.data.time_s, r.data.get("fcs", "section_index")
-    if idx is None:
+    """Shade each section's time span in alternating tones; with ``label``, number it above the axes (the
+    names go in the figure's legend of sections, :func:`section_legend`, so that nothing is overprinted)."""
+    from .panels import section_spans
+
+    spans = section_spans(r.data)
+    if not spans:
         return
-    idx = np.rint(idx).astype(int)
-    change = np.flatnonzero(np.diff(idx)) + 1
-    starts = np.concatenate(([0], change))
-    ends = np.concatenate((change, [len(t) - 1]))
-    names = {s.index: s.name for s in r.mission.sections} if r.mission is not None else {}
-    for a, b in zip(starts, ends, strict=True):
-        i = int(idx[a])
-        ax.axvspan(t[a], t[b], color="0.85" if i % 2 else "0.93", zorder=0, lw=0)
-        if label:
-            text = f"{i} {names.get(i, '')}".strip()
-            ax.text(t[a], 0.98, " " + text, transform=ax.get_xaxis_transform(), rotation=90, va="top", ha="left",
-                    fontsize=6, color="0.35", clip_on=True)
+    t = r.data.time_s
+    width = max(float(t[-1] - t[0]), 1e-9)
+    last_x = -math.inf
+    for i, a, b in spans:
+        ax.axvspan(a, b, color="0.85" if i % 2 else "0.93", zorder=0, lw=0)
+        x = 0.5 * (a + b)
+        if label and (x - last_x) / width > 0.012:  # numbers closer than 1.2 % of the axis would touch
+            ax.text(x, 1.005, str(i), transform=ax.get_xaxis_transform(), ha="center", va="bottom", fontsize=7,
+                    color="0.25", clip_on=False)
+            last_x = x
+
+
+def section_legend(fig: Figure, r: PlotRun | None) -> None:
+    """The numbered sections' names below the figure, in columns."""
+    if r is None or r.mission is None:
+        return
+    from .panels import section_spans
+
+    seen = {i for i, _, _ in section_spans(r.data)}
+    items = [f"{s.index}  {s.name}" for s in r.mission.sections if s.index in seen]
+    if not items:
+        return
+    ncol = 3
+    rows = math.ceil(len(items) / ncol)
+    for c in range(ncol):
+        text = "\n".join(items[c * rows:(c + 1) * rows])
+        fig.text(0.02 + c * 0.33, 0.005, text, fontsize=7, va="bottom", ha="left", color="0.25", family="monospace")
 
 
 def ground_track(runs: Sequence[PlotRun], path: Path) -> Path | None:
@@ -89,35 +108,48 @@ def ground_track(runs: Sequence[PlotRun], path: Path) -> Path | None:
     lat_all: list[float] = []
     for i, r in enumerate(drawn):
         lat, lon = r.data.get("airframe", "lat_deg"), r.data.get("airframe", "lon_deg")
-        ax.plot(lon, lat, _style(i), color="C0" if len(drawn) == 1 else f"C{i}", lw=1.2, label=r.label, zorder=3)
+        color = "C0" if len(drawn) == 1 else f"C{i}"
+        ax.plot(lon, lat, _style(i), color=color, lw=1.2, label=r.label, zorder=3)
+        ax.plot(lon[0], lat[0], "o", color=color, ms=7, zorder=4, label="start" if i == 0 else None)
+        ax.plot(lon[-1], lat[-1], "s", color=color, ms=7, mfc="none", mew=1.5, zorder=4,
+                label="end" if i == 0 else None)
         lat_all.extend([float(np.nanmin(lat)), float(np.nanmax(lat))])
     mission = next((r.mission for r in runs if r.mission is not None), None)
     if mission is not None:
-        for k, (name, p) in enumerate(mission.waypoints, start=1):
-            lat_d, lon_d = math.degrees(p.lat_rad), math.degrees(p.lon_rad)
+        for label, lon_d, lat_d in waypoints_deg(mission):
             ax.plot(lon_d, lat_d, "^", color="C3", ms=6)
-            ax.annotate(f"{k}" if name == f"WP{k}" else f"{k} {name}", (lon_d, lat_d), textcoords="offset points",
-                        xytext=(4, 4), fontsize=8, color="C3")
+            ax.annotate(label, (lon_d, lat_d), textcoords="offset points", xytext=(4, 4), fontsize=8, color="C3")
             lat_all.append(lat_d)
-        used = {getattr(sec.get("runway"), "name", None) for sec in mission.sections}
-        for j, (name, rwy) in enumerate(mission.runways):
-            end = from_local_ne(rwy.threshold, rwy.length_m * math.cos(rwy.heading_rad),
-                                rwy.length_m * math.sin(rwy.heading_rad), rwy.elevation_m)
-            xs = [math.degrees(rwy.threshold.lon_rad), math.degrees(end.lon_rad)]
-            ys = [math.degrees(rwy.threshold.lat_rad), math.degrees(end.lat_rad)]
-            ax.plot(xs, ys, "-", color="0.3", lw=3, solid_capstyle="butt", zorder=1,
+        for j, rl in enumerate(runway_lines(mission)):
+            ax.plot(rl.lon_deg, rl.lat_deg, "-", color="0.3", lw=3, solid_capstyle="butt", zorder=1,
                     label="runways" if j == 0 else None)
-            if name in used:  # the runways the mission flies from or to (the others would crowd the label)
-                ax.annotate(name, (xs[0], ys[0]), textcoords="offset points", xytext=(3, -9), fontsize=7)
+            if rl.used:  # the runways the mission flies from or to (the others would crowd the map)
+                ax.annotate(f"runway {rl.name.rpartition('_')[2] or rl.name}", (rl.lon_deg[0], rl.lat_deg[0]),
+                            textcoords="offset points", xytext=(8, -14), fontsize=8, fontweight="bold",
+                            arrowprops={"arrowstyle": "-", "color": "0.3", "lw": 0.8})
         ax.plot([], [], "^", color="C3", label="waypoints")
     mid = 0.5 * (min(lat_all) + max(lat_all))
     ax.set_aspect(1.0 / max(math.cos(math.radians(mid)), 1e-3))
+    _distance_scale(ax, mid)
     ax.set_xlabel("longitude [deg]")
     ax.set_ylabel("latitude [deg]")
     ax.set_title("Ground track" + (f": {mission.name}" if mission is not None else ""))
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
     return _save(fig, path)
+
+
+def _distance_scale(ax: Axes, lat_deg: float) -> None:
+    """A scale bar of a round number of km (about a fifth of the map's width) in the lower left corner."""
+    x0, x1 = ax.get_xlim()
+    y0, y1 = ax.get_ylim()
+    m_per_deg = math.radians(1.0) * R_EARTH_M * math.cos(math.radians(lat_deg))
+    target_km = 0.2 * (x1 - x0) * m_per_deg / 1e3
+    km = next((k for k in (100, 50, 20, 10, 5, 2, 1, 0.5) if k <= target_km), 0.5)
+    dx = km * 1e3 / m_per_deg
+    xs, ys = x0 + 0.05 * (x1 - x0), y0 + 0.05 * (y1 - y0)
+    ax.plot([xs, xs + dx], [ys, ys], "-", color="k", lw=2.5, solid_capstyle="butt")
+    ax.text(xs + dx / 2, ys + 0.012 * (y1 - y0), f"{km:g} km", ha="center", va="bottom", fontsize=8)
 
 
 def constraint_markers(ax: Axes, runs: Sequence[PlotRun]) -> None:
@@ -154,14 +186,19 @@ def constraint_markers(ax: Axes, runs: Sequence[PlotRun]) -> None:
 def _lines(runs: Sequence[PlotRun], path: Path, title: str,
            panels: Sequence[tuple[str, Sequence[tuple[str, str, str, Callable[[np.ndarray], np.ndarray]]]]],
            shade: bool = False, window: tuple[float, float] | None = None,
-           decorate: Callable[[Axes, Sequence[PlotRun]], None] | None = None) -> Path | None:
+           decorate: Callable[[Axes, Sequence[PlotRun]], None] | None = None,
+           limits: Sequence[Sequence[str]] = ()) -> Path | None:
     """Stacked panels over time. Each panel: (y label, [(role, variable, legend, transform), ...]);
-    ``decorate`` draws more on the first panel."""
+    ``decorate`` draws more on the first panel; ``limits[p]`` names the limits (:data:`.panels.LIMITS`) drawn
+    on panel ``p`` as lines, with a mark where the fuel controller engaged them. A legend entry ending in
+    "command" is drawn dashed and on top, so a command that the flown value follows stays visible."""
     if not any(r.data.get(role, var) is not None for r in runs for _, series in panels for role, var, _, _ in series):
         return None
-    fig = Figure(figsize=(10, 2.6 * len(panels) + 0.6))
-    axes = fig.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
     shaded = _sections(runs) if shade else None
+    legend_in = 0.0 if shaded is None or shaded.mission is None else \
+        0.13 * math.ceil(len(shaded.mission.sections) / 3) + 0.15  # the sections' names below [in]
+    fig = Figure(figsize=(10, 2.6 * len(panels) + 0.6 + legend_in))
+    axes = fig.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
     for p, (ylabel, series) in enumerate(panels):
         ax = axes[p]
         if shaded is not None:
@@ -171,8 +208,14 @@ def _lines(runs: Sequence[PlotRun], path: Path, title: str,
             keep = slice(None) if window is None else (t >= window[0]) & (t <= window[1])
             for c, (role, var, what, fn) in enumerate(series):
                 y = r.data.get(role, var)
-                if y is not None:
-                    ax.plot(t[keep], fn(y)[keep], _style(i), color=f"C{c}", lw=1.1, label=_label(runs, r, what))
+                if y is None:
+                    continue
+                command = what.endswith("command")
+                ax.plot(t[keep], fn(y)[keep], ls=(0, (4, 2)) if command and len(runs) == 1 else _style(i),
+                        color=f"C{c}", lw=1.4 if command else 1.1, zorder=4 if command else 3,
+                        label=_label(runs, r, what))
+        for name in (limits[p] if p < len(limits) else ()):
+            _limit_line(ax, runs, name, window)
         if p == 0 and decorate is not None:
             decorate(ax, runs)
         ax.set_ylabel(ylabel)
@@ -184,11 +227,43 @@ def _lines(runs: Sequence[PlotRun], path: Path, title: str,
         axes[-1].set_xlim(*window)
     fig.suptitle(title + (f" ({shaded.label}'s sections shaded)" if shaded is not None and len(runs) > 1 else ""),
                  fontsize=10)
+    if legend_in:
+        fig.tight_layout(rect=(0, legend_in / fig.get_figheight(), 1, 1))
+        section_legend(fig, shaded)
+        return atomic_write(path, figure_bytes(fig, path.suffix.lstrip(".") or "png", dpi=DPI))
     return _save(fig, path)
+
+
+def _limit_line(ax: Axes, runs: Sequence[PlotRun], name: str, window: tuple[float, float] | None) -> None:
+    """A limit as a dashed red line at its value in each run, and an x where the fuel controller engaged it."""
+    from .panels import LIMITS, limit_hits, limit_value
+
+    for r in runs:
+        v = limit_value(r.data, name)
+        if v is None:
+            continue
+        ax.axhline(v, color="C3", ls=(0, (6, 3)), lw=1.0, zorder=2,
+                   label=_label(runs, r, f"{LIMITS[name][1]} {v:g}"))
+        hits = limit_hits(r.data, name)
+        if window is not None:
+            hits = hits[(hits >= window[0]) & (hits <= window[1])]
+        if hits.size:
+            ax.plot(hits, np.full(hits.shape, v), "x", color="C3", ms=7, mew=1.5, zorder=5,
+                    label=_label(runs, r, f"{LIMITS[name][1]} engaged ({hits.size}x)"))
 
 
 def _ident(y: np.ndarray) -> np.ndarray:
     return y
+
+
+def _kilo(y: np.ndarray) -> np.ndarray:
+    return y / 1e3
+
+
+def _sfc(y: np.ndarray) -> np.ndarray:
+    from .panels import _sfc_shown
+
+    return _sfc_shown(y)
 
 
 def _from_start(y: np.ndarray) -> np.ndarray:
@@ -252,12 +327,21 @@ def plot_runs(runs: Sequence[PlotRun], out: Path, window: tuple[float, float] | 
         _lines(runs, out / "fuel_flow_tt4.png", "Fuel flow and Tt4" + (
             f", {window[0]:g} to {window[1]:g} s" if window is not None else ""), [
             ("fuel flow [kg/s]", [("engine", "fuel_flow_kg_s", "fuel flow", _ident),
-                                  ("fcs", "fuel_flow_cmd_kg_s", "command", _ident)]),
-            ("temperature [K]", [("engine", "Tt4_K", "Tt4", _ident), ("engine", "T41_K", "T41", _ident)]),
-        ], window=window),
+                                  ("fcs", "fuel_flow_cmd_kg_s", "fuel flow command", _ident)]),
+            ("temperature [K]", [("engine", "Tt4_K", "Tt4 burner exit", _ident),
+                                 ("engine", "T41_K", "T41 HPT rotor inlet", _ident)]),
+        ], window=window, limits=((), ("Tt41_max",))),
+        _lines(runs, out / "thrust.png", "Thrust", [
+            ("thrust [kN]", [("engine", "thrust_N", "net thrust", _kilo), ("engine", "gross_thrust_N", "gross thrust",
+                                                                          _kilo)])], shade=True),
         _lines(runs, out / "spool_speeds.png", "Spool speeds", [
-            ("spool speed [%]", [("engine", "N1_pct", "N1", _ident), ("engine", "N2_pct", "N2", _ident),
-                                 ("engine", "N1c_pct", "N1c", _ident)])], shade=True),
+            ("spool speed [%]", [("engine", "N1_pct", "N1 fan", _ident), ("engine", "N2_pct", "N2 core", _ident),
+                                 ("engine", "N1c_pct", "N1c corrected fan speed", _ident)])], shade=True,
+            limits=(("N1_max",),)),
+        _lines(runs, out / "sfc_surge_margin.png", "SFC and surge margins", [
+            ("SFC [mg/(N s)]", [("engine", "SFC_kg_N_s", "SFC", _sfc)]),
+            ("surge margin [-]", [("engine", "SM_fan", "fan", _ident), ("engine", "SM_hpc", "HPC", _ident)]),
+        ], shade=True),
         _lines(runs, out / "attitude.png", "Attitude", [
             ("roll phi [deg]", [("airframe", "phi_rad", "phi", _deg)]),
             ("pitch theta [deg]", [("airframe", "theta_rad", "theta", _deg)]),
@@ -272,3 +356,28 @@ def plot_runs(runs: Sequence[PlotRun], out: Path, window: tuple[float, float] | 
         ], shade=True),
     ]
     return [f for f in figures if f is not None]
+
+
+def plot_variables(runs: Sequence[PlotRun], names: Sequence[str], path: Path,
+                   window: tuple[float, float] | None = None) -> Path:
+    """Any recorded columns over time, one panel each (any system), labelled with their units."""
+    check_window(runs, window)
+    fig = Figure(figsize=(10, 1.9 * len(names) + 0.8))
+    axes = fig.subplots(len(names), 1, sharex=True, squeeze=False)[:, 0]
+    for ax, name in zip(axes, names, strict=True):
+        for i, r in enumerate(runs):
+            y = r.data.columns.get(name)
+            if y is None:
+                continue
+            t = r.data.time_s
+            keep = slice(None) if window is None else (t >= window[0]) & (t <= window[1])
+            ax.plot(t[keep], y[keep], _style(i), lw=1.1, label=_label(runs, r, name))
+        unit = runs[0].data.unit(name)
+        ax.set_ylabel(f"{name.rpartition('.')[2]} [{unit or '-'}]", fontsize=8)
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7, loc="best")
+    axes[-1].set_xlabel("time [s]")
+    if window is not None:
+        axes[-1].set_xlim(*window)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    return _save(fig, path)

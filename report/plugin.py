@@ -23,8 +23,9 @@ from openemss.orchestrator.results import atomic_write
 
 from . import mission_check
 from .errors import ReportError
+from .html import REPORT, write_html_report, write_variables_html
 from .mission_check import pre_run
-from .plots import PlotRun, plot_runs
+from .plots import PlotRun, plot_runs, plot_variables
 from .rundata import MISSION_COPY, find_roles, load_mission, load_run, read_header
 from .summary import summarize
 
@@ -73,8 +74,8 @@ def write_report(run_dir: Path, plots: bool = True) -> list[Path]:
         return []
     try:
         run = load_run(run_dir)
-    except ReportError:
-        if read_header(run_dir) and len((run_dir / "timeseries.csv").read_text(encoding="utf-8").splitlines()) < 2:
+    except ReportError as exc:
+        if "no rows recorded" in str(exc):
             return []  # failed before the first sample: nothing to summarize
         raise
     mission, text = load_mission(run)
@@ -90,7 +91,11 @@ def write_report(run_dir: Path, plots: bool = True) -> list[Path]:
     atomic_write(path, json.dumps(summary, indent=2) + "\n")
     written.insert(0, path)
     if plots:
-        written.extend(plot_runs([PlotRun(run, mission, run.name)], run_dir))
+        runs = [PlotRun(run, mission, run.name)]
+        written.extend(plot_runs(runs, run_dir))
+        page = write_html_report(runs, run_dir / REPORT)
+        if page is not None:
+            written.append(page)
     return written
 
 
@@ -112,26 +117,71 @@ def _labels(folders: Sequence[Path]) -> list[str]:
     return [f"{f.resolve().parent.name}/{f.resolve().name}" for f in folders]
 
 
+#: Columns plotted by ``emss plot RUN`` of a run without mission signals (beyond them, name the variables).
+MAX_ALL_COLUMNS = 12
+
+
+def split_plot_args(items: Sequence[str]) -> tuple[list[Path], list[str]]:
+    """``emss plot`` arguments: results folders first (existing folders), then variable names."""
+    folders: list[Path] = []
+    names: list[str] = []
+    for item in items:
+        if not names and Path(item).is_dir():
+            folders.append(Path(item))
+        else:
+            names.append(item)
+    if not folders:
+        raise ReportError(f"{items[0]}: no such results folder (give a folder written by emss run, then "
+                          "optionally variables component.variable)")
+    return folders, names
+
+
+def _check_names(runs: Sequence[PlotRun], names: Sequence[str]) -> None:
+    import difflib
+
+    recorded = [n for n in runs[0].data.columns if n != "time_s"]
+    for name in names:
+        if not any(name in r.data.columns for r in runs):
+            close = difflib.get_close_matches(name, recorded, n=3)
+            raise ReportError(f"{name}: not recorded in {runs[0].label}" + (
+                f"; did you mean {', '.join(close)}?" if close else f" (recorded: {', '.join(recorded[:8])}"
+                                                                    f"{', ...' if len(recorded) > 8 else ''})"))
+
+
 def cmd_plot(args: argparse.Namespace) -> int:
-    folders: list[Path] = args.run_dirs
+    folders, names = split_plot_args(args.run_dirs)
     if len(folders) > MAX_RUNS:
         raise ReportError(f"{len(folders)} runs given; at most {MAX_RUNS} share a figure")
     runs = []
     for folder, label in zip(folders, _labels(folders), strict=True):
         data = load_run(folder)
         runs.append(PlotRun(data, load_mission(data)[0], label))
-    out = args.out if args.out is not None else (
+    out = Path(args.out) if args.out is not None else (
         folders[0] if len(folders) == 1 else folders[0] / ("compare_" + "_".join(r.label.replace("/", "-")
                                                                                 for r in runs[1:])))
     window = tuple(args.window) if args.window is not None else None
-    files = plot_runs(runs, Path(out), window)  # type: ignore[arg-type]
+    mission_run = runs[0].data.roles.fcs is not None and runs[0].data.roles.engine is not None
+    if not names and not mission_run:
+        names = [n for n in runs[0].data.columns if n != "time_s"]
+        if len(names) > MAX_ALL_COLUMNS:
+            raise ReportError(f"{folders[0]}: no mission signals and {len(names)} recorded columns; name the ones "
+                              f"to plot: emss plot {folders[0]} {' '.join(names[:2])} ...")
+    if names:
+        _check_names(runs, names)
+        stem = "variables" if len(names) > 3 else "plot_" + "_".join(n.replace(".", "-") for n in names)
+        files = [plot_variables(runs, names, out / f"{stem}.png", window),  # type: ignore[arg-type]
+                 write_variables_html(runs, names, out / f"{stem}.html")]
+    else:
+        files = plot_runs(runs, out, window)  # type: ignore[arg-type]
+        page = write_html_report(runs, out / REPORT) if files else None
+        files += [page] if page is not None else []
     if not files:
         raise ReportError(f"nothing to plot in {', '.join(map(str, folders))}: no mission signals recorded "
                           "(position, altitude, engine)")
     if args.json:
         print(json.dumps([str(f) for f in files], indent=2))
     else:
-        print(f"{len(files)} plot(s) of {', '.join(r.label for r in runs)} in {out}: "
+        print(f"{len(files)} file(s) of {', '.join(r.label for r in runs)} in {out}: "
               f"{', '.join(f.name for f in files)}")
     return 0
 
@@ -188,12 +238,16 @@ def _window(text: str) -> float:
 def register(sub: argparse._SubParsersAction) -> tuple[type[Exception], ...]:  # type: ignore[type-arg]
     """Add ``emss plot``, ``emss summary`` and ``emss mission check``."""
     p = sub.add_parser("plot", help="plot a mission run, or compare runs on the same figures",
-                       description="Draw the PNG plots of finished runs (folders written by emss run): ground "
-                                   "track with waypoints and runways, altitude and Mach against the commands with "
-                                   "the sections shaded, burned fuel, fuel flow and Tt4 over a window, spool "
-                                   "speeds, attitude. Two runs (up to four) share each figure, told apart by line "
-                                   "style.")
-    p.add_argument("run_dirs", nargs="+", type=Path, metavar="RUN_DIR", help="results folder(s) of emss run")
+                       description="Draw the PNG plots and the interactive report.html of finished runs "
+                                   "(folders written by emss run): ground track with waypoints and runways, "
+                                   "altitude and Mach against the commands with the sections numbered, thrust, "
+                                   "fuel flow and its command, Tt4 and T41 with the Tt41 limit, spool speeds with "
+                                   "the N1 limit, surge margins, SFC, attitude. Two runs (up to four) share each "
+                                   "figure, told apart by line style. With variables (component.variable), those "
+                                   "over time for any system (PNG and HTML).")
+    p.add_argument("run_dirs", nargs="+", metavar="RUN_DIR|VAR",
+                   help="results folder(s) of emss run, then optionally variables (component.variable) to plot "
+                        "over time, for any system")
     p.add_argument("--out", type=folder_name, metavar="DIR",
                    help="folder for the PNGs (default: RUN_DIR; for several runs RUN_DIR/compare_<others>)")
     p.add_argument("--window", nargs=2, type=_window, metavar=("T0", "T1"),

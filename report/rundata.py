@@ -12,7 +12,7 @@ import json
 import math
 import zipfile
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 from typing import Any
 from xml.etree import ElementTree
@@ -22,10 +22,10 @@ import numpy as np
 from openemss.models.common import safe_yaml
 from openemss.models.fcs.errors import FcsError
 from openemss.models.fcs.mission import Mission, parse_mission
+from openemss.orchestrator.timeseries import Column, TimeSeriesError, find_timeseries, read_columns, read_timeseries
 
 from .errors import ReportError
 
-TIMESERIES = "timeseries.csv"
 RUN_RECORD = "run.json"
 MISSION_COPY = "mission"  # + the source's suffix: the mission as flown, kept with the results
 
@@ -58,43 +58,9 @@ def find_roles(columns: Iterable[str]) -> Roles:
 
 
 def read_header(folder: Path) -> list[str]:
-    """Column names of a results folder's ``timeseries.csv`` ([] when there is none)."""
-    try:
-        with open(Path(folder) / TIMESERIES, encoding="utf-8") as f:
-            return f.readline().strip().split(",")
-    except OSError:
-        return []
-
-
-def _read_table(path: Path) -> tuple[list[str], np.ndarray, str]:
-    """Names, rows and a note on the file's end ('' or what was left out: a torn last row).
-
-    A run killed while writing may leave its last row incomplete: it is left out and the note says
-    so. An incomplete or unreadable row before the last is an error naming its line.
-    """
-    try:
-        lines = path.read_bytes().decode("utf-8", "replace").split("\n")
-    except OSError as exc:
-        raise ReportError(f"{path}: cannot read: {exc.strerror}") from None
-    if not lines or not lines[0].startswith("time_s"):
-        raise ReportError(f"{path}: not a timeseries of emss run (the first column must be time_s)")
-    names = lines[0].split(",")
-    complete = lines[-1] == ""  # every row written whole ends with a newline
-    body = lines[1:-1] if complete else lines[1:]
-    note = ""
-    if not complete and body:
-        note = (f"{path}: the last row (line {len(lines)}) is torn, {len(body[-1].split(','))} of {len(names)} "
-                "values (the run stopped while writing it); it is left out")
-        body = body[:-1]
-    for i, line in enumerate(body, start=2):
-        if line.count(",") != len(names) - 1:
-            raise ReportError(f"{path}:{i}: {line.count(',') + 1} values for {len(names)} columns; the file is "
-                              "damaged")
-    try:
-        data = np.loadtxt(body, delimiter=",", ndmin=2) if body else np.empty((0, len(names)))
-    except ValueError as exc:
-        raise ReportError(f"{path}: unreadable row ({exc})") from None
-    return names, data, note
+    """Column names of a results folder's time series ([] when there is none)."""
+    path = find_timeseries(Path(folder))
+    return read_columns(path) if path is not None else []
 
 
 @dataclass(frozen=True)
@@ -118,6 +84,12 @@ class RunData:
     info: dict[str, Any]
     roles: Roles
     note: str = ""  # what reading left out (a torn last row), '' when the file was whole
+    meta: dict[str, Column] = field(default_factory=dict)  # unit and description of each column
+
+    def unit(self, name: str) -> str:
+        """The unit of a column as recorded ('' where none)."""
+        c = self.meta.get(name)
+        return c.unit if c is not None else ""
 
     @property
     def name(self) -> str:
@@ -139,24 +111,28 @@ def load_run(folder: Path) -> RunData:
     Raises
     ------
     ReportError
-        When the folder or its ``timeseries.csv`` is missing or unreadable, or holds no row.
+        When the folder or its time series is missing or unreadable, or holds no row.
     """
     folder = Path(folder)
     if not folder.is_dir():
         raise ReportError(f"{folder}: no such results folder (give a folder written by emss run)")
-    if not (folder / TIMESERIES).is_file():
-        raise ReportError(f"{folder}: no {TIMESERIES} (give a folder written by emss run)")
-    names, data, note = _read_table(folder / TIMESERIES)
-    if len(data) == 0:
-        raise ReportError(f"{folder / TIMESERIES}: no rows recorded")
+    path = find_timeseries(folder)
+    if path is None:
+        raise ReportError(f"{folder}: no timeseries.parquet, timeseries.csv or timeseries.mat (give a folder "
+                          "written by emss run)")
+    try:
+        ts = read_timeseries(path)
+    except TimeSeriesError as exc:
+        raise ReportError(str(exc)) from None
+    if len(ts) == 0:
+        raise ReportError(f"{path}: no rows recorded")
     info: dict[str, Any] = {}
     if (folder / RUN_RECORD).is_file():
         try:
             info = json.loads((folder / RUN_RECORD).read_text(encoding="utf-8"))
         except (OSError, ValueError) as exc:
             raise ReportError(f"{folder / RUN_RECORD}: unreadable ({exc})") from None
-    columns = {n: data[:, j] for j, n in enumerate(names)}
-    return RunData(folder, columns, info, find_roles(names), note)
+    return RunData(folder, ts.floats(), info, find_roles(ts.names), ts.note, {c.name: c for c in ts.columns})
 
 
 # -- the FCS's parameters and mission ---------------------------------------------------------

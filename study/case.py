@@ -4,7 +4,7 @@ pythonfmu FMUs of the same model share one interpreter, so a case never runs in
 the process of another: :func:`run_case` (the Dask task) starts ``emss run ...``
 (as ``python -m openemss.study.child run ...``, which dies with its worker) with the case's parameters
 written to ``case.ssv`` in the case folder, streams its output into that folder
-(``timeseries.csv``, ``run.json``, ``stdout.log``, ``stderr.log``) and reads the
+(``timeseries.parquet/``, ``run.json``, ``stdout.log``, ``stderr.log``) and reads the
 outcome back (``run.json`` and, where the run writes one, ``summary.json``).
 
 A case that ran to its end (completed, or failed with an error of the run
@@ -198,6 +198,9 @@ def run_case(case: CaseDef, out: str, attempt: int = 1) -> CaseResult:
                         wall_time_s=_float(summary.get("wall_time_s", run.get("wall_time_s"))),
                         process_time_s=elapsed, summary=summary, digest=case.digest)
     if status in ("completed", "failed"):
+        from .dataset import publish_case
+
+        publish_case(Path(out), case.name, folder)  # before done.json: a case marked done is in the dataset
         mark_done(out, result)
     return result
 

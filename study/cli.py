@@ -7,6 +7,8 @@ runs every case not yet done (:mod:`.runner`) into ``DIR/cases/<case>`` and writ
 
 ``emss study cases STUDY.yaml [--json]`` lists the cases without running them.
 
+``emss study report STUDY_DIR CASE_A CASE_B`` compares two cases (PNG and report.html).
+
 The ``emss`` command finds :func:`register` by itself; :class:`.spec.StudyError` is bad
 input and prints as one line.
 """
@@ -50,7 +52,53 @@ def register(subparsers: argparse._SubParsersAction) -> tuple[type[Exception], .
     cases.add_argument("study", type=Path, metavar="STUDY.yaml", help="the study file")
     cases.add_argument("--json", action="store_true", help="print as JSON")
     cases.set_defaults(handler=cmd_cases)
+    rep = sub.add_parser("report", help="compare two cases of a study run: PNG plots and report.html",
+                         description="The plots and the interactive report of two cases of a study that ran, "
+                                     "on the same figures (solid: CASE_A, dashed: CASE_B), into "
+                                     "STUDY_DIR/compare_<CASE_A>_<CASE_B>/ (or --out).")
+    rep.add_argument("study_dir", type=Path, metavar="STUDY_DIR", help="the study folder (holding study.csv)")
+    rep.add_argument("cases", nargs=2, metavar="CASE", help="two case names (see study.csv)")
+    rep.add_argument("--out", type=folder_name, metavar="DIR", help="folder for the files")
+    rep.set_defaults(handler=cmd_report)
     return (StudyError,)
+
+
+def cmd_report(args: argparse.Namespace) -> int:
+    from openemss.report.html import REPORT, write_html_report
+    from openemss.report.plots import PlotRun, plot_runs
+    from openemss.report.rundata import load_mission, load_run
+
+    from .case import case_dir
+
+    study_dir: Path = args.study_dir
+    if not (study_dir / "cases").is_dir():
+        raise StudyError(f"{study_dir}: not a study folder (no cases/; give the folder of emss study run)")
+    known = sorted(p.name for p in (study_dir / "cases").iterdir() if p.is_dir())
+    runs = []
+    for name in args.cases:
+        folder = case_dir(study_dir, name)
+        if not folder.is_dir():
+            import difflib
+
+            close = difflib.get_close_matches(name, known, n=3)
+            raise StudyError(f"{study_dir}: no case '{name}'" + (f"; did you mean {', '.join(close)}?" if close else
+                                                                  f" (cases: {', '.join(known[:6])})"))
+        data = load_run(folder)
+        runs.append(PlotRun(data, load_mission(data)[0], name))
+    out = Path(args.out or study_dir / f"compare_{args.cases[0]}_{args.cases[1]}")
+    files = plot_runs(runs, out)
+    page = write_html_report(runs, out / REPORT) if files else None
+    files += [page] if page is not None else []
+    if not files:  # no mission: every recorded column, as emss plot does for any system
+        from openemss.report.html import write_variables_html
+        from openemss.report.plots import plot_variables
+        from openemss.report.plugin import MAX_ALL_COLUMNS
+
+        names = [n for n in runs[0].data.columns if n != "time_s"][:MAX_ALL_COLUMNS]
+        files = [plot_variables(runs, names, out / "variables.png"), write_variables_html(runs, names, out / REPORT)]
+    print(f"{len(files)} file(s) comparing {args.cases[0]} and {args.cases[1]} in {out}: "
+          f"{', '.join(f.name for f in files)}")
+    return 0
 
 
 def _with_redesign(study: StudyDef, out: Path) -> tuple[StudyDef, dict[str, Any] | None]:
@@ -150,11 +198,13 @@ def cmd_cases(args: argparse.Namespace) -> int:
 
     study = load_study(args.study)
     if study.redesign:
-        print("emss study cases: the redesign block's engines are known after the cycle sweep; showing the "
-              "cases without them", file=sys.stderr)
         from dataclasses import replace
 
-        study = replace(study, redesign={})
+        from .redesign import planned_variants
+
+        print("emss study cases: the redesigned engine's design_* values come from the cycle sweep, run by "
+              "emss study run", file=sys.stderr)
+        study = replace(study, variants=tuple(planned_variants(study)), redesign={})
     cases = expand_cases(study)
     if args.json:
         print(json.dumps([{"name": c.name, "labels": dict(c.labels), "values": dict(c.values),

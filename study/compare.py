@@ -1,6 +1,6 @@
 """Two engines through the same mission, side by side: fuel, fuel flow and Tt4 on the same axes.
 
-Reads each case's ``timeseries.csv`` (and ``summary.json`` where there is one),
+Reads each case's time series (and ``summary.json`` where there is one),
 and writes into ``out/report/``: ``report.json``, ``report.md``,
 ``fuel_burned.png`` (burned fuel over time) and ``section.png`` (fuel flow and
 Tt4 over one mission section, against the time since the section began).
@@ -10,9 +10,7 @@ last time both reached (stated in the report), never as whole-mission fuel.
 """
 from __future__ import annotations
 
-import csv
 import json
-import math
 from pathlib import Path
 from typing import Any
 
@@ -27,21 +25,15 @@ __all__ = ["read_series", "compare_engines"]
 
 
 def read_series(path: Path, columns: list[str]) -> dict[str, np.ndarray]:
-    """The named columns (and ``time_s``) of a ``timeseries.csv`` as float arrays (missing: absent)."""
-    with open(path, newline="", encoding="utf-8") as f:
-        reader = csv.reader(f)
-        header = next(reader, [])
-        idx = {name: header.index(name) for name in ["time_s", *columns] if name in header}
-        data: dict[str, list[float]] = {name: [] for name in idx}
-        for row in reader:
-            if len(row) < len(header):
-                break  # a row being written when the run died
-            for name, i in idx.items():
-                try:
-                    data[name].append(float(row[i]))
-                except ValueError:
-                    data[name].append(math.nan)
-    return {k: np.asarray(v, dtype=float) for k, v in data.items()}
+    """The named columns (and ``time_s``) of a case's time series (a results folder or a file, any format
+    emss run writes) as float arrays (missing: absent; unreadable: empty)."""
+    from openemss.orchestrator.timeseries import TimeSeriesError, read_timeseries
+
+    try:
+        data = read_timeseries(path).floats()
+    except TimeSeriesError:
+        return {}
+    return {name: data[name] for name in ["time_s", *columns] if name in data}
 
 
 def _section_window(s: dict[str, np.ndarray], var: str, section: int) -> tuple[np.ndarray, str]:
@@ -72,8 +64,8 @@ def compare_engines(out: Path, cases: dict[str, str], results: dict[str, CaseRes
     cols = [f"{component}.fuel_burned_kg", f"{component}.fuel_flow_kg_s", f"{component}.Tt4_K", section_variable]
     series: dict[str, dict[str, np.ndarray]] = {}
     for label, name in cases.items():
-        path = case_dir(out, name) / "timeseries.csv"
-        if path.is_file():
+        path = case_dir(out, name)
+        if path.is_dir():
             s = read_series(path, cols)
             if s.get("time_s") is not None and s["time_s"].size and cols[0] in s:
                 series[label] = s

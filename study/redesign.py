@@ -144,3 +144,13 @@ def cycle_redesign(study: StudyDef, cfg: RedesignConfig, out: Path) -> tuple[lis
     }
     atomic_write(folder / "redesign.json", json.dumps(info, indent=2, default=float) + "\n")
     return [Variant(BASELINE, values=base_values), Variant(REDESIGNED, values=new_values)], info
+
+
+def planned_variants(study: StudyDef) -> list[Variant]:
+    """The two engines :func:`cycle_redesign` will add, as far as they are known before the sweep (the
+    redesigned engine's ``design_*`` values are not): so that ``emss study cases`` counts and names the
+    cases that run."""
+    cfg = parse_redesign(study)
+    base = ((f"{cfg.component}.preset", cfg.preset),)
+    return [Variant(BASELINE, values=base), Variant(REDESIGNED, values=(*base, (f"{cfg.component}.design_override",
+                                                                                True)))]

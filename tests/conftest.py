@@ -96,3 +96,17 @@ import os as _os  # noqa: E402
 
 ISOLATED = ("airframe/test_airframe_weather.py", "airframe/test_asb_estimate.py")
 collect_ignore = [] if _os.environ.get("EMSS_IN_PROCESS") else list(ISOLATED)
+
+
+def table(folder: Path) -> dict[str, object]:
+    """The time series of a results folder (any format emss run writes), every column as float64."""
+    from openemss.orchestrator.timeseries import read_timeseries
+
+    return read_timeseries(folder).floats()
+
+
+def columns(folder: Path) -> list[str]:
+    """The column names of a results folder's time series, in file order."""
+    from openemss.orchestrator.timeseries import read_timeseries
+
+    return read_timeseries(folder).names

@@ -148,7 +148,7 @@ def test_good_archive_runs(tmp_path: Path, fmu_dir: Path, capsys: pytest.Capture
     archive = _archive(tmp_path / "good.ssp", system, {})
     rc = main(["run", str(archive), "--out", str(tmp_path / "out")])
     assert rc == 0, capsys.readouterr().err
-    assert (tmp_path / "out" / "timeseries.csv").is_file()
+    assert (tmp_path / "out" / "timeseries.parquet" / "part-00000.parquet").is_file()
 
 
 def test_not_a_zip(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -1,12 +1,12 @@
 """The emss command: info, run options, JSON output."""
 from __future__ import annotations
 
-import csv
 import json
 from pathlib import Path
 
 import pytest
 
+from conftest import columns, table
 from openemss.orchestrator.cli import main
 
 
@@ -36,10 +36,8 @@ def test_run_records_selected_variables_with_wildcards(
     assert rc == 0
     summary = json.loads(capsys.readouterr().out)
     assert summary["status"] == "completed" and summary["steps"] == 10 and summary["rows"] == 11
-    with open(out / "timeseries.csv", newline="") as fh:
-        rows = list(csv.reader(fh))
-    assert rows[0] == ["time_s", "mass1.x1_start_m", "mass1.x1_m", "mass2.f_c_N"]
-    assert [float(r[0]) for r in rows[1:]] == pytest.approx([k * 0.1 for k in range(11)])
+    assert columns(out) == ["time_s", "mass1.x1_start_m", "mass1.x1_m", "mass2.f_c_N"]
+    assert list(table(out)["time_s"]) == pytest.approx([k * 0.1 for k in range(11)])
     run = json.loads((out / "run.json").read_text())
     assert run["algorithm"] == "gauss-seidel" and run["rate_hz"] == 10.0 and run["steps"] == 10
     assert set(run["step_statistics"]) == {"mass1", "mass2"}
@@ -50,8 +48,7 @@ def test_time_is_t0_plus_k_h_without_drift(oscillator: Path, tmp_path: Path) -> 
     out = tmp_path / "out"
     assert main(["run", str(oscillator), "--stop-time", "100", "--rate", "30", "--record", "mass1.x1_m",
                  "--out", str(out)]) == 0
-    with open(out / "timeseries.csv", newline="") as fh:
-        times = [float(r["time_s"]) for r in csv.DictReader(fh)]
+    times = list(table(out)["time_s"])
     assert len(times) == 3001
     # k / 30 exactly as printed with 15 digits: an accumulated t += h would drift by ~1e-13 here
     assert all(abs(t - k / 30.0) <= 1e-12 * max(1.0, t) for k, t in enumerate(times))
@@ -166,5 +163,5 @@ def test_run_without_a_system_flies_the_project_system(tmp_path: Path, capsys: p
     out = tmp_path / "run"
     assert main(["run", "--stop-time", "2", "--out", str(out), "--no-post-run"]) == 0
     assert "openEMSS: 40 steps" in capsys.readouterr().out
-    head = (out / "timeseries.csv").read_text().splitlines()[0]
+    head = columns(out)
     assert "engine.thrust_N" in head and "fcs.section_index" in head and "airframe.alt_msl_m" in head

@@ -10,12 +10,12 @@
 """
 from __future__ import annotations
 
-import csv
 import shutil
 from pathlib import Path
 
 import pytest
 
+from conftest import table
 from openemss.orchestrator.cli import main
 from systems import Comp, write_system
 
@@ -60,9 +60,8 @@ def test_engine_degraded_run_is_recorded_when_accepted(engine_system: Path, tmp_
     rc, err = _run(capsys, "run", str(engine_system), "--scenario", str(scenario), "--out", str(out),
                    "--set", "engine.accept_solver_failure=true")
     assert rc == 0, err
-    with open(out / "timeseries.csv", newline="") as f:
-        rows = list(csv.DictReader(f))
-    failed = [float(r["time_s"]) for r in rows if r["engine.solver_failed"] == "1"]
+    data = table(out)
+    failed = list(data["time_s"][data["engine.solver_failed"] == 1])
     assert failed and failed[0] == pytest.approx(1.05)  # recorded from the first step it could not match
 
 

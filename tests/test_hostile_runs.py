@@ -18,10 +18,12 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from openemss.orchestrator.cli import main
 from openemss.orchestrator.results import ResultsFolder
+from openemss.orchestrator.timeseries import FILE_NAMES, read_timeseries
 from systems import GAIN_CONNECTORS, Comp, write_system
 
 FSIZE_LIMIT = 1_000_000  # bytes per file: above the test FMU's largest file (0.35 MB), below the run's CSV
@@ -60,9 +62,10 @@ def complete_rows(path: Path) -> list[list[str]]:
     with open(path, newline="", encoding="utf-8") as f:
         rows = list(csv.reader(f))
     assert rows[0][0] == "time_s" and all(len(r) == len(rows[0]) for r in rows), [len(r) for r in rows]
-    for r in rows[1:]:
+    assert rows[1][0] == "s"  # the units row
+    for r in rows[2:]:
         [float(x) for x in r]
-    return rows[1:]
+    return rows[2:]
 
 
 # -- the command line: numbers where they enter, bounded work ------------------------------------
@@ -241,7 +244,7 @@ def test_symlinks_in_the_results_folder_are_not_followed(system: Path, tmp_path:
         target.write_text(f"do not overwrite {name}\n")
         precious[target] = target.read_bytes()
         (out / name).symlink_to(target)
-    rc, err = run_cli(capsys, "run", str(system), "--out", str(out), "--set", "a.k=2.0")
+    rc, err = run_cli(capsys, "run", str(system), "--out", str(out), "--set", "a.k=2.0", "--format", "csv")
     assert rc == 0, err
     for target, content in precious.items():
         assert target.read_bytes() == content, target
@@ -258,7 +261,7 @@ def test_reused_folder_holds_nothing_stale(system: Path, tmp_path: Path, capsys:
     for name in stale:
         (out / name).write_text("from an earlier run\n")
     (out / "notes.txt").write_text("the user's own file\n")
-    rc, err = run_cli(capsys, "run", str(system), "--out", str(out))
+    rc, err = run_cli(capsys, "run", str(system), "--out", str(out), "--format", "csv")
     assert rc == 0, err
     assert not [n for n in stale if (out / n).exists()]
     assert (out / "notes.txt").read_text() == "the user's own file\n"
@@ -282,7 +285,7 @@ def start_run(system: Path, out: Path, tmp: Path, stop_s: float = 120.0) -> subp
     tmp.mkdir(exist_ok=True)
     env = dict(os.environ, TMPDIR=str(tmp))
     return subprocess.Popen([sys.executable, "-m", "openemss.orchestrator.cli", "run", str(system), "--out", str(out),
-                             "--stop-time", str(stop_s), "--realtime", "1", "--rate", "100"],
+                             "--stop-time", str(stop_s), "--realtime", "1", "--rate", "100", "--format", "csv"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env)
 
 
@@ -332,27 +335,36 @@ def test_kill_9_leaves_complete_rows(system: Path, tmp_path: Path) -> None:
     assert json.loads((out / "run.json").read_text())["status"] == "running"  # says it never closed
 
 
-def _check_full_disk(out: Path, rc: int, err: list[str], cause: str) -> None:
-    assert_one_line(rc, err, "cannot write", "timeseries.csv", cause, "rows up to t =")
+def _check_full_disk(out: Path, rc: int, err: list[str], cause: str, fmt: str = "csv") -> None:
+    assert_one_line(rc, err, "cannot write", FILE_NAMES[fmt], cause, "rows up to t =")
     info = json.loads((out / "run.json").read_text())
     assert info["status"] == "failed" and cause in info["error"]
-    rows = complete_rows(out / "timeseries.csv")
-    assert rows and float(rows[-1][0]) < 1000.0
+    if fmt == "csv":
+        rows = complete_rows(out / "timeseries.csv")
+        assert rows and float(rows[-1][0]) < 1000.0
+    else:  # every part on disk whole; the one being written when the disk filled is not left behind
+        t = read_timeseries(out).data["time_s"]
+        assert len(t) and t[-1] < 1000.0 and np.allclose(np.diff(t), 0.01)
+        assert not list((out / FILE_NAMES[fmt]).glob(".*.tmp"))
 
 
+@pytest.mark.parametrize("fmt", ["csv", "parquet"])
 def test_full_disk_is_one_line_and_a_closed_run_json(system: Path, tmp_path: Path,
-                                                     capsys: pytest.CaptureFixture[str]) -> None:
+                                                     capsys: pytest.CaptureFixture[str], fmt: str) -> None:
     """ENOSPC on a 1 MiB tmpfs: the run fails with one line; run.json says failed; every row is whole."""
     disk = tmp_path / "disk"
     disk.mkdir()
     if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=1m", "tmpfs", str(disk)], capture_output=True).returncode:
         pytest.skip("cannot mount a 1 MiB tmpfs here (needs root); the file-size limit case covers the path")
     try:
+        if fmt == "parquet":  # compressed, the rows of this (constant) run would fit: leave about 300 KiB
+            (disk / "ballast").write_bytes(bytes(724 * 1024))
         rc, err = run_cli(capsys, "run", str(system), "--out", str(disk / "out"), "--stop-time", "1000",
-                          "--rate", "100")
-        _check_full_disk(disk / "out", rc, err, "No space left on device")
+                          "--rate", "100", "--format", fmt, "--record-inputs")
+        _check_full_disk(disk / "out", rc, err, "No space left on device", fmt)
     finally:
-        subprocess.run(["umount", str(disk)], check=False)
+        if subprocess.run(["umount", str(disk)], check=False).returncode:
+            subprocess.run(["umount", "-l", str(disk)], check=False)
 
 
 def _limit_file_size() -> None:
@@ -363,7 +375,7 @@ def _limit_file_size() -> None:
 def test_file_size_limit_is_one_line_and_a_closed_run_json(system: Path, tmp_path: Path) -> None:
     out = tmp_path / "out"
     proc = subprocess.run([sys.executable, "-m", "openemss.orchestrator.cli", "run", str(system), "--out", str(out),
-                           "--stop-time", "1000", "--rate", "100", "--no-post-run"],
+                           "--stop-time", "1000", "--rate", "100", "--no-post-run", "--format", "csv"],
                           capture_output=True, preexec_fn=_limit_file_size, timeout=300)
     err = [ln for ln in proc.stderr.decode().splitlines() if ln.strip()]
     _check_full_disk(out, proc.returncode, err, "File too large")

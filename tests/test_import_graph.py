@@ -21,9 +21,9 @@ PARTS = {
     "system_model": "ssp", "parameters": "ssp", "system": "ssp",
     "transfer": "master", "slave": "master", "exchange": "master", "algorithm": "master",
     "iterative": "master", "algorithm_registry": "master", "condition": "master", "execution": "master",
-    "manipulators": "scenarios", "observers": "scenarios",
+    "manipulators": "scenarios", "observers": "scenarios", "timeseries": "scenarios",
     "build": "export", "export": "export",
-    "cli": "cli", "plugins": "cli",
+    "cli": "cli", "plugins": "cli", "hooks": "cli", "api": "cli", "describe": "cli",
 }
 
 

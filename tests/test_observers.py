@@ -6,6 +6,7 @@ from pathlib import Path
 
 from openemss.orchestrator.execution import Execution
 from openemss.orchestrator.observers import CsvRecorder, MemoryRecorder, Progress
+from openemss.orchestrator.timeseries import ParquetRecorder, read_timeseries
 from openemss.orchestrator.ssp import load_system
 from openemss.orchestrator.system import bind_system
 
@@ -57,8 +58,9 @@ def test_the_last_step_is_recorded_when_the_run_stops_between_two_samples(oscill
     """Every 3rd of 41 samples (0..40) and the last one: the final state is never lost (a summary reads it)."""
     ex = Execution(bind_system(load_system(oscillator)), rate_hz=20.0)
     mem, csv = MemoryRecorder(every=3), CsvRecorder(tmp_path / "t.csv", every=3)
-    ex.add_observer(mem)
-    ex.add_observer(csv)
+    parquet = ParquetRecorder(tmp_path / "t.parquet", every=3)
+    for recorder in (mem, csv, parquet):
+        ex.add_observer(recorder)
     ex.run(2.0)
     import numpy as np
 
@@ -66,6 +68,7 @@ def test_the_last_step_is_recorded_when_the_run_stops_between_two_samples(oscill
     times = [0.05 * k for k in range(0, 41, 3)] + [2.0]
     assert np.allclose(data["time_s"], times, rtol=0, atol=1e-12)
     assert np.allclose(mem.result()["time_s"], times, rtol=0, atol=1e-12)
+    assert np.allclose(read_timeseries(tmp_path / "t.parquet").data["time_s"], times, rtol=0, atol=1e-12)
 
 
 class Tty(io.StringIO):

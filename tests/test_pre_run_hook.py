@@ -1,5 +1,5 @@
-"""The plugins' pre-run hook in emss run (orchestrator/cli.py): its lines are printed as warnings before the
-run, with every component's FMU and the bound parameters (--set included); a hook that fails is one
+"""The plugins' pre-run hook in emss run (orchestrator/hooks.py, called by api.run): its lines are printed as
+warnings before the run, with every component's FMU and the bound parameters (--set included); a hook that fails is one
 warning line and the run goes ahead; --no-pre-run skips the hooks."""
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from openemss.orchestrator import cli
+from openemss.orchestrator import cli, hooks
 
 
 def _plugin(name: str, hook: object) -> types.ModuleType:
@@ -28,7 +28,7 @@ def test_pre_run_lines_and_failures(oscillator: Path, tmp_path: Path, monkeypatc
     def broken(components: dict, parameters: dict) -> list[str]:
         raise RuntimeError("boom")
 
-    monkeypatch.setattr(cli, "plugins", lambda: [_plugin("a", ok), _plugin("b", broken)])
+    monkeypatch.setattr(hooks, "plugins", lambda: [_plugin("a", ok), _plugin("b", broken)])
     assert cli.main(["run", str(oscillator), "--stop-time", "0.5", "--out", str(tmp_path / "o"),
                      "--set", "mass2.kc_N_m=40"]) == 0
     err = capsys.readouterr().err

@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from conftest import table
 from openemss.orchestrator.cli import main
 from openemss.orchestrator.errors import ConfigurationError
 from openemss.orchestrator.execution import Execution
@@ -197,11 +198,11 @@ def test_until_ends_the_run_at_the_first_step_the_condition_holds(system: Path, 
                "--out", str(out), "--record", "a.y_real"])
     assert rc == 0
     assert "stopped early: a.y_real >= 4" in capsys.readouterr().out
-    rows = (out / "timeseries.csv").read_text().splitlines()
-    y = [float(r.split(",")[1]) for r in rows[1:]]
+    data = table(out)
+    y = list(data["a.y_real"])
     assert y[-1] >= 4.0 and all(v < 4.0 for v in y[:-1])
-    assert 4.0 <= float(rows[-1].split(",")[0]) <= 4.1 + 1e-9
-    assert json.loads((out / "run.json").read_text())["steps"] == len(rows) - 2
+    assert 4.0 <= data["time_s"][-1] <= 4.1 + 1e-9
+    assert json.loads((out / "run.json").read_text())["steps"] == len(y) - 1
 
 
 @pytest.mark.parametrize("cond, fragment", [("a.nope > 1", "no variable 'a.nope'"),

@@ -91,7 +91,8 @@ def register(subparsers: argparse._SubParsersAction) -> tuple[type[Exception], .
     src = sw.add_mutually_exclusive_group()
     src.add_argument("--params", type=Path, metavar="FILE", help="reference parameter file (JSON, turbofan)")
     src.add_argument("--preset", choices=presets, metavar="NAME", help="reference preset")
-    sw.add_argument("--out", type=Path, default=Path("."), metavar="DIR", help="output folder (default: .)")
+    sw.add_argument("--out", type=Path, default=Path("results") / "engine-sweep", metavar="DIR",
+                    help="output folder, created if missing (default: results/engine-sweep)")
     sw.add_argument("--bpr", type=float, nargs="+", default=[0.5, 1.0, 1.5, 2.0], metavar="X",
                     help="bypass ratios (default 0.5 1 1.5 2)")
     sw.add_argument("--opr", type=float, nargs="+", default=[float(v) for v in range(9, 21)], metavar="X",
@@ -161,8 +162,14 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     ref = load_params(path)
     if not isinstance(ref, TurbofanParams):
         raise ModelError(f"{path}: the cycle study needs a turbofan parameter file")
-    if not args.out.is_dir():
-        raise ModelError(f"--out {args.out}: no such folder")
+    if not str(args.out).strip():
+        raise ModelError("--out '': an empty folder name; give the output folder, e.g. --out results/sweep")
+    if args.out.exists() and not args.out.is_dir():
+        raise ModelError(f"--out {args.out}: is a file, not a folder")
+    try:
+        args.out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ModelError(f"--out {args.out}: cannot create the folder: {exc.strerror}") from None
     pts = cycle_study(ref, args.bpr, args.opr)
     csv_path = write_csv(pts, args.out / "carpet.csv")
     png_path = plot_carpet(pts, args.out / "carpet.png", f"SFC carpet from {ref.name}")

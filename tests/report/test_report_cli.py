@@ -42,7 +42,7 @@ def test_plot_one_run_writes_every_figure(tmp_path: Path, capsys: pytest.Capture
     run = Runs(tmp_path).make("flight")
     assert main(["plot", str(run)]) == 0
     assert _pngs(run) == FIGURES
-    assert "6 plot(s) of flight" in capsys.readouterr().out
+    assert "7 file(s) of flight" in capsys.readouterr().out  # the six figures its signals allow, report.html
 
 
 def test_plot_two_runs_on_one_figure(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -59,10 +59,10 @@ def test_plot_two_runs_on_one_figure(tmp_path: Path, capsys: pytest.CaptureFixtu
 
 @pytest.mark.parametrize(("args", "words"), [
     (["{tmp}/missing"], ("no such results folder",)),
-    (["{tmp}"], ("no timeseries.csv",)),
+    (["{tmp}"], ("no timeseries.parquet, timeseries.csv",)),
     (["{run}", "--window", "20", "5"], ("--window 20 5", "T0 < T1")),
     (["{run}", "--window", "100", "200"], ("outside run",)),
-    (["{osc}"], ("nothing to plot",)),
+    (["{osc}", "mass1.y1_m"], ("mass1.y1_m: not recorded", "did you mean mass1.x1_m")),
     (["{run}"] * 5, ("at most 4",)),
 ])
 def test_plot_bad_input_is_one_line_and_exit_1(tmp_path: Path, capsys: pytest.CaptureFixture[str], args: list[str],
@@ -99,7 +99,7 @@ def test_post_run_hook_leaves_a_system_without_mission_signals_alone(
         oscillator: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     out = tmp_path / "out"
     assert main(["run", str(oscillator), "--stop-time", "1", "--out", str(out)]) == 0
-    assert sorted(f.name for f in out.iterdir()) == ["run.json", "timeseries.csv"]
+    assert sorted(f.name for f in out.iterdir()) == ["run.json", "timeseries.parquet"]
     assert "written after the run" not in capsys.readouterr().out
 
 

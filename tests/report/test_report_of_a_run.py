@@ -19,7 +19,7 @@ from openemss.orchestrator.cli import main
 
 ROOT = Path(__file__).resolve().parents[2]
 FIGURES = {"ground_track.png", "altitude_mach.png", "fuel_burned.png", "fuel_flow_tt4.png", "spool_speeds.png",
-           "attitude.png"}
+           "attitude.png", "thrust.png", "sfc_surge_margin.png"}
 
 
 @pytest.fixture()
@@ -59,7 +59,7 @@ def test_run_writes_summary_mission_and_plots(coupled_system: Path, tmp_path: Pa
     assert s["mission_completed"] is False and s["landed"] is False and s["landing"]["airborne"] is True
     assert 1000.0 < s["max_Tt4_K"] < 2000.0
     assert {"surge", "flameout", "overspeed", "Tt41_limit", "N1_limit"} <= set(s["limits_hit"])
-    assert {f.name for f in out.glob("*.png")} == FIGURES
+    assert {f.name for f in out.glob("*.png")} == FIGURES and (out / "report.html").is_file()
 
 
 def test_failed_run_is_summarized_from_what_was_recorded(coupled_system: Path, tmp_path: Path,

@@ -7,7 +7,6 @@ and the fuel burned equals the integral of the recorded fuel flow (mass conserva
 counter integrates the same flow over each step, so they agree to round-off)."""
 from __future__ import annotations
 
-import csv
 import json
 import shutil
 from pathlib import Path
@@ -16,6 +15,7 @@ import numpy as np
 import pytest
 import yaml
 
+from conftest import table
 from openemss.models.fcs.geo import LatLon
 from openemss.models.fcs.mission import load_mission
 from openemss.orchestrator.cli import main
@@ -56,18 +56,13 @@ def test_take_off_one_waypoint_and_landing_through_the_real_fmus(tmp_path: Path,
     assert [x["status"] for x in s["sections"]] == ["completed"] * 4
     # stopped on 08L, within its length and half its width, by the runway's own geometry
     rwy = load_mission(mission).sections[3]["runway"]
-    with open(out / "timeseries.csv", newline="") as f:
-        rows = list(csv.reader(f))
-    head = rows[0]
-    last = rows[-1]
-    lat, lon = float(last[head.index("airframe.lat_deg")]), float(last[head.index("airframe.lon_deg")])
+    data = table(out)
+    lat, lon = float(data["airframe.lat_deg"][-1]), float(data["airframe.lon_deg"][-1])
     along, cross = rwy.local(LatLon.from_deg(lat, lon))
     assert 0.0 < along < rwy.length_m and abs(cross) < rwy.width_m / 2
     assert s["landing"]["runway"] in ("EDDM_08L", "EDDM_26R")  # one strip, named from either end
     # fuel: the engine's counter against the integral of the recorded fuel flow (held over each step)
-    t = np.array([float(r[0]) for r in rows[1:]])
-    wf = np.array([float(r[head.index("engine.fuel_flow_kg_s")]) for r in rows[1:]])
-    burned = np.array([float(r[head.index("engine.fuel_burned_kg")]) for r in rows[1:]])
+    t, wf, burned = data["time_s"], data["engine.fuel_flow_kg_s"], data["engine.fuel_burned_kg"]
     integral = float(np.sum(wf[1:] * np.diff(t)))
     assert burned[-1] - burned[0] == pytest.approx(integral, rel=1e-9)
     assert s["fuel_burned_kg"] == pytest.approx(integral, rel=1e-9) and integral > 10.0

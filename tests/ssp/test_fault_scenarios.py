@@ -10,7 +10,6 @@ on a short mission (take-off from EDDM 26R, then an orbit at 1000 m), through th
 """
 from __future__ import annotations
 
-import csv
 import json
 import shutil
 from pathlib import Path
@@ -19,6 +18,7 @@ import numpy as np
 import pytest
 import yaml
 
+from conftest import table
 from openemss.orchestrator.cli import main
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -57,11 +57,7 @@ def system(tmp_path: Path, project_fmus: dict[str, Path]) -> tuple[Path, Path]:
 
 
 def _read(run: Path) -> dict[str, np.ndarray]:
-    with open(run / "timeseries.csv", newline="") as f:
-        rows = list(csv.reader(f))
-    head, body = rows[0], [r for r in rows[1:] if len(r) == len(rows[0])]
-    conv = {"true": 1.0, "false": 0.0}
-    return {h: np.array([float(conv.get(r[i], r[i])) for r in body]) for i, h in enumerate(head)}
+    return table(run)
 
 
 def _scenario(shipped: str, tmp_path: Path, replace: dict[str, str]) -> Path:

@@ -19,7 +19,10 @@ from pathlib import Path
 
 import pytest
 
+from openemss.orchestrator.cli import main
+from openemss.orchestrator.timeseries import read_timeseries
 from openemss.study.case import CaseDef, CaseResult, run_case
+from openemss.study.dataset import read_study
 from openemss.study.plan import expand_cases
 from openemss.study.runner import run_cases
 from openemss.study.spec import load_study
@@ -59,10 +62,8 @@ def table(path: Path) -> dict[str, dict[str, str]]:
         return {row["case"]: row for row in csv.DictReader(f)}
 
 
-def last_time(path: Path) -> float:
-    with open(path, newline="", encoding="utf-8") as f:
-        rows = list(csv.DictReader(f))
-    return float(rows[-1]["time_s"])
+def last_time(folder: Path) -> float:
+    return float(read_timeseries(folder).data["time_s"][-1])
 
 
 def test_local_cluster_runs_cases_records_a_failure_and_resumes(tmp_path: Path, system: Path) -> None:
@@ -80,10 +81,25 @@ def test_local_cluster_runs_cases_records_a_failure_and_resumes(tmp_path: Path, 
         folder = out / "cases" / name
         # each case ran with its own parameter values (as the run itself reports them), to the stop time
         assert json.loads((folder / "run.json").read_text())["parameters"]["mass1.m1_kg"] == m1
-        assert last_time(folder / "timeseries.csv") == pytest.approx(STOP_S)
+        assert last_time(folder) == pytest.approx(STOP_S)
         assert float(rows[name]["sim_time_s"]) == pytest.approx(STOP_S)
     # the failing case kept what it recorded: every sample up to t = 0.5 s, where the FMU raised in its step
-    assert last_time(out / "cases" / "broken" / "timeseries.csv") == pytest.approx(0.5)
+    assert last_time(out / "cases" / "broken") == pytest.approx(0.5)
+
+    # one dataset of every case beside study.csv: each case's rows, as its own folder holds them
+    df = read_study(out, columns=["time_s", "mass1.x1_m"])
+    assert set(df["case"].astype(str)) == {"light", "heavy", "broken"}
+    for name in ("light", "heavy", "broken"):
+        own = read_timeseries(out / "cases" / name).data
+        mine = df[df["case"] == name].sort_values("time_s")
+        assert list(mine["time_s"]) == list(own["time_s"]) and list(mine["mass1.x1_m"]) == list(own["mass1.x1_m"])
+    # the heavier mass oscillates more slowly: its x1 differs from the light one's after the start
+    light, heavy = (df[df["case"] == n].sort_values("time_s")["mass1.x1_m"].to_numpy() for n in ("light", "heavy"))
+    assert light[0] == heavy[0] and abs(light[-1] - heavy[-1]) > 1e-3
+    # two cases compared (no mission here: every recorded column), and a case that does not exist refused
+    assert main(["study", "report", str(out), "light", "heavy"]) == 0
+    assert {f.name for f in (out / "compare_light_heavy").iterdir()} == {"variables.png", "report.html"}
+    assert main(["study", "report", str(out), "light", "hevy"]) == 1
 
     stream = open(os.devnull, "w")  # noqa: SIM115 - closed below
     again = run_cases(expand_cases(load_study(tmp_path / "small.yaml")), out, workers=2, stream=stream)
@@ -99,7 +115,7 @@ def test_changed_definition_runs_again(tmp_path: Path, system: Path) -> None:
     path.write_text(path.read_text().replace(f"stop_time_s: {STOP_S}", "stop_time_s: 0.5"), encoding="utf-8")
     again = run_cases(expand_cases(load_study(path)), out, workers=1)
     assert again.ran == ["light"]
-    assert last_time(out / "cases" / "light" / "timeseries.csv") == pytest.approx(0.5)
+    assert last_time(out / "cases" / "light") == pytest.approx(0.5)
 
 
 def crashing_task(case: CaseDef, out: str, attempt: int) -> CaseResult:

@@ -1,0 +1,382 @@
+"""Run a system from Python: ``openemss.run(...)`` returns the time series, the summary and the run record.
+
+The ``emss run`` command is this function with its arguments parsed from the command line
+(:func:`openemss.orchestrator.cli.cmd_run`), and a study's case is ``emss run`` in a child process
+(:mod:`openemss.study.child`): one code path for all three.
+
+Example
+-------
+>>> import openemss
+>>> r = openemss.run("examples/oscillator", stop_time=2.0, out="results/osc")   # doctest: +SKIP
+>>> r.status, len(r.df), r.units["mass1.x1_m"]                                  # doctest: +SKIP
+('completed', 41, 'm')
+"""
+from __future__ import annotations
+
+import difflib
+import math
+import sys
+import tempfile
+import time
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from .build import PACKAGE_ROOT, ensure_built
+from .errors import ConfigurationError, EmssError
+from .execution import Execution
+from .manipulators import INT32_RANGE, ScenarioManipulator, load_scenario
+from .observers import Progress, RealTimePacer, RunRecord
+from .results import ResultsError, ResultsFolder, RunInterrupted, atomic_write, check_name, stop_on_signals
+from .ssp import load_system
+from .ssp_model import SystemDef
+from .system import BoundSystem, bind_system
+from .timeseries import DEFAULT_FORMAT, FILE_NAMES, TimeSeries, default_record, read_timeseries, recorder
+
+if TYPE_CHECKING:
+    import pandas
+
+__all__ = ["run", "RunResult", "load", "DEFAULT_SYSTEM"]
+
+#: The system run without a SYSTEM argument: the project's coupled system in ssp/ (the Munich mission).
+DEFAULT_SYSTEM = PACKAGE_ROOT / "ssp"
+MIN_REALTIME, MAX_REALTIME = 1e-3, 1e6  #: pacing factors allowed (a factor of 1e-300 would sleep for ever)
+ValueT = bool | int | float | str
+
+
+@dataclass
+class RunResult:
+    """What a run left in its results folder, read back.
+
+    Attributes
+    ----------
+    out : Path
+        The results folder.
+    status : str
+        ``completed``, ``failed`` or ``interrupted``.
+    error : str or None
+        The run's one-line error.
+    info : dict
+        ``run.json``.
+    summary : dict or None
+        ``summary.json`` where a plugin wrote one (a mission run).
+    files : list of Path
+        Files the post-run hooks wrote (summary, plots, report.html).
+    post_run_failures : list of str
+        One line per post-run hook that failed.
+    pre_run : list of str
+        The pre-run hooks' warnings (e.g. sections of a mission the aircraft cannot fly).
+    rows : int
+        Rows recorded.
+    stopped_by : str or None
+        The stop condition that ended the run early.
+    exit_code : int
+        What ``emss run`` exits with: 0, 128 + signal when interrupted, 1 when failed.
+    """
+
+    out: Path
+    status: str
+    error: str | None
+    info: dict[str, Any]
+    summary: dict[str, Any] | None = None
+    files: list[Path] = field(default_factory=list)
+    post_run_failures: list[str] = field(default_factory=list)
+    pre_run: list[str] = field(default_factory=list)
+    rows: int = 0
+    stopped_by: str | None = None
+    exit_code: int = 0
+    step_size_s: float = 0.0
+    _ts: TimeSeries | None = None
+
+    @property
+    def timeseries(self) -> TimeSeries:
+        """The recorded time series (typed NumPy arrays, units, descriptions), read once."""
+        if self._ts is None:
+            self._ts = read_timeseries(self.out)
+        return self._ts
+
+    @property
+    def df(self) -> pandas.DataFrame:
+        """The time series as a pandas DataFrame indexed by ``time_s`` (units in ``df.attrs["units"]``)."""
+        return self.timeseries.to_pandas()
+
+    @property
+    def units(self) -> dict[str, str]:
+        return self.timeseries.units
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        """One recorded column (``time_s`` or ``component.variable``) as a NumPy array."""
+        data = self.timeseries.data
+        if name not in data:
+            close = difflib.get_close_matches(name, list(data), n=3)
+            raise KeyError(f"{name!r} was not recorded" + (f"; did you mean {', '.join(close)}?" if close else ""))
+        return data[name]
+
+
+def load(system: Path | str | SystemDef, params: Sequence[Path | str] = (),
+         settings: Mapping[str, Any] | Sequence[str] = (), folder: Path | None = None) -> BoundSystem:
+    """Bind ``system`` (read once, here or by the caller) with its parameter sets and ``settings``
+    (``{"comp.var": value}`` or ``["comp.var=value"]``), typed by the variables they set, written as one
+    more parameter set (``cli_parameters.ssv``) into ``folder`` (the results, so a run records what it
+    was given) and applied last. An unknown name is refused with the closest names of the system."""
+    sysdef = system if isinstance(system, SystemDef) else load_system(Path(system))
+    params = [Path(p) for p in params]
+    model_descriptions: dict[Path, Any] = {}
+    bound = bind_system(sysdef, params, model_descriptions)
+    items = _setting_items(settings)
+    if not items:
+        return bound
+    from lxml import etree
+
+    from .ssp_write import ParameterSet
+
+    values: dict[str, ValueT] = {}
+    every: list[str] | None = None
+    for path, text, item in items:
+        try:
+            _, var = bound.variable(path)
+        except EmssError:
+            every = every or [f"{c.name}.{v}" for c in bound.components for v in c.variables]
+            close = difflib.get_close_matches(path, every, n=3, cutoff=0.6)
+            hint = f"; did you mean {', '.join(close)}?" if close else " (write component.variable with a " \
+                                                                       "component of this system)"
+            raise ConfigurationError(f"--set {item!r}: no variable '{path}'{hint}") from None
+        if not isinstance(text, str):  # a Python value: as it would be written on the command line
+            text = str(text).lower() if isinstance(text, bool) else str(text)
+        values[path] = typed(text, var.type_name, item)
+    target = (folder or Path(tempfile.mkdtemp(prefix="emss-set-"))) / "cli_parameters.ssv"
+    target.parent.mkdir(parents=True, exist_ok=True)
+    atomic_write(target, etree.tostring(ParameterSet("cli_parameters", values).element(), xml_declaration=True,
+                                        encoding="UTF-8", pretty_print=True))
+    return bind_system(sysdef, [*params, target], model_descriptions)
+
+
+def _setting_items(settings: Mapping[str, Any] | Sequence[str]) -> list[tuple[str, Any, str]]:
+    if isinstance(settings, Mapping):
+        return [(str(k).strip(), v, f"{k}={v}") for k, v in settings.items()]
+    out = []
+    for item in settings:
+        path, eq, text = str(item).partition("=")
+        if not eq:
+            raise ConfigurationError(f"--set {item!r}: write component.variable=value")
+        out.append((path.strip(), text.strip(), str(item)))
+    return out
+
+
+def typed(text: str, type_name: str, item: str) -> ValueT:
+    """``text`` as a value of an FMI type; a String that names an existing file becomes its absolute path."""
+    try:
+        if type_name == "Real":
+            value = float(text)
+            if not math.isfinite(value):
+                raise ValueError
+            return value
+        if type_name in ("Integer", "Enumeration"):
+            ivalue = int(text)
+            if not INT32_RANGE[0] <= ivalue <= INT32_RANGE[1]:
+                raise ConfigurationError(f"--set {item!r}: outside the range of an FMI Integer "
+                                         f"({INT32_RANGE[0]} to {INT32_RANGE[1]})")
+            return ivalue
+        if type_name == "Boolean":
+            if text.lower() not in ("true", "false", "1", "0"):
+                raise ValueError
+            return text.lower() in ("true", "1")
+    except ValueError:
+        raise ConfigurationError(f"--set {item!r}: not a valid {type_name} value"
+                                 + (" (a finite number)" if type_name == "Real" else "")) from None
+    return str(Path(text).resolve()) if Path(text).is_file() else text
+
+
+def default_system() -> Path:
+    if not (DEFAULT_SYSTEM / "SystemStructure.ssd").is_file():
+        raise ConfigurationError("no SYSTEM given and the project's system is not available "
+                                 f"({DEFAULT_SYSTEM}); give a system folder, .ssd or .ssp")
+    return DEFAULT_SYSTEM
+
+
+def ensure_project_fmus(system: Path, report: Callable[[str], None] | None = None) -> None:
+    """The project's own systems (ssp/ and its sub-folders, e.g. ssp/hybrid/) get their FMUs built from fmus/
+    when they are missing or stale."""
+    project = PACKAGE_ROOT / "ssp"
+    if system.is_dir() and project.is_dir() and project.resolve() in (system.resolve(), system.resolve().parent):
+        ensure_built(PACKAGE_ROOT / "fmus", system / "resources",
+                     report=report or (lambda m: print(m, file=sys.stderr)))
+
+
+def multiples(items: Mapping[str, int] | Sequence[str]) -> dict[str, int]:
+    from .execution import MAX_STEP_MULTIPLE
+
+    pairs = [f"{k}={v}" for k, v in items.items()] if isinstance(items, Mapping) else list(items)
+    out: dict[str, int] = {}
+    for item in pairs:
+        name, sep, value = item.partition("=")
+        if not sep or not value.strip().isdigit() or not 1 <= int(value) <= MAX_STEP_MULTIPLE:
+            raise ConfigurationError(f"--step-multiple '{item}': expected COMPONENT=N with an integer N from 1 "
+                                     f"to {MAX_STEP_MULTIPLE}")
+        out[name.strip()] = int(value)
+    return out
+
+
+def record_paths(bound: BoundSystem, patterns: Sequence[str] | None, inputs: bool = False) -> list[str]:
+    """The variables to record: ``patterns`` (``component.variable``, wildcards, commas) or, without them,
+    :func:`.timeseries.default_record`."""
+    import fnmatch
+
+    if not patterns:
+        return default_record(bound, inputs)
+    every = [f"{c.name}.{v}" for c in bound.components for v in c.variables]
+    chosen: list[str] = []
+    for pattern in (p.strip() for item in patterns for p in item.split(",") if p.strip()):
+        hits = [p for p in every if fnmatch.fnmatchcase(p, pattern)]
+        if not hits:
+            close = difflib.get_close_matches(pattern, every, n=3)
+            raise ConfigurationError(f"--record '{pattern}' matches no variable (write component.variable; "
+                                     "wildcards * and ? are allowed)" + (f"; did you mean {', '.join(close)}?"
+                                                                         if close else ""))
+        chosen.extend(h for h in hits if h not in chosen)
+    return chosen
+
+
+def _is_variable(bound: BoundSystem, path: str) -> bool:
+    try:
+        _, v = bound.variable(path)
+    except EmssError:
+        return False  # the scenario names it wrongly: its manipulator says so
+    return v.causality == "input" and v.type_name in ("Real", "Integer", "Boolean")
+
+
+def run(system: Path | str | None = None, *, stop_time: float | None = None, params: Sequence[Path | str] = (),
+        set: Mapping[str, Any] | Sequence[str] = (), scenario: Path | str | None = None,  # noqa: A002
+        out: Path | str | None = None, rate: float | None = None, algorithm: str = "jacobi",
+        step_multiple: Mapping[str, int] | Sequence[str] = (), record: Sequence[str] | None = None,
+        record_inputs: bool = False, record_every: int = 1, format: str = DEFAULT_FORMAT,  # noqa: A002
+        until: str | None = None, realtime: float = 0.0, status: str | None = None, pre_run: bool = True,
+        post_run: bool = True, progress: bool = False, warn: Callable[[str], None] | None = None) -> RunResult:
+    """Run a system and return its results (the same run as ``emss run``, same folder, same files).
+
+    Parameters
+    ----------
+    system : path, optional
+        A folder with ``SystemStructure.ssd``, an ``.ssd`` or an ``.ssp`` (default: ``ssp/``, the Munich mission).
+    stop_time : float, optional
+        Stop time [s] (default: the SSD's).
+    params : paths
+        Parameter sets (``.ssv``) applied after the SSD's.
+    set : dict or list of str
+        Parameter values applied last: ``{"engine.preset": "reference_study"}`` or ``["fcs.x=1"]``.
+    scenario : path, optional
+        A scenario file (timed or triggered overrides).
+    out : path, optional
+        Results folder (default ``results/<system>-<time>``).
+    rate, algorithm, step_multiple, realtime, until, status
+        As ``emss run --rate --algorithm --step-multiple --realtime --until --status``.
+    record, record_inputs, record_every, format
+        What to record (default: outputs, and inputs not merely copied from a connected output), every
+        n-th step, in ``parquet`` (default), ``csv`` or ``mat``.
+    pre_run, post_run : bool
+        Run the plugins' checks before and reports after (summary.json, plots, report.html).
+    progress : bool
+        Show the progress bar on stderr (when it is a terminal).
+    warn : callable, optional
+        Receives each warning line (default: printed to stderr).
+
+    Returns
+    -------
+    RunResult
+        Also for a failed or interrupted run (``status``, ``error``; what was recorded is kept).
+
+    Raises
+    ------
+    ConfigurationError
+        For bad input (one line: what, where, what is allowed), before anything runs.
+    """
+    say = warn or (lambda line: print(f"emss run: warning: {line}", file=sys.stderr))
+    system = Path(system) if system is not None else default_system()
+    ensure_project_fmus(system)
+    sysdef = load_system(system)  # the one reading of the SSD in this run
+    if out is None:  # the default folder is named after the system: that name must be one path component
+        name = check_name(str(sysdef.name), "the system's name (the SSD's System name; or give --out)")
+        out = Path("results") / f"{name}-{time.strftime('%Y%m%d-%H%M%S')}"
+    out = Path(out)
+    if not str(out).strip():
+        raise ConfigurationError("--out '': an empty folder name; give the results folder, e.g. results/run1")
+    with ResultsFolder(out):  # locked for this run, cleared of an earlier run's files
+        return _run(system, sysdef, out, stop_time, params, set, scenario, rate, algorithm, step_multiple, record,
+                    record_inputs, record_every, format, until, realtime, status, pre_run, post_run, progress, say)
+
+
+def _run(system: Path, sysdef: SystemDef, out: Path, stop_time: float | None, params: Sequence[Path | str],
+         settings: Mapping[str, Any] | Sequence[str], scenario: Path | str | None, rate: float | None,
+         algorithm: str, step_multiple: Mapping[str, int] | Sequence[str], record: Sequence[str] | None,
+         record_inputs: bool, record_every: int, fmt: str, until: str | None, realtime: float,
+         status: str | None, pre_run: bool, post_run: bool, progress: bool,
+         say: Callable[[str], None]) -> RunResult:
+    from . import hooks
+
+    bound = load(sysdef, params, settings, out)
+    stop = stop_time if stop_time is not None else bound.definition.stop_time_s
+    if stop is None:
+        raise ConfigurationError("no stop time: give --stop-time or a DefaultExperiment stopTime in the SSD")
+    if not isinstance(record_every, int) or record_every < 1:
+        raise ConfigurationError(f"--record-every {record_every}: must be an integer >= 1")
+    events = load_scenario(Path(scenario)) if scenario is not None else []
+    recorded = record_paths(bound, record, record_inputs)
+    if not record:  # an input a scenario overrides no longer copies its connected output: recorded
+        recorded += [p for p in dict.fromkeys(e.path for e in events) if p not in recorded and _is_variable(bound, p)]
+    ex = Execution(bound, rate_hz=rate, algorithm=algorithm, multiples=multiples(step_multiple), record=recorded)
+    if scenario is not None:
+        ex.add_manipulator(ScenarioManipulator(events))
+    condition = hooks.stop_condition(bound, until)
+    if condition:
+        ex.stop_when(condition)
+    if not (realtime == 0 or MIN_REALTIME <= realtime <= MAX_REALTIME):
+        raise ConfigurationError(f"--realtime {realtime}: must be >= 0 (0 = as fast as possible; else "
+                                 f"{MIN_REALTIME:g} to {MAX_REALTIME:g} simulated seconds per wall second)")
+    pacer = RealTimePacer(realtime) if realtime > 0 else None
+    rec = recorder(fmt, out, every=record_every)
+    record_ = RunRecord(out / "run.json", str(system), [str(p) for p in params],
+                        {"system_name": bound.definition.name, "stop_time_s": stop,
+                         "scenario": str(scenario) if scenario else None, "format": fmt},
+                        reporters=[pacer] if pacer else [])
+    record_.add_files([FILE_NAMES[fmt]] + (["cli_parameters.ssv"] if settings else []))
+    bar = Progress(stop, status=hooks.status_variable(bound, status)) if progress else None
+    for o in (pacer, rec, record_, bar):
+        if o is not None:
+            ex.add_observer(o)
+    from .plugins import load_problems
+
+    for line in load_problems:
+        say(line)
+    pre = hooks.pre_run(bound) if pre_run else []
+    for line in pre:
+        say(line)
+    error: BaseException | None = None
+    try:
+        with stop_on_signals(ex.request_stop):
+            ex.run(stop)
+    except (EmssError, KeyboardInterrupt) as exc:
+        error = RunInterrupted(2, ex.time_s) if isinstance(exc, KeyboardInterrupt) else exc
+    written: list[Path] = []
+    failures: list[str] = []
+    if post_run and not isinstance(error, ResultsError):  # what was recorded is on disk
+        written, failures = hooks.post_run(out, error)
+        if written:
+            record_.add_files([f.name for f in written])
+            record_.rewrite()
+    result = RunResult(out, str(record_.info.get("status")), None if error is None else str(error), record_.info,
+                       files=written, post_run_failures=failures, pre_run=pre, rows=rec.rows_written,
+                       stopped_by=ex.stopped_by, step_size_s=ex.step_size_s)
+    summary = out / "summary.json"
+    if any(f.name == summary.name for f in written):
+        import json
+
+        result.summary = json.loads(summary.read_text(encoding="utf-8"))
+    if isinstance(error, RunInterrupted):
+        result.exit_code = error.exit_code
+    elif error is not None:
+        result.exit_code = 1
+    result.info["stats"] = ex.stats()
+    return result

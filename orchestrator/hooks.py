@@ -1,0 +1,97 @@
+"""Calling the plugins' hooks for a run (:mod:`.plugins`): status variable, stop condition, pre- and post-run.
+
+A failing hook never stops the run: it becomes one line saying how it failed.
+"""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from .errors import EmssError
+from .plugins import plugin_name, plugins
+from .system import BoundSystem
+
+#: Exception types that model and plugin commands raise for bad input (one line, no traceback); filled by
+#: the CLI as it registers their commands.
+USER_ERRORS: list[type[Exception]] = []
+
+
+def variables(bound: BoundSystem) -> list[str]:
+    """Every ``component.variable`` of the system."""
+    return [f"{c.name}.{v}" for c in bound.components for v in c.variables]
+
+
+def proposed(bound: BoundSystem, hook: str) -> str | None:
+    """The first non-empty answer of the plugins' ``hook(variables)`` for this system, or None."""
+    every = variables(bound)
+    for module in plugins():
+        propose = getattr(module, hook, None)
+        answer = propose(every) if propose is not None else None
+        if answer:
+            return str(answer)
+    return None
+
+
+def status_variable(bound: BoundSystem, requested: str | None) -> str | None:
+    """The progress bar's status variable: ``requested`` (checked), else the first a plugin proposes."""
+    from .errors import ConfigurationError
+
+    if requested is not None:
+        try:
+            bound.variable(requested)
+        except EmssError:
+            raise ConfigurationError(f"--status '{requested}': no such variable (write component.variable "
+                                     "with a component of this system)") from None
+        return requested
+    return proposed(bound, "status_variable")
+
+
+def stop_condition(bound: BoundSystem, requested: str | None) -> str | None:
+    """``requested`` (``--until``), else the first stop condition a plugin proposes; None for none."""
+    if requested is not None:
+        return None if requested.strip().lower() == "never" else requested
+    return proposed(bound, "stop_condition")
+
+
+def each_hook(hook_name: str, *args: object) -> list[tuple[list[object], str | None]]:
+    """Call every plugin's ``hook_name(*args)``: per plugin that has it, (what it returned, as a list; None)
+    or ([], one line saying how it failed)."""
+    label = hook_name.replace("_", "-")
+    out: list[tuple[list[object], str | None]] = []
+    for module in plugins():
+        hook = getattr(module, hook_name, None)
+        if hook is None:
+            continue
+        try:
+            out.append((list(hook(*args)), None))
+        except (EmssError, *USER_ERRORS) as exc:
+            out.append(([], f"{label} hook '{plugin_name(module)}' failed: {exc}"))
+        except Exception as exc:
+            if os.environ.get("EMSS_DEBUG"):
+                raise
+            out.append(([], f"{label} hook '{plugin_name(module)}' failed: internal error: "
+                            f"{type(exc).__name__}: {exc} (set EMSS_DEBUG=1 for the traceback)"))
+    return out
+
+
+def pre_run(bound: BoundSystem) -> list[str]:
+    """Every plugin's pre-run hook on the bound system: the warning lines, and one line per failed hook."""
+    components = {c.name: c.fmu_path for c in bound.components}
+    parameters = {f"{bound.components[p.component].name}.{p.variable.name}": p.value for p in bound.parameters}
+    lines: list[str] = []
+    for result, failure in each_hook("pre_run", components, parameters):
+        lines.extend(str(line) for line in result)
+        if failure is not None:
+            lines.append(failure)
+    return lines
+
+
+def post_run(out: Path, error: BaseException | None) -> tuple[list[Path], list[str]]:
+    """Every plugin's post-run hook on the results folder: (files written, one line per failure)."""
+    written: list[Path] = []
+    failures: list[str] = []
+    for result, failure in each_hook("post_run", out, error):
+        written.extend(Path(str(f)) for f in result)
+        if failure is not None:
+            failures.append(failure)
+    return written, failures

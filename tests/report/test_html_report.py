@@ -1,0 +1,110 @@
+"""The interactive report (issue 17): report.html of a run and of two runs compared, self-contained and
+offline, loaded in a real headless browser (Debian's Chromium through Playwright): no console error, no
+request leaves the file, the figures are drawn (a screenshot with the plots' pixels), the limits shown.
+
+One run of the shipped system (the Munich mission's first 260 s: take-off, climb, the first N1 limit
+hit), and one of the reference study's engine for the comparison.
+"""
+from __future__ import annotations
+
+import re
+import shutil
+import tempfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from openemss.orchestrator.cli import main
+
+CHROMIUM = Path("/usr/bin/chromium")
+#: Chromium here must not reach for the network (updates, sync, QUIC) and needs no sandbox as root.
+CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+                 "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+STOP_S = "260"
+
+
+@pytest.fixture(scope="module")
+def runs(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
+    base = tmp_path_factory.mktemp("html")
+    a, b = base / "larzac", base / "refstudy"
+    assert main(["run", "--stop-time", STOP_S, "--out", str(a), "--no-pre-run"]) == 0
+    assert main(["run", "--stop-time", STOP_S, "--set", "engine.preset=reference_study", "--out", str(b),
+                 "--no-pre-run"]) == 0
+    return a, b
+
+
+def _load_in_browser(page_path: Path, screenshot: Path) -> dict[str, object]:
+    sync_api = pytest.importorskip("playwright.sync_api")
+    if not CHROMIUM.is_file():
+        pytest.fail(f"{CHROMIUM} missing: apt-get install -y chromium (the CI script installs it)")
+    errors: list[str] = []
+    outside: list[str] = []
+    with sync_api.sync_playwright() as p, tempfile.TemporaryDirectory() as profile:
+        ctx = p.chromium.launch_persistent_context(profile, executable_path=str(CHROMIUM), headless=True,
+                                                   args=CHROMIUM_ARGS, viewport={"width": 1400, "height": 2400})
+        try:
+            page = ctx.new_page()
+            page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+            page.on("pageerror", lambda e: errors.append(str(e)))
+
+            def route(r: object) -> None:
+                url = r.request.url  # type: ignore[attr-defined]
+                if url.startswith("file:"):
+                    r.continue_()  # type: ignore[attr-defined]
+                else:
+                    outside.append(url)
+                    r.abort()  # type: ignore[attr-defined]
+
+            page.route("**/*", route)
+            page.goto(page_path.resolve().as_uri())
+            page.wait_for_selector(".js-plotly-plot .main-svg", timeout=60_000)
+            page.wait_for_timeout(1000)
+            plots = page.locator(".js-plotly-plot").count()
+            traces = page.evaluate("Array.from(document.querySelectorAll('.js-plotly-plot')).map(d => d.data.length)")
+            axes = page.evaluate("document.querySelectorAll('.js-plotly-plot')[1].layout.xaxis.matches || 'x'")
+            page.screenshot(path=str(screenshot))
+        finally:
+            ctx.close()
+    return {"errors": errors, "outside": outside, "plots": plots, "traces": traces, "axes": axes}
+
+
+def _drawn(png: Path) -> float:
+    """Fraction of the screenshot's pixels that are neither white nor near-white (the figures' lines, bands)."""
+    from matplotlib.image import imread
+
+    img = imread(str(png))[..., :3]
+    return float(np.mean(np.any(img < 0.9, axis=-1)))
+
+
+def test_report_of_a_run_is_self_contained_and_loads_without_error(runs: tuple[Path, Path], tmp_path: Path) -> None:
+    page = runs[0] / "report.html"
+    text = page.read_text(encoding="utf-8")
+    assert not re.search(r"<script[^>]+src=|<link[^>]+href=", text)  # nothing fetched: plotly.js is inline
+    assert "Ground track" in text and "N1 limit" in text and "Tt41 limit" in text
+    shot = tmp_path / "report.png"
+    seen = _load_in_browser(page, shot)
+    assert seen["errors"] == [] and seen["outside"] == []
+    assert seen["plots"] == 2  # the ground track, and the time panels on one shared time axis
+    assert seen["traces"][1] >= 15  # type: ignore[index]
+    assert _drawn(shot) > 0.02  # a page of text alone: about 0.005
+    keep = Path(tempfile.gettempdir()) / "emss-report-screenshot.png"  # for a look after the test
+    shutil.copy2(shot, keep)
+
+
+def test_comparison_report_of_two_runs(runs: tuple[Path, Path], tmp_path: Path) -> None:
+    out = tmp_path / "cmp"
+    assert main(["plot", str(runs[0]), str(runs[1]), "--out", str(out)]) == 0
+    assert (out / "report.html").is_file() and (out / "thrust.png").is_file()
+    seen = _load_in_browser(out / "report.html", tmp_path / "cmp.png")
+    assert seen["errors"] == [] and seen["outside"] == []
+    one = _load_in_browser(runs[0] / "report.html", tmp_path / "one.png")
+    assert seen["traces"][1] > one["traces"][1]  # type: ignore[index]  # both runs' lines
+
+
+def test_the_run_folder_stays_small(runs: tuple[Path, Path]) -> None:
+    """The mission's results folder at most 30 MB (issue 17): here 260 s of it, scaled to the whole 3302 s."""
+    size = sum(f.stat().st_size for f in runs[0].rglob("*") if f.is_file())
+    series = sum(f.stat().st_size for f in (runs[0] / "timeseries.parquet").rglob("*") if f.is_file())
+    whole = size - series + series * 3302.0 / float(STOP_S)
+    assert whole < 30e6, (size, series)

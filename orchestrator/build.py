@@ -1,7 +1,7 @@
 """`build-fmus`: build FMI 2.0 co-simulation FMUs from pythonfmu slaves.
 
 Each FMU is self-contained. The model code a slave imports (``openemss.models.X``)
-and the helper modules beside it are copied into the FMU's resources under a
+and the helper modules beside it (imported as ``openemss.fmus.X`` or ``X``) are copied into the FMU's resources under a
 package name made of the slave's name and a hash of every file it contains
 (``emss_<slave>_<hash>_lib``); the slave module itself is renamed the same way.
 pythonfmu runs every Python FMU in the host's interpreter and appends the
@@ -111,11 +111,15 @@ def analyse(script: Path) -> SlaveSource:
             top = name.split(".")[0]
             if name.startswith("openemss."):
                 parts = name.split(".")
-                if parts[1] != "models":
-                    raise BuildError(f"{path}: imports '{name}'; an FMU may depend only on openemss.models")
-                if len(parts) > 2 and (MODELS_DIR / parts[2]).is_dir():
-                    packages.add(parts[2])
-                continue
+                if parts[1] == "fmus" and len(parts) > 2 and (script.parent / f"{parts[2]}.py").is_file():
+                    top = parts[2]  # a helper module beside the slave, imported through the package
+                elif parts[1] != "models":
+                    raise BuildError(f"{path}: imports '{name}'; an FMU may depend only on openemss.models "
+                                     "and on the modules beside it")
+                else:
+                    if len(parts) > 2 and (MODELS_DIR / parts[2]).is_dir():
+                        packages.add(parts[2])
+                    continue
             sibling = script.parent / f"{top}.py"
             if sibling.is_file() and sibling not in seen:
                 seen.add(sibling)
@@ -189,6 +193,8 @@ def _rewrite_imports(code: str, path: Path, lib: str, siblings: set[str]) -> str
     def target(module: str) -> str | None:
         if module == "openemss.models" or module.startswith("openemss.models."):
             return lib + module[len("openemss"):]
+        if module.startswith("openemss.fmus.") and module.split(".")[2] in siblings:
+            return f"{lib}.{module[len('openemss.fmus.'):]}"
         top = module.split(".")[0]
         if top in siblings:
             return f"{lib}.{module}"

@@ -62,6 +62,9 @@ def _pull(rows: tuple[Signal, ...]):  # type: ignore[no-untyped-def]
 
 
 _PULL = {kind: _pull(rows) for kind, rows in _OUTPUTS.items()}
+#: (name, description with unit) of the Real inputs and outputs, in the order of registration
+INPUTS = tuple((s.name, s.described()) for s in SIGNALS if s.causality == "input" and s.type == "Real")
+OUTPUTS = tuple((s.name, s.described()) for s in _OUTPUTS["Real"])
 
 
 class Commands:
@@ -180,6 +183,12 @@ class Fcs(SignalIO, Fmi2Slave):
                             section_name=fcs.runner.active_name, mission_completed=fcs.finished)
 
     def do_step(self, current_time: float, step_size: float) -> bool:
+        if not self.mass_kg > 0.0 or not self.rho_amb_kg_m3 > 0.0:
+            # Not an aircraft's state (a master that starts every input at 0, as FMPy's SSP runner does):
+            # the commands are held and the mission does not advance on it.
+            self.log(f"fcs: t={current_time:.6g} s: inputs are not an aircraft state (mass_kg={self.mass_kg}, "
+                     f"rho_amb_kg_m3={self.rho_amb_kg_m3}); commands held")
+            return True
         lat, lon, alt, tas, gs, psi = self.lat_deg, self.lon_deg, self.alt_msl_m, self.tas_m_s, self.gs_m_s, self.psi_rad
         pos = LatLon.from_deg(lat, lon)
         if self._prev_pos is None or self._prev_h <= 0.0:

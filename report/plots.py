@@ -249,7 +249,7 @@ def plot_runs(runs: Sequence[PlotRun], out: Path, window: tuple[float, float] | 
             f", {window[0]:g} to {window[1]:g} s" if window is not None else ""), [
             ("fuel flow [kg/s]", [("engine", "fuel_flow_kg_s", "fuel flow", _ident),
                                   ("fcs", "fuel_flow_cmd_kg_s", "command", _ident)]),
-            ("temperature [K]", [("engine", "Tt4_K", "Tt4", _ident), ("engine", "T41_K", "T41", _ident)]),
+            ("temperature [K]", [("engine", "Tt4_K", "Tt4", _ident), ("engine", "Tt41_K", "Tt41", _ident)]),
         ], window=window),
         _lines(runs, out / "spool_speeds.png", "Spool speeds", [
             ("spool speed [%]", [("engine", "N1_pct", "N1", _ident), ("engine", "N2_pct", "N2", _ident),

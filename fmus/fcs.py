@@ -42,7 +42,7 @@ from openemss.models.common.signals import Signal
 from openemss.models.fcs.atmosphere import isa, mach_from_tas
 from openemss.models.fcs.errors import FcsError
 from openemss.models.fcs.fcs import FcsOutput, FlightControlSystem
-from openemss.models.fcs.fcs_signals import SIGNALS
+from openemss.models.fcs.fcs_signals import GAIN_DEFAULTS, SIGNALS
 from openemss.models.fcs.geo import LatLon, local_ne_m
 from openemss.models.fcs.mission import Mission, departure_runway, load_mission
 from openemss.models.fcs.state import AircraftState, EngineState
@@ -122,11 +122,11 @@ class Fcs(SignalIO, Fmi2Slave):
         #    names in pythonfmu's structured naming convention; nested=False: no attribute lookup by parts)
         ref = _defaults()
         docs = _parameter_docs(FlightControlSystem.__module__.rpartition(".")[0])
-        self._pending: dict[str, float | bool] = {}
+        self._pending: dict[str, float | bool] = dict(GAIN_DEFAULTS)  # the shipped system's, set at the start
         self._fcs: FlightControlSystem | None = None
         self.gain_names: tuple[str, ...] = ref.parameter_names()
         for pname in self.gain_names:
-            value = ref.get_parameter(pname)
+            value = GAIN_DEFAULTS.get(pname, ref.get_parameter(pname))
             desc, unit = docs.get(pname, (f"FCS parameter {pname}", "1"))
             row = Signal(pname, "parameter", unit, desc, "Boolean" if isinstance(value, bool) else "Real",
                          variability="tunable")

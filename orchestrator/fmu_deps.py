@@ -51,7 +51,7 @@ def import_name(req: str) -> str:
 
 def requirements_guard(fmu: str, requirements: tuple[str, ...]) -> str:
     """Python source that checks ``requirements`` (and pythonfmu) before anything is imported."""
-    pairs = tuple((r, import_name(r)) for r in (*requirements, "pythonfmu"))
+    pairs = tuple((r, import_name(r)) for r in (*requirements, "pythonfmu>=0.6.5"))
     return f'''
 # -- added by build-fmus: the FMU's Python requirements, checked before its code is imported ------
 import sys as _emss_sys
@@ -115,11 +115,12 @@ def _closure(requirements: tuple[str, ...]) -> list[metadata.Distribution]:
     return list(found.values())
 
 
-def vendor_packages(requirements: tuple[str, ...], target: Path) -> int:
-    """Copy the installed files of ``requirements`` (with pythonfmu and everything they require) into
-    ``target``; returns the bytes copied."""
+def vendor_packages(requirements: tuple[str, ...], target: Path, also: tuple[str, ...] = ("pythonfmu",),
+                    copy=shutil.copy2) -> int:  # type: ignore[no-untyped-def]
+    """Copy the installed files of ``requirements`` and ``also`` (with everything they require) into
+    ``target`` with ``copy(src, dest)``; returns the bytes copied."""
     total = 0
-    for dist in _closure((*requirements, "pythonfmu")):
+    for dist in _closure((*requirements, *also)):
         for f in dist.files or []:
             rel = Path(str(f))
             if rel.parts and rel.parts[0] == ".." or "__pycache__" in rel.parts or rel.suffix == ".pyc":
@@ -129,7 +130,7 @@ def vendor_packages(requirements: tuple[str, ...], target: Path) -> int:
                 continue
             dest = target / rel
             dest.parent.mkdir(parents=True, exist_ok=True)
-            shutil.copy2(src, dest)
+            copy(src, dest)
             total += src.stat().st_size
     return total
 

@@ -18,6 +18,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from openemss.models.fcs.fcs_signals import GAIN_DEFAULTS
 from openemss.orchestrator.ssp_write import ParameterSet, SystemBuilder, connectors_from_fmu
 
 HERE = Path(__file__).resolve().parent
@@ -50,12 +51,9 @@ FCS_OUT = ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "airbra
            "track_cmd_rad", "section_index", "mission_completed", "fuel_limiter", "vnav_mode", "ils_phase")
 OUTPUTS = {"fcs": FCS_OUT, "engine": ENGINE_OUT, "airframe": AIRFRAME_OUT}
 FMUS = {"fcs": "Fcs.fmu", "engine": "Engine.fmu", "airframe": "Airframe.fmu"}
-# Flight idle of the Larzac-04-sized engines (the fuel controller's lowest N1c demand, and the TECS lever
-# that demands it, N1c_idle / k_delta): 40 % corrected fan speed runs steadily on the engine model from sea
-# level to 7500 m (its lowest steady N1 there: 18 to 30 %) and gives 0.84 kN at 600 m, Mach 0.2 (a
-# 3-degree glide slope needs about 0.9 kN) and -0.2 kN at 7500 m, Mach 0.75. These are the FCS's defaults
-# (models/fcs/data/); the engine parameter sets state them with their engine.
-IDLE = {"fcs.fuel_control.N1c_idle_pct": 40.0, "fcs.tecs.lever_min": 0.40}
+# The flight idle of the Larzac-04-sized engines, which the FCS FMU starts with (models/fcs/fcs_signals.py);
+# the engine parameter sets state it with their engine.
+IDLE = {f"fcs.{k}": v for k, v in GAIN_DEFAULTS.items()}
 
 
 def _add(sys_: SystemBuilder, name: str) -> None:

@@ -14,7 +14,15 @@ from __future__ import annotations
 
 from ..common.signals import Signal, check_table
 
-__all__ = ["SIGNALS"]
+__all__ = ["SIGNALS", "GAIN_DEFAULTS"]
+
+#: The gains whose FMU default is the shipped system's rather than the model's own (``data/*.yaml``, where
+#: the flight idle is 0: none, for a model used without an engine). Flight idle of the Larzac 04 (the
+#: fuel controller's lowest N1c demand, and the TECS lever that demands it, N1c_idle / k_delta): 40 %
+#: corrected fan speed runs steadily on the engine model from sea level to 7500 m (its lowest steady N1
+#: there: 18 to 30 %) and gives 0.84 kN at 600 m, Mach 0.2 (a 3-degree glide slope needs about 0.9 kN)
+#: and -0.2 kN at 7500 m, Mach 0.75. The engine parameter sets (ssp/*.ssv) state it with their engine.
+GAIN_DEFAULTS: dict[str, float] = {"fuel_control.N1c_idle_pct": 40.0, "tecs.lever_min": 0.40}
 
 
 def _par(name: str, unit: str, description: str, start: float | str, type_: str = "Real",

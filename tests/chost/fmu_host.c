@@ -12,6 +12,7 @@
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <unistd.h>
 #include "fmi2Functions.h"
 
 static void logger(fmi2ComponentEnvironment env, fmi2String name, fmi2Status status, fmi2String category,
@@ -66,12 +67,14 @@ int main(int argc, char **argv) {
         for (int i = 0; i < nvr; i++) printf(" %.17g", vals[i]);
         printf("\n");
     }
-    fmi2Terminate(c);
+    if (fmi2Terminate(c) > fmi2Warning) { fprintf(stderr, "fmu_host: fmi2Terminate failed\n"); return 1; }
     fmi2FreeInstance(c);
-    fflush(stdout);
-    /* The library is not unloaded (dlclose): a pythonfmu FMU leaves Python objects that refer to its
-     * code in the interpreter it started (see tests/thirdparty.py). */
     free(vrs);
     free(vals);
-    return 0;
+    fflush(stdout);
+    fflush(stderr);
+    /* Neither dlclose nor a normal exit: pythonfmu finalizes the interpreter it started from a static
+     * destructor at exit, in its worker thread, where JSBSim's exit handler (the airframe) corrupts the
+     * heap (glibc aborts in _dl_update_slotinfo). _exit ends the process after everything is freed. */
+    _exit(0);
 }

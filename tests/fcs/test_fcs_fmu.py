@@ -196,9 +196,11 @@ def python_reference(rows: list[dict[str, float | bool]], n_steps: int, gains: d
     # the FMU's default first fuel-flow command (its parameter Wf0_kg_s: the shipped system's)
     from openemss.models.fcs.fcs_signals import SIGNALS
 
+    from openemss.models.fcs.fcs_signals import GAIN_DEFAULTS
+
     wf0 = next(float(s.start) for s in SIGNALS if s.name == "Wf0_kg_s")  # type: ignore[arg-type]
     fcs = FlightControlSystem(load_mission(MUNICH), Wf0_kg_s=wf0)
-    for name, value in (gains or {}).items():
+    for name, value in {**GAIN_DEFAULTS, **(gains or {})}.items():  # the FMU's defaults (its flight idle)
         fcs.set_parameter(name, value)
     out: dict[str, list] = {}
     prev = None
@@ -297,9 +299,11 @@ def test_model_description_units_and_every_gain(fmus: Path) -> None:
     ref = FlightControlSystem(load_mission(MUNICH))
     names = ref.parameter_names()
     assert len(names) >= 70
+    from openemss.models.fcs.fcs_signals import GAIN_DEFAULTS
+
     for name in names:
         assert v[name].causality == "parameter" and v[name].variability == "tunable", name
-        default = ref.get_parameter(name)
+        default = GAIN_DEFAULTS.get(name, ref.get_parameter(name))  # the FMU's own: the shipped flight idle
         if isinstance(default, bool):
             assert v[name].type == "Boolean" and (v[name].start in ("true", True)) == default, name
         else:
@@ -552,16 +556,19 @@ def coupled_system(fmus: Path, tmp_path: Path, engine_model: bool = False,  # ty
                    {"N1c0_pct": 25.0})
         conns += [(f"airframe.{n}", f"engine.{n}") for n in AMBIENT] + [("engine.Tt41_K", "fcs.Tt41_K")]
         wf0 = 0.012
-        idle = {}
+        idle = {"fuel_control.N1c_idle_pct": 0.0, "tecs.lever_min": 0.0}  # the stand-in has no flight idle
     folder = tmp_path / "sys"
-    ssd = write_system(folder, fmus, [
-        Comp("fcs", "Fcs.fmu", fcs_connectors(), {"Wf0_kg_s": wf0, **idle}), eng,
+    # one binding per component: libcosim applies only one of a component's ParameterBindings
+    fcs_params: dict[str, float | str] = {"Wf0_kg_s": wf0, **idle}
+    if not whole_mission:
+        fcs_params["mission_file"] = str(short)
+    write_system(folder, fmus, [
+        Comp("fcs", "Fcs.fmu", fcs_connectors(), fcs_params), eng,
         Comp("airframe", "Airframe.fmu", af_conn, {"lat0_deg": p0.lat_deg, "lon0_deg": p0.lon_deg,
                                                     "heading0_deg": math.degrees(rwy.heading_rad),
                                                     "alt0_m": rwy.elevation_m})], conns)
     if whole_mission:
         return folder, load_mission(MUNICH), p0, rwy
-    ssd.write_text(_bind_mission(ssd.read_text(), str(short)))
     return folder, mission, p0, rwy
 
 

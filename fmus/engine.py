@@ -64,8 +64,7 @@ class Engine(SignalIO, Fmi2Slave):
 
     def _inputs(self) -> EngineInputs:
         """The model's inputs, each from the FMU input the signal table names for it."""
-        d = self.__dict__
-        u = {field: d[name] for name, field in _TO_MODEL}
+        u = {field: getattr(self, name) for name, field in _TO_MODEL}
         if self.use_ambient:
             u["alt_m"], u["dT_isa_K"] = condition_from_ambient(self.p_amb_Pa, self.T_amb_K)
         u["distortion_on"] = bool(u["distortion_on"])

@@ -4,7 +4,8 @@ A slave mixes :class:`SignalIO` in before ``Fmi2Slave`` and calls :meth:`SignalI
 with its model's table (:class:`openemss.models.common.signals.Signal` rows). Then:
 
 * parameters and inputs are attributes of the slave under their own names (their start values
-  set from the table); ``set_real`` and the others write a whole batch of them at once;
+  set from the table); the Real inputs are held in one list, ``_u``, behind properties of those
+  names, so that ``set_real`` of all of them is one slice assignment;
 * outputs are read from one sequence per type, held by the slave in ``_y`` (Real), ``_yb``
   (Boolean), ``_yi`` (Integer) and ``_ys`` (String), at the index the table gives (the order of
   the outputs of that type in the table, or the accessor's position in ``vector_fields``);
@@ -19,7 +20,7 @@ batch is resolved once, when the references change, and served in one pass after
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from operator import itemgetter
+from operator import attrgetter, itemgetter
 from typing import Any
 from xml.etree.ElementTree import Element, SubElement
 
@@ -34,13 +35,17 @@ _VARIABILITY = {"fixed": Fmi2Variability.fixed, "tunable": Fmi2Variability.tunab
 _VECTOR = {"Real": "_y", "Boolean": "_yb", "Integer": "_yi", "String": "_ys"}
 
 
-def _picker(idx: list[int]) -> Callable[[Sequence[Any]], Any]:
-    """A function taking a sequence to the list of its items at ``idx``."""
+def _picker(slave: Any, vector: str, idx: list[int]) -> Callable[[], list[Any]]:
+    """A function giving the list of the items at ``idx`` of the slave's output vector ``vector`` (read when
+    called: a slave may replace its vector every step)."""
+    vec = attrgetter(vector)
+    if idx == list(range(len(getattr(slave, vector)))):  # the whole vector, in order
+        return lambda: list(vec(slave))
     if len(idx) == 1:
         i = idx[0]
-        return lambda y: [y[i]]
+        return lambda: [vec(slave)[i]]
     get = itemgetter(*idx)
-    return lambda y: list(get(y))
+    return lambda: list(get(vec(slave)))
 
 
 class SignalIO:
@@ -69,6 +74,20 @@ class SignalIO:
                 vec = _VECTOR[row.type]
                 self.register_signal(row, getter=lambda vec=vec, i=i: getattr(self, vec)[i])
                 self._out_index[row.name] = i
+            elif row.causality == "input" and row.type == "Real":
+                # the Real inputs live in one list, self._u (set in one slice assignment), read by name
+                # through a property of the class
+                if not hasattr(self, "_units"):
+                    self._init_signal_io()
+                j = len(self._u)
+                self._u.append(float(self.__dict__.pop(row.name, row.start if row.start is not None else 0.0)))
+                cls = type(self)
+                if not isinstance(cls.__dict__.get(row.name), property):
+                    setattr(cls, row.name, property(lambda slave, j=j: slave._u[j],
+                                                    lambda slave, x, j=j: slave._u.__setitem__(j, x),
+                                                    doc=row.described()))
+                self.register_signal(row)
+                self._in_index[len(self.vars) - 1] = j
             else:
                 if row.start is not None:
                     setattr(self, row.name, row.start)
@@ -98,74 +117,109 @@ class SignalIO:
         self._out_vr: dict[int, Signal] = {}
         self._out_index: dict[str, int] = {}
         self._attr_vr: dict[int, str] = {}
-        self._plans: dict[str, tuple[list[int], Any, Any]] = {}
+        self._in_index: dict[int, int] = {}  # value reference of a Real input -> its slot in self._u
+        self._u: list[float] = []
+        none: tuple[list[int] | None, Any] = (None, None)
+        self._gr = self._gb = self._gi = self._gs = self._sr = self._sb = self._si = self._ss = none  # plans
         self._y: Sequence[float] = ()
         self._yb: Sequence[bool] = ()
         self._yi: Sequence[int] = ()
         self._ys: Sequence[str] = ()
 
     # -- batched access -----------------------------------------------------------------------
-    def _get_plan(self, kind: str, vrs: list[int]) -> tuple[list[int], Any, Any]:
-        plan = self._plans.get("get" + kind)
-        if plan is not None and plan[0] == vrs:
-            return plan
-        vec = _VECTOR[kind]
+    # A plan is (value references, function): the function serves a call for exactly those references,
+    # and is replaced when a call brings others. Outputs come from the type's vector with one itemgetter,
+    # attributes are written with one __dict__.update; anything else goes through pythonfmu's getters and
+    # setters (the same results as pythonfmu's own methods, one variable at a time).
+    def _check(self, kind: str, vrs: list[int]) -> None:
+        for vr in vrs:
+            if vr not in self.vars or not isinstance(self.vars[vr], _KINDS[kind]):
+                raise TypeError(f"Variable with valueReference={vr} is not of type {kind}!")
+
+    def _get_plan(self, kind: str, vrs: list[int]) -> tuple[list[int], Callable[[], list[Any]]]:
+        self._check(kind, vrs)
         rows = [self._out_vr.get(vr) for vr in vrs]
-        if all(r is not None and r.type == kind for r in rows):
-            plan = (list(vrs), vec, _picker([self._out_index[r.name] for r in rows]))  # type: ignore[union-attr]
-        else:
-            for vr in vrs:
-                if vr not in self.vars or not isinstance(self.vars[vr], _KINDS[kind]):
-                    raise TypeError(f"Variable with valueReference={vr} is not of type {kind}!")
-            plan = (list(vrs), None, [self.vars[vr].getter for vr in vrs])
-        self._plans["get" + kind] = plan
-        return plan
+        if all(r is not None for r in rows):
+            return list(vrs), _picker(self, _VECTOR[kind], [self._out_index[r.name] for r in rows])  # type: ignore[union-attr]
+        getters = [self.vars[vr].getter for vr in vrs]
+        cast = {"Real": float, "Boolean": bool, "Integer": int, "String": str}[kind]
+        return list(vrs), lambda: [cast(g()) for g in getters]
 
-    def _get(self, kind: str, vrs: list[int]) -> list[Any]:
-        _, vec, how = self._get_plan(kind, vrs)
-        if vec is not None:
-            return how(getattr(self, vec))
-        return [g() for g in how]
+    def _set_plan(self, kind: str, vrs: list[int]) -> tuple[list[int], Callable[[list[Any]], None]]:
+        self._check(kind, vrs)
+        slots = [self._in_index.get(vr) for vr in vrs]
+        if kind == "Real" and vrs and all(j is not None for j in slots):
+            u = self._u  # never replaced: the plan may hold it
+            if slots == list(range(len(u))):
+                def every(values: list[float]) -> None:
+                    u[:] = values
+                return list(vrs), every
+            pairs = list(zip(slots, range(len(slots)), strict=True))
 
-    def _set(self, kind: str, vrs: list[int], values: list[Any]) -> None:
-        plan = self._plans.get("set" + kind)
-        if plan is None or plan[0] != vrs:
-            for vr in vrs:
-                if vr not in self.vars or not isinstance(self.vars[vr], _KINDS[kind]):
-                    raise TypeError(f"Variable with valueReference={vr} is not of type {kind}!")
-            names = [self._attr_vr.get(vr) for vr in vrs]
-            plan = (list(vrs), names if all(names) else None, [self.vars[vr].setter for vr in vrs])
-            self._plans["set" + kind] = plan
-        _, names, setters = plan
-        if names is not None:
-            self.__dict__.update(zip(names, values))
-        else:
-            for s, x in zip(setters, values):
-                s(x)
+            def some(values: list[float]) -> None:
+                for j, k in pairs:
+                    u[j] = values[k]
+            return list(vrs), some
+        names = [self._attr_vr.get(vr) for vr in vrs]
+        if len(names) == 1 and names[0]:
+            name = names[0]
+            return list(vrs), lambda values: setattr(self, name, values[0])
+        if all(names):
+            return list(vrs), lambda values: self.__dict__.update(zip(names, values))
+        setters = [self.vars[vr].setter for vr in vrs]
+
+        def each(values: list[Any]) -> None:
+            for f, x in zip(setters, values, strict=True):
+                f(x)
+        return list(vrs), each
 
     def get_real(self, vrs: list[int]) -> list[float]:
-        return self._get("Real", vrs)
+        p = self._gr
+        if p[0] != vrs:
+            p = self._gr = self._get_plan("Real", vrs)
+        return p[1]()
 
     def get_boolean(self, vrs: list[int]) -> list[bool]:
-        return [bool(x) for x in self._get("Boolean", vrs)]
+        p = self._gb
+        if p[0] != vrs:
+            p = self._gb = self._get_plan("Boolean", vrs)
+        return p[1]()
 
     def get_integer(self, vrs: list[int]) -> list[int]:
-        return self._get("Integer", vrs)
+        p = self._gi
+        if p[0] != vrs:
+            p = self._gi = self._get_plan("Integer", vrs)
+        return p[1]()
 
     def get_string(self, vrs: list[int]) -> list[str]:
-        return self._get("String", vrs)
+        p = self._gs
+        if p[0] != vrs:
+            p = self._gs = self._get_plan("String", vrs)
+        return p[1]()
 
     def set_real(self, vrs: list[int], values: list[float]) -> None:
-        self._set("Real", vrs, values)
+        p = self._sr
+        if p[0] != vrs:
+            p = self._sr = self._set_plan("Real", vrs)
+        p[1](values)
 
     def set_boolean(self, vrs: list[int], values: list[bool]) -> None:
-        self._set("Boolean", vrs, [bool(x) for x in values])
+        p = self._sb
+        if p[0] != vrs:
+            p = self._sb = self._set_plan("Boolean", vrs)
+        p[1](values)  # pythonfmu passes Python bools
 
     def set_integer(self, vrs: list[int], values: list[int]) -> None:
-        self._set("Integer", vrs, values)
+        p = self._si
+        if p[0] != vrs:
+            p = self._si = self._set_plan("Integer", vrs)
+        p[1](values)
 
     def set_string(self, vrs: list[int], values: list[str]) -> None:
-        self._set("String", vrs, values)
+        p = self._ss
+        if p[0] != vrs:
+            p = self._ss = self._set_plan("String", vrs)
+        p[1](values)
 
     # -- model description ----------------------------------------------------------------------
     def to_xml(self, model_options: dict[str, str] | None = None) -> Element:

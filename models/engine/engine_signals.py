@@ -1,7 +1,11 @@
 """Signals of the engine in time: inputs, outputs, flags, limits, the handling-bleed valve.
 
-The names and descriptions (with units in brackets) of :data:`OUTPUTS` and :data:`FLAGS`
-are those of the engine FMU's outputs; :class:`EngineInputs` holds its inputs for one step;
+:data:`SIGNALS` is the engine's signal table (``models/common/signals.py``): every variable of the
+engine FMU (parameters, inputs, outputs, flags) with its unit and default, one row each; the FMU
+(``fmus/engine.py``) registers its variables from it and ``ssp/generate.py`` takes the system's
+connectors from the FMU. :data:`OUTPUTS` and :data:`FLAGS` (name, description with unit) are its
+Real and Boolean outputs in the order the model fills :attr:`EngineModel.values` and ``flags``;
+:class:`EngineInputs` holds the model's inputs for one step;
 :func:`condition_from_ambient` turns an ambient static state into the flight condition of
 the atmosphere model. Used by :mod:`.engine_model`.
 

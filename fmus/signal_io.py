@@ -20,6 +20,7 @@ batch is resolved once, when the references change, and served in one pass after
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from functools import partial
 from operator import attrgetter, itemgetter
 from typing import Any
 from xml.etree.ElementTree import Element, SubElement
@@ -87,7 +88,9 @@ class SignalIO:
                                                     lambda slave, x, j=j: slave._u.__setitem__(j, x),
                                                     doc=row.described()))
                 self.register_signal(row)
-                self._in_index[len(self.vars) - 1] = j
+                vr = len(self.vars) - 1
+                self._in_index[vr] = j
+                del self._attr_vr[vr]  # a property, not an entry of the instance's __dict__
             else:
                 if row.start is not None:
                     setattr(self, row.name, row.start)
@@ -166,7 +169,8 @@ class SignalIO:
             return list(vrs), lambda values: setattr(self, name, values[0])
         if all(names):
             return list(vrs), lambda values: self.__dict__.update(zip(names, values))
-        setters = [self.vars[vr].setter for vr in vrs]
+        setters = [partial(self._u.__setitem__, self._in_index[vr]) if vr in self._in_index else self.vars[vr].setter
+                   for vr in vrs]
 
         def each(values: list[Any]) -> None:
             for f, x in zip(setters, values, strict=True):

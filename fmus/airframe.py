@@ -51,12 +51,12 @@ class Airframe(SignalIO, Fmi2Slave):
     def __init__(self, **kwargs) -> None:  # type: ignore[no-untyped-def]
         super().__init__(**kwargs)
         rwy = departure_runway(load_mission(data_file(DEFAULT_MISSION)))
-        self.lat0_deg, self.lon0_deg = rwy.threshold.lat_deg, rwy.threshold.lon_deg
-        self.heading0_deg = math.degrees(rwy.heading_rad)
-        self.alt0_m = self.ground_elevation_m = rwy.elevation_m
         self._trim = [0.0, 0.0]
         self._model: AirframeModel | None = None
-        self.register_signals(SIGNALS, {"Real": (*STATE_FIELDS, *_TRIM), "Boolean": ("on_ground",)})
+        self.register_signals(SIGNALS, {"Real": (*STATE_FIELDS, *_TRIM), "Boolean": ("on_ground",)},
+                              starts={"lat0_deg": rwy.threshold.lat_deg, "lon0_deg": rwy.threshold.lon_deg,
+                                      "heading0_deg": math.degrees(rwy.heading_rad), "alt0_m": rwy.elevation_m,
+                                      "ground_elevation_m": rwy.elevation_m})
         self._y = [0.0] * (len(STATE_FIELDS) + len(_TRIM))
         self._yb = [True]
 

@@ -113,11 +113,10 @@ class Fcs(SignalIO, Fmi2Slave):
     def __init__(self, **kwargs) -> None:  # type: ignore[no-untyped-def]
         super().__init__(**kwargs)
         rwy = departure_runway(load_mission(data_file(DEFAULT_MISSION)))  # the inputs start on it
-        self.lat_deg, self.lon_deg = rwy.threshold.lat_deg, rwy.threshold.lon_deg
-        self.alt_msl_m, self.psi_rad = rwy.elevation_m, rwy.heading_rad
         self.out: FcsOutput | None = None
         self.cmd = Commands()
-        self.register_signals(SIGNALS)
+        self.register_signals(SIGNALS, starts={"lat_deg": rwy.threshold.lat_deg, "lon_deg": rwy.threshold.lon_deg,
+                                               "alt_msl_m": rwy.elevation_m, "psi_rad": rwy.heading_rad})
         # -- gains: every tunable parameter of the FCS under its dotted name of the Python API (valid FMI
         #    names in pythonfmu's structured naming convention; nested=False: no attribute lookup by parts)
         ref = _defaults()

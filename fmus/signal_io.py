@@ -54,7 +54,8 @@ class SignalIO:
 
     vars: dict[int, Any]
 
-    def register_signals(self, rows: Sequence[Signal], vector_fields: dict[str, Sequence[str]] | None = None) -> None:
+    def register_signals(self, rows: Sequence[Signal], vector_fields: dict[str, Sequence[str]] | None = None,
+                         starts: dict[str, Any] | None = None) -> None:
         """Register ``rows`` as FMI variables.
 
         Parameters
@@ -65,7 +66,12 @@ class SignalIO:
             Per type (``Real``...), the names of the slots of the slave's output vector of that
             type: an output's index is the position of its accessor there. Without it, the outputs
             of a type are their vector's slots in table order.
+        starts : dict, optional
+            Start values that replace the table's (computed by the slave, e.g. from its data files).
+            A Real input is a property of the class once one instance has registered it: give its start
+            here, never as an attribute set before this call.
         """
+        starts = starts or {}
         counts = dict.fromkeys(_KINDS, 0)
         for row in rows:
             if row.causality == "output":
@@ -81,7 +87,8 @@ class SignalIO:
                 if not hasattr(self, "_units"):
                     self._init_signal_io()
                 j = len(self._u)
-                self._u.append(float(self.__dict__.pop(row.name, row.start if row.start is not None else 0.0)))
+                start = starts.get(row.name, row.start)
+                self._u.append(float(start if start is not None else 0.0))
                 cls = type(self)
                 if not isinstance(cls.__dict__.get(row.name), property):
                     setattr(cls, row.name, property(lambda slave, j=j: slave._u[j],
@@ -92,8 +99,9 @@ class SignalIO:
                 self._in_index[vr] = j
                 del self._attr_vr[vr]  # a property, not an entry of the instance's __dict__
             else:
-                if row.start is not None:
-                    setattr(self, row.name, row.start)
+                start = starts.get(row.name, row.start)
+                if start is not None:
+                    setattr(self, row.name, start)
                 self.register_signal(row)
 
     def register_signal(self, row: Signal, getter: Callable[[], Any] | None = None,

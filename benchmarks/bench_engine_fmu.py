@@ -133,7 +133,7 @@ def _fmu_case(steps: int, repeat: int) -> tuple[float, float] | str:
         (folder / "resources").mkdir(parents=True)
         shutil.copy2(fmu, folder / "resources" / fmu.name)
         comp = Comp("engine", fmu.name, [("thrust_N", "output", "Real"), ("N1_rpm", "output", "Real")],
-                    {"alt_m": ALT_M, "mach": MACH, "start_fuel_flow_kg_s": float(pt.Wf_kg_s)})
+                    {"alt_msl_m": ALT_M, "mach": MACH, "start_fuel_flow_kg_s": float(pt.Wf_kg_s)})
         write_system(folder, fmu.parent, [comp], [], copy_fmus=False)
         def run(n: int) -> float:
             t0 = time.perf_counter()

@@ -1,7 +1,7 @@
 """`build-fmus`: build FMI 2.0 co-simulation FMUs from pythonfmu slaves.
 
 Each FMU is self-contained. The model code a slave imports (``openemss.models.X``)
-and the helper modules beside it are copied into the FMU's resources under a
+and the helper modules beside it (imported as ``openemss.fmus.X`` or ``X``) are copied into the FMU's resources under a
 package name made of the slave's name and a hash of every file it contains
 (``emss_<slave>_<hash>_lib``); the slave module itself is renamed the same way.
 pythonfmu runs every Python FMU in the host's interpreter and appends the
@@ -39,11 +39,14 @@ from fmpy.validation import validate_fmu
 from lxml import etree
 
 from .errors import BuildError, EmssError
+from .fmu_deps import insert_guard, link_libpython, requirements_guard, vendor_packages
 
 PACKAGE_ROOT = Path(__file__).resolve().parent.parent  # folder holding orchestrator/, models/, fmus/
 MODELS_DIR = PACKAGE_ROOT / "models"
 DEFAULT_SOURCE_DIR = PACKAGE_ROOT / "fmus"
 BUILD_INFO = "openemss_build.json"
+#: pythonfmu runs the slave in the host's interpreter: the host needs it too (requirements.txt lists it)
+PYTHONFMU_REQUIREMENT = "pythonfmu>=0.6.5"
 
 
 @dataclass(frozen=True)
@@ -111,11 +114,15 @@ def analyse(script: Path) -> SlaveSource:
             top = name.split(".")[0]
             if name.startswith("openemss."):
                 parts = name.split(".")
-                if parts[1] != "models":
-                    raise BuildError(f"{path}: imports '{name}'; an FMU may depend only on openemss.models")
-                if len(parts) > 2 and (MODELS_DIR / parts[2]).is_dir():
-                    packages.add(parts[2])
-                continue
+                if parts[1] == "fmus" and len(parts) > 2 and (script.parent / f"{parts[2]}.py").is_file():
+                    top = parts[2]  # a helper module beside the slave, imported through the package
+                elif parts[1] != "models":
+                    raise BuildError(f"{path}: imports '{name}'; an FMU may depend only on openemss.models "
+                                     "and on the modules beside it")
+                else:
+                    if len(parts) > 2 and (MODELS_DIR / parts[2]).is_dir():
+                        packages.add(parts[2])
+                    continue
             sibling = script.parent / f"{top}.py"
             if sibling.is_file() and sibling not in seen:
                 seen.add(sibling)
@@ -189,6 +196,8 @@ def _rewrite_imports(code: str, path: Path, lib: str, siblings: set[str]) -> str
     def target(module: str) -> str | None:
         if module == "openemss.models" or module.startswith("openemss.models."):
             return lib + module[len("openemss"):]
+        if module.startswith("openemss.fmus.") and module.split(".")[2] in siblings:
+            return f"{lib}.{module[len('openemss.fmus.'):]}"
         top = module.split(".")[0]
         if top in siblings:
             return f"{lib}.{module}"
@@ -226,7 +235,7 @@ def _check_relative_only(pkg_dir: Path) -> None:
                                  f"(found absolute import of '{name}')")
 
 
-def _stage(src: SlaveSource, digest: str, stage: Path) -> tuple[Path, list[Path]]:
+def _stage(src: SlaveSource, digest: str, stage: Path, options: dict[str, bool]) -> tuple[Path, list[Path]]:
     """Lay out the slave, its vendored code and metadata in ``stage``; return script and project files."""
     lib = f"emss_{src.name}_{digest[:10]}_lib"
     lib_dir = stage / lib
@@ -243,15 +252,18 @@ def _stage(src: SlaveSource, digest: str, stage: Path) -> tuple[Path, list[Path]
                             ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))
         _check_relative_only(lib_dir / "models")
     script = stage / f"emss_{src.name}_{digest[:10]}.py"
-    script.write_text(_rewrite_imports(src.script.read_text(encoding="utf-8"), src.script, lib, sibling_names))
+    code = _rewrite_imports(src.script.read_text(encoding="utf-8"), src.script, lib, sibling_names)
+    script.write_text(insert_guard(code, requirements_guard(fmu_name(src.script), src.requirements)))
     req = stage / "requirements.txt"
-    req.write_text("".join(f"{r}\n" for r in src.requirements))
+    req.write_text("".join(f"{r}\n" for r in (*src.requirements, PYTHONFMU_REQUIREMENT)))
     info = stage / BUILD_INFO
     from . import __version__
 
-    info.write_text(json.dumps({"source": src.script.name, "source_sha256": digest, "openemss": __version__},
-                               indent=2))
-    project = [lib_dir, req, info]
+    record = {"source": src.script.name, "source_sha256": digest, "openemss": __version__, **options}
+    if options.get("vendor"):
+        record["vendored_bytes"] = vendor_packages(src.requirements, stage / "vendor")
+    info.write_text(json.dumps(record, indent=2))
+    project = [lib_dir, req, info, *([stage / "vendor"] if options.get("vendor") else [])]
     for f in src.data_files:  # pythonfmu copies a project folder under its own name into resources/
         top = Path(f).parts[0]
         (stage / f).parent.mkdir(parents=True, exist_ok=True)
@@ -292,25 +304,35 @@ def _add_initial_unknowns(fmu: Path) -> None:
     tmp.replace(fmu)
 
 
-def built_hash(fmu: Path) -> str | None:
-    """The source hash recorded in a built FMU, or None."""
+def build_info(fmu: Path) -> dict:  # type: ignore[type-arg]
+    """What ``build-fmus`` recorded in a built FMU (source hash, options), or {}."""
     try:
         with zipfile.ZipFile(fmu) as zf:
-            return json.loads(zf.read(f"resources/{BUILD_INFO}"))["source_sha256"]
+            return dict(json.loads(zf.read(f"resources/{BUILD_INFO}")))
     except (OSError, KeyError, ValueError, zipfile.BadZipFile):
-        return None
+        return {}
 
 
-def build_fmu(script: Path, out_dir: Path) -> Path:
-    """Build one FMU from a slave script into ``out_dir``; returns the FMU path."""
+def built_hash(fmu: Path) -> str | None:
+    """The source hash recorded in a built FMU, or None."""
+    return build_info(fmu).get("source_sha256")
+
+
+def build_fmu(script: Path, out_dir: Path, vendor: bool = False, link: bool = False) -> Path:
+    """Build one FMU from a slave script into ``out_dir``; returns the FMU path.
+
+    ``vendor`` bundles its Python packages (and links libpython); ``link`` makes its binary need the
+    building interpreter's libpython, for hosts that are not Python (see :mod:`.fmu_deps`).
+    """
     src = analyse(script)
     digest = source_hash(src)
+    options = {"vendor": vendor, "link_libpython": vendor or link}
     out_dir = Path(out_dir).resolve()
     out_dir.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="emss_build_") as tmp:
         stage = Path(tmp) / "stage"
         stage.mkdir()
-        staged, project_files = _stage(src, digest, stage)
+        staged, project_files = _stage(src, digest, stage, options)
         dest = Path(tmp) / "out"
         code = ("import sys; from pythonfmu.builder import FmuBuilder; "
                 "p = FmuBuilder.build_FMU(sys.argv[1], dest=sys.argv[2], project_files=sys.argv[3:]); print(p)")
@@ -323,6 +345,8 @@ def build_fmu(script: Path, out_dir: Path) -> Path:
             raise BuildError(f"{script}: pythonfmu could not build the FMU: {lines[-1] if lines else 'no output'}")
         built = Path(proc.stdout.strip().splitlines()[-1])
         _add_initial_unknowns(built)
+        if options["link_libpython"]:
+            link_libpython(built)
         problems = validate_fmu(str(built))
         if problems:
             raise BuildError(f"{script}: the FMU fails 'fmpy validate' ({len(problems)} problem(s)): "
@@ -353,8 +377,10 @@ def fmu_name(script: Path) -> str:
 
 
 def ensure_built(source_dir: Path, out_dir: Path, names: list[str] | None = None, force: bool = False,
-                 report=None) -> list[Path]:  # type: ignore[no-untyped-def]
-    """Build the FMUs of ``source_dir`` that are missing or older than their sources."""
+                 report=None, vendor: bool = False, link: bool = False) -> list[Path]:  # type: ignore[no-untyped-def]
+    """Build the FMUs of ``source_dir`` that are missing or older than their sources (or built with
+    other options)."""
+    wanted = {"vendor": vendor, "link_libpython": vendor or link}
     slaves = discover(source_dir)
     if names:
         unknown = [n for n in names if n not in slaves]
@@ -365,12 +391,14 @@ def ensure_built(source_dir: Path, out_dir: Path, names: list[str] | None = None
     built = []
     for script in slaves.values():
         target = Path(out_dir) / fmu_name(script)
-        if not force and target.is_file() and built_hash(target) == source_hash(analyse(script)):
+        info = build_info(target) if target.is_file() else {}
+        same_options = all(bool(info.get(k, False)) == v for k, v in wanted.items())
+        if not force and same_options and info.get("source_sha256") == source_hash(analyse(script)):
             if report:
                 report(f"up to date: {target}")
             built.append(target)
             continue
-        path = build_fmu(script, out_dir)
+        path = build_fmu(script, out_dir, vendor=vendor, link=link)
         if report:
             report(f"built: {path}")
         built.append(path)
@@ -391,11 +419,18 @@ def main(argv: list[str] | None = None) -> int:
                         help="where to write the FMUs (default: ssp/resources/, where emss run builds and finds "
                              "them)")
     parser.add_argument("--force", action="store_true", help="rebuild even when up to date")
+    parser.add_argument("--vendor", action="store_true",
+                        help="bundle the FMU's Python packages (for this platform and Python version) inside it, "
+                             "so that the target needs only a CPython of the same version; implies --link-libpython")
+    parser.add_argument("--link-libpython", action="store_true",
+                        help="make the FMU's binary need this Python's shared libpython, so that hosts that are "
+                             "not Python (a C program) can load it without preloading libpython")
     args = parser.parse_args(argv)
     try:
         if not args.src.is_dir():
             raise BuildError(f"source folder {args.src} does not exist")
-        paths = ensure_built(args.src, args.out, args.names or None, args.force, report=print)
+        paths = ensure_built(args.src, args.out, args.names or None, args.force, report=print, vendor=args.vendor,
+                             link=args.link_libpython)
         if not paths:
             print(f"no pythonfmu slaves found in {args.src}")
     except EmssError as exc:

@@ -352,10 +352,31 @@ def cmd_validate(args: argparse.Namespace) -> int:
         problems = _fmu_problems(bound)
     except SystemStructureError as exc:
         problems = exc.problems
+        bound = None
     for p in problems:
         print(p)
-    print(f"{len(problems)} problem(s) found in {args.system or api.DEFAULT_SYSTEM}", file=sys.stderr)
+    warnings = binding_warnings(bound) if bound is not None else []
+    for w in warnings:
+        print(w)
+    print(f"{len(problems)} problem(s) found in {args.system or api.DEFAULT_SYSTEM}"
+          + (f"; {len(warnings)} warning(s)" if warnings else ""), file=sys.stderr)
     return min(len(problems), 125)
+
+
+def binding_warnings(bound: BoundSystem) -> list[str]:
+    """One warning per parameter binding whose value differs from the FMU's default (its start value):
+    a tool that applies no bindings (FMPy's SSP runner, a container without them) runs the default."""
+    out = []
+    for a in bound.parameters:
+        v, start = a.variable, a.variable.start
+        if start is None:
+            continue
+        same = (math.isclose(float(a.value), float(start), rel_tol=1e-12, abs_tol=0.0)
+                if v.type_name == "Real" else str(a.value).lower() == str(start).lower())
+        if not same:
+            out.append(f"{a.where}: warning: {bound.components[a.component].name}.{v.name} = {a.value!r} differs "
+                       f"from the FMU's default {start!r}: a tool that applies no bindings runs the default")
+    return out
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -56,7 +56,7 @@ def electric_summary(run: RunData) -> dict[str, Any] | None:
     V, I = _col(run, "battery_V"), _col(run, "battery_A")
     lp, hp, load = _col(run, "offtake_lp_W"), _col(run, "offtake_hp_W"), _col(run, "load_W")
     E = {key: _col(run, name) for key, name in _COUNTERS}
-    out: dict[str, Any] = {"component": run.roles.electric, "mass_kg": float(_col(run, "mass_kg")[-1])}
+    out: dict[str, Any] = {"component": run.roles.electric, "mass_kg": float(_col(run, "added_mass_kg")[-1])}
     kmin = int(np.argmin(soc))
     out["soc"] = {"start": float(soc[0]), "end": float(soc[-1]), "min": float(soc[kmin]),
                   "min_time_s": float(t[kmin]), "max": float(np.max(soc))}

@@ -329,7 +329,7 @@ def plot_runs(runs: Sequence[PlotRun], out: Path, window: tuple[float, float] | 
             ("fuel flow [kg/s]", [("engine", "fuel_flow_kg_s", "fuel flow", _ident),
                                   ("fcs", "fuel_flow_cmd_kg_s", "fuel flow command", _ident)]),
             ("temperature [K]", [("engine", "Tt4_K", "Tt4 burner exit", _ident),
-                                 ("engine", "T41_K", "T41 HPT rotor inlet", _ident)]),
+                                 ("engine", "Tt41_K", "Tt41 HPT rotor inlet", _ident)]),
         ], window=window, limits=((), ("Tt41_max",))),
         _lines(runs, out / "thrust.png", "Thrust", [
             ("thrust [kN]", [("engine", "thrust_N", "net thrust", _kilo), ("engine", "gross_thrust_N", "gross thrust",

@@ -3,8 +3,9 @@
     build-fmus --out ssp/resources && python ssp/generate.py
 
 writes ``SystemStructure.ssd`` (engine, airframe and flight control wired
-together, every connector taken from its FMU's modelDescription.xml with the unit
-its description states) and the parameter sets ``engine_larzac04.ssv``,
+together name to name, every connector taken from its FMU's modelDescription.xml with its FMI
+unit, the units defined as the FMUs' UnitDefinitions; no parameter bound: the FMUs' defaults are
+the shipped configuration) and the parameter sets ``engine_larzac04.ssv``,
 ``engine_reference_study.ssv``, ``engine_redesigned.ssv`` (the lowest-SFC engine of the
 cycle study; ``emss run --params ssp/engine_redesigned.ssv`` flies it),
 ``aircraft_mtow.ssv`` (2100 kg: full tank), ``aircraft_half_fuel.ssv`` (1800 kg) and
@@ -16,29 +17,32 @@ files cannot drift from them.
 """
 from __future__ import annotations
 
-import re
 import sys
 from pathlib import Path
 
+from openemss.models.fcs.fcs_signals import GAIN_DEFAULTS
 from openemss.orchestrator.ssp_write import ParameterSet, SystemBuilder, connectors_from_fmu
 
 HERE = Path(__file__).resolve().parent
 RESOURCES = HERE / "resources"
 STEP_S = 0.05  # 20 Hz, the reference system's rate
 
-# airframe outputs the flight control reads, under the same names on both sides
-AIRFRAME_TO_FCS = ("lat_deg", "lon_deg", "alt_msl_m", "tas_m_s", "gs_m_s", "vs_m_s", "phi_rad", "theta_rad",
-                   "psi_rad", "p_rad_s", "q_rad_s", "r_rad_s", "beta_rad", "rho_amb_kg_m3", "mass_kg", "on_ground")
-FCS_TO_AIRFRAME = ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "airbrake_norm", "brakes_norm",
-                   "steering_norm", "gear_down")
-ENGINE_TO_AIRFRAME = ("thrust_N", "fuel_flow_kg_s")
-# (start, end): names that differ between the two sides
-RENAMED = (("airframe.alt_msl_m", "engine.alt_m"), ("airframe.mach", "engine.mach"),
-           ("engine.N1_pct", "fcs.N1_pct"), ("engine.N1c_pct", "fcs.N1c_pct"),
-           ("engine.T41_K", "fcs.Tt41_K"),  # the engine's rotor inlet temperature is the limit the FCS watches
-           ("fcs.fuel_flow_cmd_kg_s", "engine.fuel_flow_cmd_kg_s"))
+# What each component's inputs are connected to: every input takes the output of the same name (one
+# name per quantity, from the models' signal tables), from the component named here.
+SOURCES = {
+    "fcs": {"airframe": ("lat_deg", "lon_deg", "alt_msl_m", "tas_m_s", "gs_m_s", "vs_m_s", "phi_rad", "theta_rad",
+                         "psi_rad", "p_rad_s", "q_rad_s", "r_rad_s", "beta_rad", "rho_amb_kg_m3", "mass_kg",
+                         "on_ground"),
+            "engine": ("N1_pct", "N1c_pct", "Tt41_K")},
+    "airframe": {"fcs": ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "airbrake_norm",
+                         "brakes_norm", "steering_norm", "gear_down"),
+                 "engine": ("thrust_N", "fuel_flow_kg_s")},
+    "engine": {"fcs": ("fuel_flow_cmd_kg_s",), "airframe": ("alt_msl_m", "mach")},
+}
+# Inputs that are connectors without a connection, so that a scenario that sets them is recorded.
+UNCONNECTED_INPUTS = {"engine": ("distortion_on", "distortion_sector_deg", "distortion_dPt_frac")}
 ENGINE_OUT = ("thrust_N", "gross_thrust_N", "fuel_flow_kg_s", "N1_rpm", "N2_rpm", "N1_pct", "N2_pct", "N1c_pct",
-              "Tt4_K", "T41_K", "Tt21_K", "Tt17_K", "Tt7_K", "Pt3_Pa", "OPR", "BPR", "SM_fan", "SM_hpc",
+              "Tt4_K", "Tt41_K", "Tt21_K", "Tt17_K", "Tt7_K", "Pt3_Pa", "OPR", "BPR", "SM_fan", "SM_hpc",
               "SFC_kg_N_s", "fuel_burned_kg", "surge", "flameout", "overspeed", "solver_failed")
 AIRFRAME_OUT = ("lat_deg", "lon_deg", "alt_msl_m", "alt_agl_m", "tas_m_s", "cas_m_s", "gs_m_s", "mach",
                 "alpha_rad", "beta_rad", "phi_rad", "theta_rad", "psi_rad", "p_rad_s", "q_rad_s", "r_rad_s",
@@ -47,107 +51,86 @@ AIRFRAME_OUT = ("lat_deg", "lon_deg", "alt_msl_m", "alt_agl_m", "tas_m_s", "cas_
 FCS_OUT = ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "airbrake_norm", "brakes_norm",
            "steering_norm", "gear_down", "lever_norm", "fuel_flow_cmd_kg_s", "alt_cmd_m", "tas_cmd_m_s", "mach_cmd",
            "track_cmd_rad", "section_index", "mission_completed", "fuel_limiter", "vnav_mode", "ils_phase")
-# The electrical power system of ssp/hybrid/ (fmus/electric.py): spool speeds, lever and on-ground in; the
-# signed shaft powers to the engine's offtake inputs (> 0 taken from the spool, < 0 delivered: boost) and its
-# mass to the airframe. pulse_load_W stays unconnected, for scenarios to set.
-ELECTRIC_IN = ("N1_rpm", "N2_rpm", "lever_norm", "vs_m_s", "on_ground", "pulse_load_W")
+# The electrical power system of ssp/hybrid/ (fmus/electric.py): spool speeds, lever, vertical speed and
+# on-ground in; the signed shaft powers to the engine's port inputs (> 0 taken from the spool, < 0
+# delivered: boost) and its mass to the airframe. pulse_load_W stays unconnected, for scenarios to set.
+HYBRID_SOURCES = {
+    "electric": {"engine": ("N1_rpm", "N2_rpm"), "fcs": ("lever_norm",), "airframe": ("vs_m_s", "on_ground")},
+    "engine": {"electric": ("offtake_hp_W", "offtake_lp_W")},
+    "airframe": {"electric": ("added_mass_kg",)},
+}
+HYBRID_UNCONNECTED = {"electric": ("pulse_load_W",)}
 ELECTRIC_OUT = ("offtake_hp_W", "offtake_lp_W", "hp_elec_W", "lp_elec_W", "hp_loss_W", "lp_loss_W", "battery_W",
                 "battery_V", "battery_A", "soc", "load_W", "pulse_W", "load_shed_W", "E_shaft_hp_J", "E_shaft_lp_J",
-                "E_elec_hp_J", "E_elec_lp_J", "E_loss_J", "E_batt_J", "E_loads_J", "E_shed_J", "mass_kg",
+                "E_elec_hp_J", "E_elec_lp_J", "E_loss_J", "E_batt_J", "E_loads_J", "E_shed_J", "added_mass_kg",
                 "hp_limited", "lp_limited", "battery_limited", "load_shed", "ems_mode")
 # the engine's shaft ports as applied after its own limits (recorded in the hybrid system)
 ENGINE_PORTS_OUT = ("offtake_hp_applied_W", "offtake_lp_applied_W", "shaft_power_limited")
-ELECTRIC_LINKS = (("engine.N1_rpm", "electric.N1_rpm"), ("engine.N2_rpm", "electric.N2_rpm"),
-                  ("fcs.lever_norm", "electric.lever_norm"), ("airframe.vs_m_s", "electric.vs_m_s"),
-                  ("airframe.on_ground", "electric.on_ground"),
-                  ("electric.offtake_hp_W", "engine.offtake_hp_W"), ("electric.offtake_lp_W", "engine.offtake_lp_W"),
-                  ("electric.mass_kg", "airframe.added_mass_kg"))
-# Flight idle of the Larzac-04-sized engines (the fuel controller's lowest N1c demand, and the TECS lever
-# that demands it, N1c_idle / k_delta): 40 % corrected fan speed runs steadily on the engine model from sea
-# level to 7500 m (its lowest steady N1 there: 18 to 30 %) and gives 0.84 kN at 600 m, Mach 0.2 (a
-# 3-degree glide slope needs about 0.9 kN) and -0.2 kN at 7500 m, Mach 0.75.
-IDLE = {"fcs.fuel_control.N1c_idle_pct": 40.0, "fcs.tecs.lever_min": 0.40}
-# the flight control's first fuel-flow command and the engine's start: steady at 60 % N1, sea level static
-START = {"engine": {"start_N1_pct": 60.0, "preset": "larzac04_sls"},
-         "fcs": {"Wf0_kg_s": 0.07, **{k.partition(".")[2]: v for k, v in IDLE.items()}}}
+OUTPUTS = {"fcs": FCS_OUT, "engine": ENGINE_OUT, "airframe": AIRFRAME_OUT, "electric": ELECTRIC_OUT}
+FMUS = {"fcs": "Fcs.fmu", "engine": "Engine.fmu", "airframe": "Airframe.fmu", "electric": "Electric.fmu"}
+# The flight idle of the Larzac-04-sized engines, which the FCS FMU starts with (models/fcs/fcs_signals.py);
+# the engine parameter sets state it with their engine.
+IDLE = {f"fcs.{k}": v for k, v in GAIN_DEFAULTS.items()}
 
 
-def _unit(fmu: Path, name: str, unit: str | None) -> str | None:
-    """The unit of a variable: its unit attribute, else the one its description ends with ("[N]")."""
-    if unit is not None:
-        return unit
+def _add(sys_: SystemBuilder, name: str, sources: dict[str, dict[str, tuple[str, ...]]],
+         unconnected: dict[str, tuple[str, ...]], outputs: tuple[str, ...]) -> None:
+    fmu = RESOURCES / FMUS[name]
+    comp = sys_.component(name, f"resources/{FMUS[name]}")
+    inputs = [n for names in sources.get(name, {}).values() for n in names] + list(unconnected.get(name, ()))
+    for n, kind, type_name, unit in connectors_from_fmu(fmu, inputs + list(outputs)):
+        comp.connector(n, kind, type_name, unit if type_name == "Real" else None)
+
+
+def fmu_units() -> dict[str, dict[str, float]]:
+    """The unit definitions of the FMUs (their UnitDefinitions, which the signal tables make)."""
     from fmpy import read_model_description
 
-    md = read_model_description(str(fmu), validate=False)
-    v = next(v for v in md.modelVariables if v.name == name)
-    m = re.search(r"\[([^\]]+)\]\s*$", v.description or "")
-    return None if m is None or m.group(1) == "-" else m.group(1)
+    units: dict[str, dict[str, float]] = {}
+    for f in FMUS.values():
+        if not (RESOURCES / f).is_file():
+            continue
+        for u in read_model_description(str(RESOURCES / f), validate=False).unitDefinitions:
+            b = u.baseUnit
+            exps = {k: getattr(b, k) for k in ("kg", "m", "s", "A", "K", "mol", "cd", "rad")} if b else {}
+            units[u.name] = {**{k: float(v) for k, v in exps.items() if v}, "factor": float(b.factor if b else 1.0),
+                             "offset": float(b.offset if b else 0.0)}
+    return units
 
 
-def _add(sys_: SystemBuilder, name: str, fmu_file: str, names: list[str]) -> None:
-    fmu = RESOURCES / fmu_file
-    comp = sys_.component(name, f"resources/{fmu_file}")
-    for n, kind, type_name, unit in connectors_from_fmu(fmu, names):
-        comp.connector(n, kind, type_name, _unit(fmu, n, unit) if type_name == "Real" else None)
-    if name in START:
-        comp.parameters(dict(START[name]))
+def _merged(a: dict[str, dict[str, tuple[str, ...]]],
+            b: dict[str, dict[str, tuple[str, ...]]]) -> dict[str, dict[str, tuple[str, ...]]]:
+    out = {end: dict(sources) for end, sources in a.items()}
+    for end, sources in b.items():
+        for start, names in sources.items():
+            out.setdefault(end, {})[start] = out.get(end, {}).get(start, ()) + tuple(names)
+    return out
 
 
 def build_system(hybrid: bool = False) -> SystemBuilder:
     """The engine + airframe + flight-control system of the Munich mission; with ``hybrid`` the electrical
-    power system too (``ssp/hybrid/``): its machines on both spools (:data:`ELECTRIC_LINKS`)."""
+    power system too (``ssp/hybrid/``): its machines on both spools (:data:`HYBRID_SOURCES`).
+
+    It binds no parameter: the FMUs' defaults are the shipped configuration (the Larzac 04 starting
+    at 60 % N1, the flight idle, the aircraft on EDDM 26R with 600 kg of fuel), so that a tool that
+    applies no bindings flies the same mission.
+    """
     # the Munich mission takes about 4040 s; emss run ends when the FCS reports it completed
     sys_ = SystemBuilder("openEMSS_hybrid" if hybrid else "openEMSS").experiment(0.0, 5000.0, STEP_S)
-    # the distortion inputs are connectors too (unconnected), so a scenario that sets them is recorded
-    engine_in = ["fuel_flow_cmd_kg_s", "alt_m", "mach", "distortion_on", "distortion_sector_deg",
-                 "distortion_dPt_frac"] + (["offtake_hp_W", "offtake_lp_W"] if hybrid else [])
-    fcs_in = [*AIRFRAME_TO_FCS, "N1_pct", "N1c_pct", "Tt41_K"]
-    airframe_in = [*FCS_TO_AIRFRAME, *ENGINE_TO_AIRFRAME] + (["added_mass_kg"] if hybrid else [])
-    _add(sys_, "fcs", "Fcs.fmu", fcs_in + list(FCS_OUT))
-    _add(sys_, "engine", "Engine.fmu", engine_in + list(ENGINE_OUT) + (list(ENGINE_PORTS_OUT) if hybrid else []))
-    _add(sys_, "airframe", "Airframe.fmu", airframe_in + list(AIRFRAME_OUT))
-    names = ["fcs", "engine", "airframe"]
-    if hybrid:
-        _add(sys_, "electric", "Electric.fmu", list(ELECTRIC_IN) + list(ELECTRIC_OUT))
-        for start, end in ELECTRIC_LINKS:
-            sys_.connect(start, end)
-        names.append("electric")
-    for n in AIRFRAME_TO_FCS:
-        sys_.connect(f"airframe.{n}", f"fcs.{n}")
-    for n in FCS_TO_AIRFRAME:
-        sys_.connect(f"fcs.{n}", f"airframe.{n}")
-    for n in ENGINE_TO_AIRFRAME:
-        sys_.connect(f"engine.{n}", f"airframe.{n}")
-    for start, end in RENAMED:
-        sys_.connect(start, end)
-    for name in names:
-        for unit in sorted({k[3] for c in sys_.components if c.name == name for k in c.connectors if k[3]}):
-            if unit not in sys_.units:
-                sys_.units[unit] = _SI.get(unit, {"factor": 1.0, "offset": 0.0})
+    sources = _merged(SOURCES, HYBRID_SOURCES) if hybrid else SOURCES
+    unconnected = {**UNCONNECTED_INPUTS, **HYBRID_UNCONNECTED} if hybrid else UNCONNECTED_INPUTS
+    outputs = {**OUTPUTS, "engine": ENGINE_OUT + ENGINE_PORTS_OUT} if hybrid else OUTPUTS
+    for name in ("fcs", "engine", "airframe", *(("electric",) if hybrid else ())):
+        _add(sys_, name, sources, unconnected, outputs[name])
+    for end, by_start in sources.items():
+        for start, names in by_start.items():
+            for n in names:
+                sys_.connect(f"{start}.{n}", f"{end}.{n}")
+    used = {k[3] for c in sys_.components for k in c.connectors if k[3]}
+    defs = fmu_units()
+    for unit in sorted(used):
+        sys_.units[unit] = defs[unit]
     return sys_
-
-
-# The units the connectors use, as SSP unit definitions (SI base exponents).
-_SI: dict[str, dict[str, float]] = {
-    "N": {"kg": 1, "m": 1, "s": -2, "factor": 1.0, "offset": 0.0},
-    "kg/s": {"kg": 1, "s": -1, "factor": 1.0, "offset": 0.0},
-    "kg": {"kg": 1, "factor": 1.0, "offset": 0.0},
-    "m": {"m": 1, "factor": 1.0, "offset": 0.0},
-    "m/s": {"m": 1, "s": -1, "factor": 1.0, "offset": 0.0},
-    "rad": {"rad": 1, "factor": 1.0, "offset": 0.0},
-    "rad/s": {"rad": 1, "s": -1, "factor": 1.0, "offset": 0.0},
-    "deg": {"rad": 1, "factor": 0.017453292519943295, "offset": 0.0},
-    "K": {"K": 1, "factor": 1.0, "offset": 0.0},
-    "Pa": {"kg": 1, "m": -1, "s": -2, "factor": 1.0, "offset": 0.0},
-    "kg/m3": {"kg": 1, "m": -3, "factor": 1.0, "offset": 0.0},
-    "rpm": {"rad": 1, "s": -1, "factor": 0.10471975511965977, "offset": 0.0},
-    "%": {"factor": 0.01, "offset": 0.0},
-    "kg/(N s)": {"m": -1, "s": 1, "factor": 1.0, "offset": 0.0},
-    "W": {"kg": 1, "m": 2, "s": -3, "factor": 1.0, "offset": 0.0},
-    "J": {"kg": 1, "m": 2, "s": -2, "factor": 1.0, "offset": 0.0},
-    "V": {"kg": 1, "m": 2, "s": -3, "A": -1, "factor": 1.0, "offset": 0.0},
-    "A": {"A": 1, "factor": 1.0, "offset": 0.0},
-}
 
 
 def redesigned_engine() -> dict[str, bool | float | str]:
@@ -187,7 +170,7 @@ def hybrid_parameter_sets() -> dict[str, ParameterSet]:
 
 
 def main() -> int:
-    missing = [f for f in ("Fcs.fmu", "Engine.fmu", "Airframe.fmu", "Electric.fmu") if not (RESOURCES / f).is_file()]
+    missing = [f for f in FMUS.values() if not (RESOURCES / f).is_file()]
     if missing:
         print(f"generate: build the FMUs first: build-fmus --out {RESOURCES} (missing {', '.join(missing)})",
               file=sys.stderr)

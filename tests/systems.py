@@ -23,11 +23,13 @@ class Comp:
     name: str
     fmu: str
     connectors: list[tuple[str, str, str]]
-    params: dict[str, float | int | bool] = field(default_factory=dict)
+    params: dict[str, float | int | bool | str] = field(default_factory=dict)
 
 
-def _param(name: str, value: float | int | bool) -> str:
-    if isinstance(value, bool):
+def _param(name: str, value: float | int | bool | str) -> str:
+    if isinstance(value, str):
+        typed = f"<ssv:String value={quoteattr(value)}/>"
+    elif isinstance(value, bool):
         typed = f'<ssv:Boolean value="{str(value).lower()}"/>'
     elif isinstance(value, int):
         typed = f'<ssv:Integer value="{value}"/>'

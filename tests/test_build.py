@@ -58,7 +58,7 @@ def test_model_code_and_helpers_are_vendored_under_a_unique_name(slave_dir: Path
     assert f"resources/emss_vendor_probe_{digest[:10]}.py" in names
     assert not any(n.startswith(("resources/models/", "resources/helper_mod")) for n in names)
     z = zipfile.ZipFile(fmu)
-    assert z.read("resources/requirements.txt").decode().split() == ["numpy>=1.24"]
+    assert z.read("resources/requirements.txt").decode().split() == ["numpy>=1.24", "pythonfmu>=0.6.5"]
     assert json.loads(z.read("resources/openemss_build.json"))["source"] == "vendor_probe.py"
 
 

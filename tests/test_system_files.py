@@ -64,7 +64,7 @@ def shipped(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 LIBCOSIM_VARS = ["airframe.alt_msl_m", "airframe.tas_m_s", "airframe.lat_deg", "airframe.theta_rad",
-                 "fcs.fuel_flow_cmd_kg_s", "fcs.elevator_norm", "engine.N1_pct", "engine.thrust_N", "engine.T41_K"]
+                 "fcs.fuel_flow_cmd_kg_s", "fcs.elevator_norm", "engine.N1_pct", "engine.thrust_N", "engine.Tt41_K"]
 
 
 def _run_ours(system: Path, stop_s: float, record: list[str]) -> dict[str, np.ndarray]:
@@ -137,3 +137,60 @@ def test_the_redesigned_engine_set_meets_the_thrust_with_a_better_sfc(shipped: P
     a, b = design(ref), design(new)
     assert b.Fn_N == pytest.approx(ref.Fn_target_N, rel=1e-3)
     assert b.SFC_kg_N_s < a.SFC_kg_N_s and b.BPR > a.BPR and b.OPR > a.OPR
+
+
+def test_the_ssd_binds_nothing_the_fmus_defaults_are_the_shipped_configuration(shipped: Path) -> None:
+    """Issue 16 point 2: the SSD carries no parameter binding, so its FMUs' defaults are what flies; `emss
+    validate` warns for each binding that differs from the FMU's default (naming file:line and value)."""
+    from openemss.orchestrator.cli import binding_warnings
+
+    bound = bind_system(load_system(shipped))
+    assert bound.parameters == [] and binding_warnings(bound) == []
+    warned = binding_warnings(bind_system(load_system(shipped), [shipped / "engine_reference_study.ssv"]))
+    assert len(warned) == 1 and "engine.preset = 'reference_study' differs from the FMU's default 'larzac04_sls'" \
+        in warned[0] and warned[0].startswith(str(shipped / "engine_reference_study.ssv") + ":")
+    # a parameter set that restates a default warns for nothing
+    assert binding_warnings(bind_system(load_system(shipped), [shipped / "engine_larzac04.ssv"])) == []
+
+
+def test_tools_that_apply_no_bindings_fly_the_same_take_off(shipped: Path, tmp_path: Path) -> None:
+    """Issue 16 point 2: FMPy's SSP runner (which applies no binding and starts every input at 0) and a
+    bare coupling of the three FMUs on fmpy's FMU2Slave (no binding, Jacobi, written in thirdparty.py
+    without our orchestrator) fly the first 30 s of the mission as our master does: the altitude at
+    30 s (some 190 m above the runway, climbing at 10 m/s) agrees within 1 m. fmpy's runner feeds zeros
+    in its first step, which the FCS holds through (no aircraft of mass 0), so its flight starts one step
+    later, and it records the outputs of the step from t in the row of t: its row of t = 30 s is the
+    flight at 30 s."""
+    import zipfile
+
+    from thirdparty import run_isolated
+
+    ours = _run_ours(shipped, 30.0, ["airframe.alt_msl_m"])["airframe.alt_msl_m"]
+    at30 = ours[600]
+    assert at30 > 600.0
+    bare = run_isolated("fmpy_bare_system", ssd=str(shipped / "SystemStructure.ssd"), stop_time=30.0,
+                        step_size=0.05, variables=["airframe.alt_msl_m"])
+    assert bare["time"][600] == pytest.approx(30.0)
+    assert abs(bare["airframe.alt_msl_m"][600] - at30) < 1.0
+    archive = tmp_path / "system.ssp"
+    with zipfile.ZipFile(archive, "w") as zf:
+        for f in [shipped / "SystemStructure.ssd", *sorted((shipped / "resources").glob("*.fmu"))]:
+            zf.write(f, f.relative_to(shipped).as_posix())
+    theirs = run_isolated("fmpy_simulate_ssp", archive=str(archive), stop_time=30.05, step_size=0.05,
+                          variables=["time", "airframe.alt_msl_m"])
+    assert theirs["time"][600] == pytest.approx(30.0)
+    assert abs(theirs["airframe.alt_msl_m"][600] - at30) < 1.0
+
+
+@pytest.mark.parametrize("name", ["Engine", "Airframe", "Fcs"])
+def test_every_fmu_alone_gives_finite_outputs(shipped: Path, name: str) -> None:
+    """Issue 16 point 2: each FMU run alone by fmpy.simulate_fmu (its inputs at their start values, no
+    parameter set) gives finite Real outputs over 20 s (the FCS: no NaN for missing targets)."""
+    from thirdparty import run_isolated
+
+    fmu = shipped / "resources" / f"{name}.fmu"
+    outs = [v.name for v in read_model_description(str(fmu)).modelVariables
+            if v.causality == "output" and v.type == "Real"]
+    r = run_isolated("fmpy_simulate_fmu", fmu=str(fmu), outputs=outs, stop_time=20.0, output_interval=0.05)
+    bad = [n for n in outs if not np.all(np.isfinite(r[n]))]
+    assert not bad, bad

@@ -62,7 +62,7 @@ OUTPUTS: tuple[tuple[str, str, str], ...] = (
     ("E_loss_J", "J", "Energy lost in both machines"),
     ("E_batt_J", "J", "Energy the battery delivered to the bus, the sum of V I dt"),
     ("E_loads_J", "J", "Energy the loads demanded"), ("E_shed_J", "J", "Energy of the loads shed"),
-    ("mass_kg", "kg", "Mass of the electrical system (pack, machines, wiring)"),
+    ("added_mass_kg", "kg", "Mass of the electrical system (pack, machines, wiring), added to the airframe"),
 )
 #: Boolean outputs (limits hit in the last step): (name, description).
 FLAGS: tuple[tuple[str, str], ...] = (

@@ -1,7 +1,11 @@
 """Signals of the engine in time: inputs, outputs, flags, limits, the handling-bleed valve.
 
-The names and descriptions (with units in brackets) of :data:`OUTPUTS` and :data:`FLAGS`
-are those of the engine FMU's outputs; :class:`EngineInputs` holds its inputs for one step;
+:data:`SIGNALS` is the engine's signal table (``models/common/signals.py``): every variable of the
+engine FMU (parameters, inputs, outputs, flags) with its unit and default, one row each; the FMU
+(``fmus/engine.py``) registers its variables from it and ``ssp/generate.py`` takes the system's
+connectors from the FMU. :data:`OUTPUTS` and :data:`FLAGS` (name, description with unit) are its
+Real and Boolean outputs in the order the model fills :attr:`EngineModel.values` and ``flags``;
+:class:`EngineInputs` holds the model's inputs for one step;
 :func:`condition_from_ambient` turns an ambient static state into the flight condition of
 the atmosphere model. Used by :mod:`.engine_model`.
 
@@ -15,47 +19,72 @@ ISO 2533:1975, Standard Atmosphere (pressure altitude).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
+from ..common.signals import Signal, check_table
 from .errors import OutOfRangeError
 
-__all__ = ["EngineInputs", "EngineLimits", "BleedValve", "OUTPUTS", "FLAGS", "condition_from_ambient"]
+__all__ = ["EngineInputs", "EngineLimits", "BleedValve", "OUTPUTS", "FLAGS", "SIGNALS", "DESIGN_FIELDS",
+           "condition_from_ambient"]
 
+def _out(name: str, unit: str, description: str) -> Signal:
+    return Signal(name, "output", unit, description)
+
+
+def _flag(name: str, description: str) -> Signal:
+    return Signal(name, "output", "1", description, "Boolean")
+
+
+def _in(name: str, unit: str, description: str, start: float, accessor: str | None) -> Signal:
+    return Signal(name, "input", unit, description, start=start, accessor=accessor)
+
+
+def _par(name: str, unit: str, description: str, start: float | None = None, accessor: str | None = None,
+         type_: str = "Real") -> Signal:
+    return Signal(name, "parameter", unit, description, type_, start, accessor)
+
+
+#: Real outputs, in the order of :attr:`EngineModel.values` (the model fills its vector in this order).
+_OUTPUT_ROWS: tuple[Signal, ...] = (
+    _out("thrust_N", "N", "Net thrust"), _out("gross_thrust_N", "N", "Gross thrust"),
+    _out("ram_drag_N", "N", "Ram drag"), _out("fuel_flow_kg_s", "kg/s", "Fuel flow burnt"),
+    _out("N1_rpm", "rpm", "LP spool speed N1"), _out("N2_rpm", "rpm", "HP spool speed N2"),
+    _out("N1_pct", "%", "LP spool speed N1, percent of design"),
+    _out("N2_pct", "%", "HP spool speed N2, percent of design"),
+    _out("N1c_pct", "%", "N1 corrected to the fan-face temperature, percent of design"),
+    _out("Tt4_K", "K", "Burner exit total temperature Tt4"),
+    _out("Tt41_K", "K", "HPT rotor inlet total temperature Tt41"),
+    _out("Tt21_K", "K", "Fan core exit total temperature Tt21"),
+    _out("Tt17_K", "K", "Bypass nozzle inlet total temperature Tt17"),
+    _out("Tt7_K", "K", "Core nozzle inlet total temperature Tt7"), _out("Pt3_Pa", "Pa", "HPC exit total pressure Pt3"),
+    _out("OPR", "1", "Overall pressure ratio Pt3/Pt2"), _out("BPR", "1", "Bypass ratio"),
+    _out("SM_fan", "1", "Fan surge margin, worst (spoiled) sector"),
+    _out("SM_hpc", "1", "HPC surge margin, worst (spoiled) sector"),
+    _out("SM_fan_clean", "1", "Fan surge margin of the clean sector"),
+    _out("SM_hpc_clean", "1", "HPC surge margin of the clean sector"),
+    _out("SFC_kg_N_s", "kg/(N s)", "Specific fuel consumption, fuel flow over net thrust"),
+    _out("fuel_burned_kg", "kg", "Fuel burned since the start"),
+    _out("dN1_dt_rpm_s", "rpm/s", "LP spool acceleration"), _out("dN2_dt_rpm_s", "rpm/s", "HP spool acceleration"),
+    _out("handling_bleed_frac", "1", "Handling bleed flow over HPC inlet flow"),
+    _out("FAR4", "1", "Burner exit fuel-air ratio"), _out("W2_kg_s", "kg/s", "Engine inlet mass flow"),
+    _out("offtake_hp_applied_W", "W", "HP shaft port power applied after its limits, + taken from the spool, "
+                                      "- delivered to it"),
+    _out("offtake_lp_applied_W", "W", "LP shaft port power applied after its limits, + taken from the spool, "
+                                      "- delivered to it"),
+)
+#: Boolean outputs, in the order of :attr:`EngineModel.flags`.
+_FLAG_ROWS: tuple[Signal, ...] = (
+    _flag("surge", "A compressor sector is beyond its surge line (margin < 0) or the fuel is limited there"),
+    _flag("flameout", "Burner fuel-air ratio below the lean limit, or fuel flow below the minimum"),
+    _flag("overspeed", "N1 or N2 above its limit"),
+    _flag("solver_failed", "The last step could not be matched; the last good state is held"),
+    _flag("fuel_limited", "Fuel flow limited to the largest the gas path can match (surge side of the HPC map)"),
+    _flag("shaft_power_limited", "An HP or LP shaft port power (offtake or assist) was clipped to its limit"),
+)
 #: Real outputs of :attr:`EngineModel.values`, in order: (name, description with unit).
-OUTPUTS: tuple[tuple[str, str], ...] = (
-    ("thrust_N", "Net thrust [N]"), ("gross_thrust_N", "Gross thrust [N]"), ("ram_drag_N", "Ram drag [N]"),
-    ("fuel_flow_kg_s", "Fuel flow burnt [kg/s]"), ("N1_rpm", "LP spool speed N1 [rpm]"),
-    ("N2_rpm", "HP spool speed N2 [rpm]"), ("N1_pct", "LP spool speed N1, percent of design [%]"),
-    ("N2_pct", "HP spool speed N2, percent of design [%]"),
-    ("N1c_pct", "N1 corrected to the fan-face temperature, percent of design [%]"),
-    ("Tt4_K", "Burner exit total temperature Tt4 [K]"), ("T41_K", "HPT rotor inlet total temperature T41 [K]"),
-    ("Tt21_K", "Fan core exit total temperature Tt21 [K]"),
-    ("Tt17_K", "Bypass nozzle inlet total temperature Tt17 [K]"),
-    ("Tt7_K", "Core nozzle inlet total temperature Tt7 [K]"), ("Pt3_Pa", "HPC exit total pressure Pt3 [Pa]"),
-    ("OPR", "Overall pressure ratio Pt3/Pt2 [-]"), ("BPR", "Bypass ratio [-]"),
-    ("SM_fan", "Fan surge margin, worst (spoiled) sector [-]"),
-    ("SM_hpc", "HPC surge margin, worst (spoiled) sector [-]"),
-    ("SM_fan_clean", "Fan surge margin of the clean sector [-]"),
-    ("SM_hpc_clean", "HPC surge margin of the clean sector [-]"),
-    ("SFC_kg_N_s", "Specific fuel consumption, fuel flow over net thrust [kg/(N s)]"),
-    ("fuel_burned_kg", "Fuel burned since the start [kg]"),
-    ("dN1_dt_rpm_s", "LP spool acceleration [rpm/s]"), ("dN2_dt_rpm_s", "HP spool acceleration [rpm/s]"),
-    ("handling_bleed_frac", "Handling bleed flow over HPC inlet flow [-]"),
-    ("FAR4", "Burner exit fuel-air ratio [-]"), ("W2_kg_s", "Engine inlet mass flow [kg/s]"),
-    ("offtake_hp_applied_W", "HP shaft port power applied after its limits, + taken from the spool, - delivered "
-                             "to it [W]"),
-    ("offtake_lp_applied_W", "LP shaft port power applied after its limits, + taken from the spool, - delivered "
-                             "to it [W]"),
-)
+OUTPUTS: tuple[tuple[str, str], ...] = tuple((s.name, s.described()) for s in _OUTPUT_ROWS)
 #: Boolean outputs of :attr:`EngineModel.flags`, in order: (name, description).
-FLAGS: tuple[tuple[str, str], ...] = (
-    ("surge", "A compressor sector is beyond its surge line (margin < 0) or the fuel is limited there [-]"),
-    ("flameout", "Burner fuel-air ratio below the lean limit, or fuel flow below the minimum [-]"),
-    ("overspeed", "N1 or N2 above its limit [-]"),
-    ("solver_failed", "The last step could not be matched; the last good state is held [-]"),
-    ("fuel_limited", "Fuel flow limited to the largest the gas path can match (surge side of the HPC map) [-]"),
-    ("shaft_power_limited", "An HP or LP shaft port power (offtake or assist) was clipped to its limit [-]"),
-)
+FLAGS: tuple[tuple[str, str], ...] = tuple((s.name, s.described()) for s in _FLAG_ROWS)
 
 
 @dataclass(frozen=True)
@@ -203,3 +232,102 @@ def condition_from_ambient(p_Pa: float, T_K: float) -> tuple[float, float]:
     alt = ALT_MIN_M if p >= p_hi else ALT_MAX_M if p <= p_lo else \
         float(brentq(lambda h: isa(h).P_Pa - p, ALT_MIN_M, ALT_MAX_M, xtol=1e-9, rtol=1e-15))
     return alt, T_K - isa(alt).T_K
+
+
+#: Design parameters exposed as ``design_<field>`` (fields of ``TurbofanParams``): (field, unit, description).
+DESIGN_FIELDS: tuple[tuple[str, str, str], ...] = (
+    ("W2_kg_s", "kg/s", "Design inlet mass flow"), ("inlet_pi", "1", "Design intake total-pressure recovery"),
+    ("BPR", "1", "Design bypass ratio"), ("PR_fan_outer", "1", "Design fan outer (bypass) pressure ratio"),
+    ("eta_fan_outer", "1", "Design fan outer isentropic efficiency"),
+    ("PR_fan_inner", "1", "Design fan inner (core) pressure ratio"),
+    ("eta_fan_inner", "1", "Design fan inner isentropic efficiency"), ("PR_hpc", "1", "Design HPC pressure ratio"),
+    ("eta_hpc", "1", "Design HPC isentropic efficiency"), ("Tt4_K", "K", "Design burner exit temperature"),
+    ("eta_burner", "1", "Burner efficiency"), ("dPqP_burner", "1", "Burner relative pressure loss"),
+    ("eta_hpt", "1", "Design HPT isentropic efficiency"), ("eta_lpt", "1", "Design LPT isentropic efficiency"),
+    ("dPqP_21_24", "1", "Fan-HPC duct relative pressure loss"),
+    ("dPqP_44_45", "1", "HPT-LPT duct relative pressure loss"),
+    ("dPqP_5_7", "1", "Jet pipe relative pressure loss"), ("dPqP_13_17", "1", "Bypass duct relative pressure loss"),
+    ("eta_mech_hp", "1", "HP spool mechanical efficiency"), ("eta_mech_lp", "1", "LP spool mechanical efficiency"),
+    ("Cv_core", "1", "Core nozzle velocity coefficient"), ("Cd_core", "1", "Core nozzle discharge coefficient"),
+    ("Cv_bypass", "1", "Bypass nozzle velocity coefficient"), ("Cd_bypass", "1", "Bypass nozzle discharge coefficient"),
+    ("N1_rpm", "rpm", "Design LP spool speed"), ("N2_rpm", "rpm", "Design HP spool speed"),
+)
+
+
+def _defaults(cls: type) -> dict[str, float]:
+    return {f.name: f.default for f in fields(cls)}
+
+
+_LIMITS, _VALVE, _IN = _defaults(EngineLimits), _defaults(BleedValve), _defaults(EngineInputs)
+
+#: The engine's signal table: every variable of the engine FMU, in its order of registration. The
+#: parameters' start values are the shipped configuration (the Larzac 04 at its flight idle start);
+#: a limit's default is its dataclass's (:class:`EngineLimits`, :class:`BleedValve`).
+SIGNALS: tuple[Signal, ...] = check_table((
+    _par("preset", "1", "Engine preset: larzac04_sls or reference_study", "larzac04_sls", type_="String"),
+    _par("design_override", "1", "Use the design_* parameters instead of the preset's values", False,
+         type_="Boolean"),
+    *(_par(f"design_{f}", u, d, None, f) for f, u, d in DESIGN_FIELDS),  # start: the preset's value
+    _par("I_lp_kg_m2", "kg m2", "LP spool polar inertia, 0 = the preset's", 0.0),
+    _par("I_hp_kg_m2", "kg m2", "HP spool polar inertia, 0 = the preset's", 0.0),
+    _par("dt_internal_s", "s", "Largest internal integration step", 0.05),
+    _par("tol", "1", "Gas-path matching tolerance, max residual", 1e-8),
+    # the shipped system's start: steady at 60 % N1 at the flight condition of the start
+    _par("start_N1_pct", "%", "Initial steady N1 if no start fuel flow is given", 60.0),
+    _par("start_fuel_flow_kg_s", "kg/s", "Initial steady fuel flow, used if > 0", 0.0),
+    _par("N1_max_pct", "%", "Overspeed limit of N1", _LIMITS["N1_max_pct"]),
+    _par("N2_max_pct", "%", "Overspeed limit of N2", _LIMITS["N2_max_pct"]),
+    _par("FAR_lean", "1", "Lean flameout limit of the burner fuel-air ratio", _LIMITS["FAR_lean"]),
+    _par("Wf_Pt3_min_frac", "1", "Fuel system minimum-flow stop: burned Wf/Pt3 at least this fraction of the "
+                                 "design point's, 0 = none", _LIMITS["Wf_Pt3_min_frac"]),
+    _par("Wf_decel_max_frac_s", "1/s", "Fuel system decel limit: fastest decrease of the burned fuel flow, "
+                                       "fraction of the design fuel flow per second", _LIMITS["Wf_decel_max_frac_s"]),
+    _par("bleed_threshold_N1c_pct", "%", "Handling bleed switching speed, corrected N1, centre of the band",
+         _VALVE["threshold_N1c_pct"]),
+    _par("bleed_band_pct", "%", "Handling bleed hysteresis band width in corrected N1", _VALVE["band_pct"]),
+    _par("bleed_stroke_s", "s", "Handling bleed valve full-stroke time", _VALVE["stroke_s"]),
+    _par("bleed_open_frac", "1", "Handling bleed flow over HPC inlet flow when open", _VALVE["open_frac"]),
+    _par("offtake_hp_max_W", "W", "Largest power taken from the HP shaft port; beyond it the input is clipped "
+                                  "and shaft_power_limited set", _LIMITS["offtake_hp_max_W"]),
+    _par("offtake_lp_max_W", "W", "Largest power taken from the LP shaft port; beyond it the input is clipped "
+                                  "and shaft_power_limited set", _LIMITS["offtake_lp_max_W"]),
+    _par("assist_hp_max_W", "W", "Largest power delivered to the HP shaft port (motor assist, a positive "
+                                 "number); beyond it clipped and flagged", _LIMITS["assist_hp_max_W"]),
+    _par("assist_lp_max_W", "W", "Largest power delivered to the LP shaft port (motor assist, a positive "
+                                 "number); beyond it clipped and flagged", _LIMITS["assist_lp_max_W"]),
+    _par("critical_angle_deg", "deg", "Critical sector angle of the distortion model", 60.0),
+    _par("linear_input_frac", "1", "Largest relative fuel change taken linearly at a step start, 0 = always "
+                                   "matched", 0.05),
+    _par("integrator", "1", "Integration method: 0 explicit Euler, 1 Heun", 0, type_="Integer"),
+    _par("distortion_target", "1", "Distorted compressor face: 1 fan, 2 HPC, 3 both", 1, type_="Integer"),
+    _par("accept_solver_failure", "1", "Fly on with the last good state held where the gas path cannot be "
+                                       "matched (solver_failed set), instead of failing the step", False,
+         type_="Boolean"),
+    _par("use_ambient", "1", "Flight condition from p_amb_Pa and T_amb_K instead of alt_msl_m and isa_dev_K",
+         False, type_="Boolean"),
+    # inputs: accessor = the field of EngineInputs they fill
+    _in("fuel_flow_cmd_kg_s", "kg/s", "Fuel flow command; <= 0 at the start: the start point's", 0.0, "Wf_kg_s"),
+    _in("alt_msl_m", "m", "Altitude above mean sea level, flown as the ISA geopotential altitude",
+        _IN["alt_m"], "alt_m"),
+    _in("mach", "1", "Flight Mach number", _IN["Mach"], "Mach"),
+    _in("isa_dev_K", "K", "ISA temperature deviation", _IN["dT_isa_K"], "dT_isa_K"),
+    _in("offtake_hp_W", "W", "HP shaft port power, + taken from the spool (offtake, generator), - delivered to "
+                             "it (motor assist)", _IN["offtake_hp_W"], "offtake_hp_W"),
+    _in("offtake_lp_W", "W", "LP shaft port power, + taken from the spool (offtake, generator), - delivered to "
+                             "it (motor assist)", _IN["offtake_lp_W"], "offtake_lp_W"),
+    _in("customer_bleed_frac", "1", "Customer bleed from the HPC exit over HPC inlet flow",
+        _IN["customer_bleed_frac"], "customer_bleed_frac"),
+    _in("distortion_sector_deg", "deg", "Spoiled inlet sector angle", _IN["sector_deg"], "sector_deg"),
+    _in("distortion_dPt_frac", "1", "Total-pressure deficit of the spoiled sector over the clean value",
+        _IN["dPt_frac"], "dPt_frac"),
+    _in("distortion_dTt_K", "K", "Total-temperature excess of the spoiled sector", _IN["dTt_K"], "dTt_K"),
+    # read by the FMU itself (use_ambient), not a field of EngineInputs
+    _in("p_amb_Pa", "Pa", "Ambient static pressure, used with use_ambient", 101325.0, None),
+    _in("T_amb_K", "K", "Ambient static temperature, used with use_ambient", 288.15, None),
+    Signal("distortion_on", "input", "1", "Inlet distortion switched on", "Boolean", _IN["distortion_on"],
+           "distortion_on"),
+    *_OUTPUT_ROWS,
+    *_FLAG_ROWS,
+    Signal("events", "output", "1", "Rising edges of surge, flameout, overspeed, fuel limiting, shaft power "
+           "limiting", "Integer"),
+), "models/engine/engine_signals.py")

@@ -60,7 +60,7 @@ from .tecs import SpeedCommand, SpeedKind
 from .weather import WEATHER_KEYS, Weather, parse_weather
 
 __all__ = ["SECTION_TYPES", "SECTION_FIELDS", "Section", "Mission", "load_mission", "parse_mission",
-           "speed_from_mapping"]
+           "speed_from_mapping", "departure_runway"]
 
 #: The fields of each section type (a view on :data:`.sections.REGISTRY`, where each type's class
 #: declares them): field -> (kind, required, default, (min, max) or choices, unit and help).
@@ -305,3 +305,16 @@ def load_mission(path: str | Path) -> Mission:
 
         return parse_mission(plan_to_yaml(text, str(p)), str(p) + " (converted)")
     return parse_mission(text, str(p))
+
+
+def departure_runway(mission: Mission) -> Any:
+    """The runway of the mission's first section that names one (its take-off roll), or None.
+
+    The FMUs start on it by default (the airframe's position, the flight control's input starts),
+    so that the runway's data are written once, in the mission file.
+    """
+    for s in mission.sections:
+        rwy = s.get("runway")
+        if rwy is not None:
+            return rwy
+    return None

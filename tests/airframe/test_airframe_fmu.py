@@ -97,6 +97,14 @@ def test_fmu_and_adapter_identical(fmu: Path, tmp_path: Path) -> None:
     np.testing.assert_allclose(got, ref, rtol=1e-9, atol=1e-9)
 
 
+def _runway() -> dict[str, float]:
+    """The airframe FMU's default start: the departure runway of missions/munich.yaml, read from the file."""
+    import yaml
+
+    doc = yaml.safe_load((Path(__file__).resolve().parents[2] / "missions" / "munich.yaml").read_text())
+    return doc["places"]["runways"]["EDDM_26R"]
+
+
 def _simulate(fmu: Path, outputs: list[str], **kwargs: object) -> dict[str, np.ndarray]:
     """fmpy.simulate_fmu, in a child process: it unloads the FMU's library afterwards (thirdparty.py)."""
     from thirdparty import run_isolated
@@ -108,7 +116,9 @@ def _simulate(fmu: Path, outputs: list[str], **kwargs: object) -> dict[str, np.n
 def test_trimmed_air_start_in_fmpy_simulate(fmu: Path) -> None:
     """fmpy.simulate_fmu runs the FMU from a trimmed air start; with the trim's elevator and thrust
     held (as start values of the inputs) the altitude stays within 5 m for 30 s."""
-    r = trim_level(5000.0, 0.6, heading_deg=263.4, lat_deg=48.366886, lon_deg=11.821172)  # the FMU's defaults
+    rwy = _runway()  # the FMU's defaults
+    r = trim_level(5000.0, 0.6, heading_deg=rwy["heading_deg"], lat_deg=rwy["threshold_lat_deg"],
+                   lon_deg=rwy["threshold_lon_deg"])
     res = _simulate(fmu, start_time=0.0, stop_time=30.0, output_interval=H,
                     start_values={"start_on_runway": False, "trim_at_start": True, "alt0_m": 5000.0,
                                   "tas0_m_s": r.tas_m_s, "gear_down": False, "elevator_norm": r.elevator,
@@ -151,15 +161,17 @@ def test_runs_in_our_orchestrator_and_libcosim(fmu: Path, tmp_path: Path) -> Non
     ex.add_observer(rec)
     ex.run(steps * H)
     ours = rec.result()
-    # the adapter (FMU defaults: heading 263.4 deg at the 26R threshold, gear input true = down)
+    # the adapter (FMU defaults: the 26R threshold of the mission file, its heading and elevation, gear
+    # input true = down)
+    rwy = _runway()
     af = Airframe()
-    lat, lon, hdg = 48.366886, 11.821172, 263.4
-    af.start_air(5000.0, 100.0, hdg, lat, lon, ground_elevation_m=453.0)
+    lat, lon, hdg, elev = rwy["threshold_lat_deg"], rwy["threshold_lon_deg"], rwy["heading_deg"], rwy["elevation_m"]
+    af.start_air(5000.0, 100.0, hdg, lat, lon, ground_elevation_m=elev)
     mach = 180.0 / (af.get_property("atmosphere/a-fps") * 0.3048)
     r = trim_level(5000.0, mach, 2100.0, airframe=af, gear_down=True, heading_deg=hdg, lat_deg=lat, lon_deg=lon)
     # the FMU starts at the trim's elevator and thrust; its inputs (0) act from the first step
     af.start_air(5000.0, 180.0, hdg, lat, lon, alpha_rad=r.alpha_rad, elevator=r.elevator, thrust_N=r.thrust_N,
-                 gear_down=True, fuel_kg=600.0, ground_elevation_m=453.0)
+                 gear_down=True, fuel_kg=600.0, ground_elevation_m=elev)
     af.set_surfaces(elevator=0.0)
     af.set_thrust(0.0)
     ref = {n: [] for n in outs}
@@ -184,18 +196,18 @@ def test_runs_in_our_orchestrator_and_libcosim(fmu: Path, tmp_path: Path) -> Non
 
 def test_fmu_is_self_contained(fmu: Path, tmp_path: Path) -> None:
     """The FMU runs where neither openEMSS nor anything beyond its requirements (and the host's fmpy)
-    can be imported, and it says what it needs in resources/requirements.txt (pyyaml: for a weather
-    file only, so it runs here without one where yaml cannot be imported)."""
+    can be imported, and it says what it needs in resources/requirements.txt (pyyaml: it reads its
+    default start, the departure runway, from the mission file it carries, and the weather files)."""
     import subprocess
     import sys
     import zipfile
 
     z = zipfile.ZipFile(fmu)
     assert z.read("resources/requirements.txt").decode().split() == ["jsbsim>=1.2", "numpy>=1.24", "scipy>=1.10",
-                                                                   "pyyaml>=6.0"]
+                                                                   "pyyaml>=6.0", "pythonfmu>=0.6.5"]
     assert any(n.endswith("jsbsim/aircraft/UPERA/UPERA.xml") for n in z.namelist())
     code = ("import sys\n"
-            "for m in ('openemss', 'matplotlib', 'yaml'): sys.modules[m] = None  # lxml: fmpy's own\n"
+            "for m in ('openemss', 'matplotlib'): sys.modules[m] = None  # lxml: fmpy's own\n"
             "from fmpy import simulate_fmu\n"
             f"r = simulate_fmu({str(fmu)!r}, stop_time=1.0, output_interval=0.05, "
             "start_values={'thrust_N': 13000.0}, output=['gs_m_s'])\n"

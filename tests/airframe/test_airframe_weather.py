@@ -126,12 +126,17 @@ def test_fmu_weather_file_flies_as_the_adapter(project_fmus: dict[str, Path], tm
     # the FMU's air start (fmus/airframe.py): trimmed in the wind at its altitude, gear down (its input's start)
     af = Airframe(turbulence_severity=3, turbulence_wind_20ft_m_s=15 * 1852 / 3600, seed=5,
                   wind_profile=PROFILE.ned_m_s)
-    af.start_air(ALT_M, 100.0, 30.0, fuel_kg=400.0, ground_elevation_m=453.0)
+    # the FMU's default start: the departure runway of missions/munich.yaml (26R threshold, its elevation)
+    import yaml
+    rwy = yaml.safe_load((Path(__file__).resolve().parents[2] / "missions" / "munich.yaml").read_text())[
+        "places"]["runways"]["EDDM_26R"]
+    lat, lon, elev = rwy["threshold_lat_deg"], rwy["threshold_lon_deg"], rwy["elevation_m"]
+    af.start_air(ALT_M, 100.0, 30.0, fuel_kg=400.0, ground_elevation_m=elev)
     mach = 130.0 / (af.get_property("atmosphere/a-fps") * 0.3048)
     tr = trim_level(ALT_M, mach, af.geometry.oem_kg + 400.0, airframe=af, gear_down=True, heading_deg=30.0,
-                    lat_deg=48.366886, lon_deg=11.821172)
-    af.start_air(ALT_M, 130.0, 30.0, 48.366886, 11.821172, alpha_rad=tr.alpha_rad, elevator=tr.elevator,
-                 thrust_N=tr.thrust_N, gear_down=True, fuel_kg=400.0, ground_elevation_m=453.0)
+                    lat_deg=lat, lon_deg=lon)
+    af.start_air(ALT_M, 130.0, 30.0, lat, lon, alpha_rad=tr.alpha_rad, elevator=tr.elevator,
+                 thrust_N=tr.thrust_N, gear_down=True, fuel_kg=400.0, ground_elevation_m=elev)
     ref = []
     for _ in range(100):
         af.step(0.05)

@@ -22,7 +22,7 @@ def test_fmu_is_valid_and_described(project_fmus: dict[str, Path]) -> None:
     assert_house_style(md)
     names = {v.name for v in md.modelVariables}
     assert set(ElectricSystem().parameter_names()) <= names   # every parameter, by its dotted name
-    assert {"offtake_hp_W", "offtake_lp_W", "mass_kg", "soc", "N1_rpm", "N2_rpm", "on_ground"} <= names
+    assert {"offtake_hp_W", "offtake_lp_W", "added_mass_kg", "soc", "N1_rpm", "N2_rpm", "on_ground"} <= names
 
 
 def _run(fmu: Path, n_parallel: int, boost_W: float) -> dict[str, float]:
@@ -37,7 +37,7 @@ def _run(fmu: Path, n_parallel: int, boost_W: float) -> dict[str, float]:
         slave.exitInitializationMode()
         for k in range(100):
             slave.doStep(k * 0.05, 0.05)
-        names = ["mass_kg", "offtake_lp_W", "soc"]
+        names = ["added_mass_kg", "offtake_lp_W", "soc"]
         return dict(zip(names, slave.getReal([vr[n] for n in names]), strict=True))
     finally:
         slave.fmi2FreeInstance(slave.component)
@@ -47,7 +47,7 @@ def test_parameters_act_through_the_fmu(project_fmus: dict[str, Path]) -> None:
     """A bigger pack weighs its strings more (8.0 kg per string, by hand); a boost set by name is flown."""
     a = _run(project_fmus["electric"], 4, 30000.0)
     b = _run(project_fmus["electric"], 5, 30000.0)
-    assert b["mass_kg"] - a["mass_kg"] == pytest.approx(82 * 0.070 * 1.25, rel=1e-12)
+    assert b["added_mass_kg"] - a["added_mass_kg"] == pytest.approx(82 * 0.070 * 1.25, rel=1e-12)
     assert a["offtake_lp_W"] == pytest.approx(-30000.0, rel=1e-12)
     assert a["soc"] < b["soc"] < 0.9                    # the same energy from a bigger pack
 

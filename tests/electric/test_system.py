@@ -95,7 +95,7 @@ def test_mass_by_hand() -> None:
     """Cells x 70 g x 1.25, machines at 5 kW/kg, 10 kg wiring."""
     s = ElectricSystem({"battery.n_parallel": 12})
     assert s.mass_kg == pytest.approx(82 * 12 * 0.070 * 1.25 + 80.0 / 5 + 40.0 / 5 + 10.0, rel=1e-12)
-    assert s.values[IDX["mass_kg"]] == pytest.approx(s.mass_kg)
+    assert s.values[IDX["added_mass_kg"]] == pytest.approx(s.mass_kg)
 
 
 @pytest.mark.parametrize("name, value", [("ems.boost_W", -1.0), ("battery.n_parallel", 2.5),

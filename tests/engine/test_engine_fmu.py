@@ -33,7 +33,7 @@ def test_model_description(fmu: Path) -> None:
     md = read_model_description(str(fmu))
     names = {v.name: v for v in md.modelVariables}
     assert_house_style(md)
-    for name in ("fuel_flow_cmd_kg_s", "alt_m", "mach", "isa_dev_K", "offtake_hp_W", "offtake_lp_W",
+    for name in ("fuel_flow_cmd_kg_s", "alt_msl_m", "mach", "isa_dev_K", "offtake_hp_W", "offtake_lp_W",
                  "customer_bleed_frac", "distortion_on", "distortion_sector_deg", "distortion_dPt_frac",
                  "distortion_dTt_K"):
         assert names[name].causality == "input", name
@@ -55,7 +55,7 @@ def _inputs(k: int) -> EngineInputs:
                         0.02 if t > 1.5 else 0.0, 1.0 <= t < 2.5, 120.0, 0.08, 0.0)
 
 
-_FMU_IN = ("fuel_flow_cmd_kg_s", "alt_m", "mach", "isa_dev_K", "offtake_hp_W", "offtake_lp_W", "customer_bleed_frac")
+_FMU_IN = ("fuel_flow_cmd_kg_s", "alt_msl_m", "mach", "isa_dev_K", "offtake_hp_W", "offtake_lp_W", "customer_bleed_frac")
 
 
 def _reals(u: EngineInputs) -> list[float]:
@@ -111,7 +111,7 @@ def test_runs_in_our_orchestrator_and_libcosim(fmu: Path, tmp_path: Path) -> Non
     from thirdparty import require_libcosim, run_isolated
 
     outs = ["thrust_N", "N1_rpm", "N2_rpm", "Tt4_K", "SM_hpc", "fuel_burned_kg"]
-    params: dict[str, float | int | bool] = {"start_N1_pct": 70.0, "alt_m": 3000.0, "mach": 0.5,
+    params: dict[str, float | int | bool] = {"start_N1_pct": 70.0, "alt_msl_m": 3000.0, "mach": 0.5,
                                              "fuel_flow_cmd_kg_s": 0.15, "integrator": 1}
     comp = Comp("engine", fmu.name, [(n, "output", "Real") for n in outs], params)
     folder = tmp_path / "system"
@@ -157,7 +157,7 @@ def test_fmpy_simulate_fmu(fmu: Path) -> None:
     pt = m.od.solve(5000.0, 0.6, N1_pct=90.0)
     res = run_isolated("fmpy_simulate_fmu", fmu=str(fmu), outputs=["N1_pct", "thrust_N", "fuel_burned_kg"],
                        start_time=0.0, stop_time=1.0, output_interval=H,
-                       start_values={"alt_m": 5000.0, "mach": 0.6, "start_fuel_flow_kg_s": pt.Wf_kg_s})
+                       start_values={"alt_msl_m": 5000.0, "mach": 0.6, "start_fuel_flow_kg_s": pt.Wf_kg_s})
     assert res["N1_pct"][-1] == pytest.approx(90.0, rel=1e-6)
     assert res["thrust_N"][-1] == pytest.approx(pt.Fn_N, rel=1e-6)
     assert res["fuel_burned_kg"][-1] == pytest.approx(pt.Wf_kg_s * 1.0, rel=1e-6)
@@ -195,7 +195,8 @@ def test_fmu_is_self_contained(fmu: Path, tmp_path: Path) -> None:
     import zipfile
 
     z = zipfile.ZipFile(fmu)
-    assert z.read("resources/requirements.txt").decode().split() == ["numpy>=1.24", "scipy>=1.10", "numba>=0.59"]
+    assert z.read("resources/requirements.txt").decode().split() == ["numpy>=1.24", "scipy>=1.10", "numba>=0.59",
+                                                                   "pythonfmu>=0.6.5"]
     names = z.namelist()
     assert any(n.endswith("presets/larzac04_sls.json") for n in names)
     assert any(n.endswith("maps/axi5.json") for n in names)

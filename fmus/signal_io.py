@@ -1,0 +1,260 @@
+"""FMI variables of a pythonfmu slave from its model's signal table, with batched, pre-resolved I/O.
+
+A slave mixes :class:`SignalIO` in before ``Fmi2Slave`` and calls :meth:`SignalIO.register_signals`
+with its model's table (:class:`openemss.models.common.signals.Signal` rows). Then:
+
+* parameters and inputs are attributes of the slave under their own names (their start values
+  set from the table); the Real inputs are held in one list, ``_u``, behind properties of those
+  names, so that ``set_real`` of all of them is one slice assignment;
+* outputs are read from one sequence per type, held by the slave in ``_y`` (Real), ``_yb``
+  (Boolean), ``_yi`` (Integer) and ``_ys`` (String), at the index the table gives (the order of
+  the outputs of that type in the table, or the accessor's position in ``vector_fields``);
+  ``get_real`` and the others read a whole batch with one ``operator.itemgetter``;
+* the model description gets the FMI ``unit`` of every Real variable and the UnitDefinitions
+  (base-unit exponents and factor, FMI 2.0 section 2.2.2) from the table's units.
+
+pythonfmu's own ``get_real``/``set_real`` look every variable up and call its getter or setter
+(about 1 us per variable); a master asks for the same value references every step, so the
+batch is resolved once, when the references change, and served in one pass afterwards.
+"""
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from functools import partial
+from operator import attrgetter, itemgetter
+from typing import Any
+from xml.etree.ElementTree import Element, SubElement
+
+from pythonfmu import Boolean, Fmi2Causality, Fmi2Variability, Integer, Real, String
+
+from openemss.models.common.signals import BASE_UNITS, Signal, si_unit
+
+_KINDS = {"Real": Real, "Boolean": Boolean, "Integer": Integer, "String": String}
+_CAUSALITY = {"input": Fmi2Causality.input, "output": Fmi2Causality.output, "parameter": Fmi2Causality.parameter}
+_VARIABILITY = {"fixed": Fmi2Variability.fixed, "tunable": Fmi2Variability.tunable,
+                "discrete": Fmi2Variability.discrete, "continuous": Fmi2Variability.continuous}
+_VECTOR = {"Real": "_y", "Boolean": "_yb", "Integer": "_yi", "String": "_ys"}
+
+
+def _picker(slave: Any, vector: str, idx: list[int]) -> Callable[[], list[Any]]:
+    """A function giving the list of the items at ``idx`` of the slave's output vector ``vector`` (read when
+    called: a slave may replace its vector every step)."""
+    vec = attrgetter(vector)
+    if idx == list(range(len(getattr(slave, vector)))):  # the whole vector, in order
+        return lambda: list(vec(slave))
+    if len(idx) == 1:
+        i = idx[0]
+        return lambda: [vec(slave)[i]]
+    get = itemgetter(*idx)
+    return lambda: list(get(vec(slave)))
+
+
+class SignalIO:
+    """Mix-in of a pythonfmu slave whose variables come from signal tables (see the module)."""
+
+    vars: dict[int, Any]
+
+    def register_signals(self, rows: Sequence[Signal], vector_fields: dict[str, Sequence[str]] | None = None,
+                         starts: dict[str, Any] | None = None) -> None:
+        """Register ``rows`` as FMI variables.
+
+        Parameters
+        ----------
+        rows : sequence of Signal
+            The table (or part of it), in the order of registration.
+        vector_fields : dict, optional
+            Per type (``Real``...), the names of the slots of the slave's output vector of that
+            type: an output's index is the position of its accessor there. Without it, the outputs
+            of a type are their vector's slots in table order.
+        starts : dict, optional
+            Start values that replace the table's (computed by the slave, e.g. from its data files).
+            A Real input is a property of the class once one instance has registered it: give its start
+            here, never as an attribute set before this call.
+        """
+        starts = starts or {}
+        counts = dict.fromkeys(_KINDS, 0)
+        for row in rows:
+            if row.causality == "output":
+                fields = (vector_fields or {}).get(row.type)
+                i = list(fields).index(row.source) if fields is not None else counts[row.type]
+                counts[row.type] += 1
+                vec = _VECTOR[row.type]
+                self.register_signal(row, getter=lambda vec=vec, i=i: getattr(self, vec)[i])
+                self._out_index[row.name] = i
+            elif row.causality == "input" and row.type == "Real":
+                # the Real inputs live in one list, self._u (set in one slice assignment), read by name
+                # through a property of the class
+                if not hasattr(self, "_units"):
+                    self._init_signal_io()
+                j = len(self._u)
+                start = starts.get(row.name, row.start)
+                self._u.append(float(start if start is not None else 0.0))
+                cls = type(self)
+                if not isinstance(cls.__dict__.get(row.name), property):
+                    setattr(cls, row.name, property(lambda slave, j=j: slave._u[j],
+                                                    lambda slave, x, j=j: slave._u.__setitem__(j, x),
+                                                    doc=row.described()))
+                self.register_signal(row)
+                vr = len(self.vars) - 1
+                self._in_index[vr] = j
+                del self._attr_vr[vr]  # a property, not an entry of the instance's __dict__
+            else:
+                start = starts.get(row.name, row.start)
+                if start is not None:
+                    setattr(self, row.name, start)
+                self.register_signal(row)
+
+    def register_signal(self, row: Signal, getter: Callable[[], Any] | None = None,
+                        setter: Callable[[Any], None] | None = None, nested: bool = True) -> None:
+        """Register one variable (a getter/setter for a variable not held as the slave's attribute)."""
+        if not hasattr(self, "_units"):
+            self._init_signal_io()
+        kind = _KINDS[row.type]
+        self.register_variable(kind(row.name, causality=_CAUSALITY[row.causality],  # type: ignore[attr-defined]
+                                    variability=_VARIABILITY[row.fmi_variability], description=row.described(),
+                                    getter=getter, setter=setter), nested=nested)
+        vr = len(self.vars) - 1
+        self._rows[vr] = row
+        if row.causality == "output":
+            self._out_vr[vr] = row
+        elif getter is None and setter is None:
+            self._attr_vr[vr] = row.name
+        if row.type == "Real":
+            self._units[row.name] = row.unit
+
+    def _init_signal_io(self) -> None:
+        self._units: dict[str, str] = {}
+        self._rows: dict[int, Signal] = {}
+        self._out_vr: dict[int, Signal] = {}
+        self._out_index: dict[str, int] = {}
+        self._attr_vr: dict[int, str] = {}
+        self._in_index: dict[int, int] = {}  # value reference of a Real input -> its slot in self._u
+        self._u: list[float] = []
+        none: tuple[list[int] | None, Any] = (None, None)
+        self._gr = self._gb = self._gi = self._gs = self._sr = self._sb = self._si = self._ss = none  # plans
+        self._y: Sequence[float] = ()
+        self._yb: Sequence[bool] = ()
+        self._yi: Sequence[int] = ()
+        self._ys: Sequence[str] = ()
+
+    # -- batched access -----------------------------------------------------------------------
+    # A plan is (value references, function): the function serves a call for exactly those references,
+    # and is replaced when a call brings others. Outputs come from the type's vector with one itemgetter,
+    # attributes are written with one __dict__.update; anything else goes through pythonfmu's getters and
+    # setters (the same results as pythonfmu's own methods, one variable at a time).
+    def _check(self, kind: str, vrs: list[int]) -> None:
+        for vr in vrs:
+            if vr not in self.vars or not isinstance(self.vars[vr], _KINDS[kind]):
+                raise TypeError(f"Variable with valueReference={vr} is not of type {kind}!")
+
+    def _get_plan(self, kind: str, vrs: list[int]) -> tuple[list[int], Callable[[], list[Any]]]:
+        self._check(kind, vrs)
+        rows = [self._out_vr.get(vr) for vr in vrs]
+        if all(r is not None for r in rows):
+            return list(vrs), _picker(self, _VECTOR[kind], [self._out_index[r.name] for r in rows])  # type: ignore[union-attr]
+        getters = [self.vars[vr].getter for vr in vrs]
+        cast = {"Real": float, "Boolean": bool, "Integer": int, "String": str}[kind]
+        return list(vrs), lambda: [cast(g()) for g in getters]
+
+    def _set_plan(self, kind: str, vrs: list[int]) -> tuple[list[int], Callable[[list[Any]], None]]:
+        self._check(kind, vrs)
+        slots = [self._in_index.get(vr) for vr in vrs]
+        if kind == "Real" and vrs and all(j is not None for j in slots):
+            u = self._u  # never replaced: the plan may hold it
+            if slots == list(range(len(u))):
+                def every(values: list[float]) -> None:
+                    u[:] = values
+                return list(vrs), every
+            pairs = list(zip(slots, range(len(slots)), strict=True))
+
+            def some(values: list[float]) -> None:
+                for j, k in pairs:
+                    u[j] = values[k]
+            return list(vrs), some
+        names = [self._attr_vr.get(vr) for vr in vrs]
+        if len(names) == 1 and names[0]:
+            name = names[0]
+            return list(vrs), lambda values: setattr(self, name, values[0])
+        if all(names):
+            return list(vrs), lambda values: self.__dict__.update(zip(names, values))
+        setters = [partial(self._u.__setitem__, self._in_index[vr]) if vr in self._in_index else self.vars[vr].setter
+                   for vr in vrs]
+
+        def each(values: list[Any]) -> None:
+            for f, x in zip(setters, values, strict=True):
+                f(x)
+        return list(vrs), each
+
+    def get_real(self, vrs: list[int]) -> list[float]:
+        p = self._gr
+        if p[0] != vrs:
+            p = self._gr = self._get_plan("Real", vrs)
+        return p[1]()
+
+    def get_boolean(self, vrs: list[int]) -> list[bool]:
+        p = self._gb
+        if p[0] != vrs:
+            p = self._gb = self._get_plan("Boolean", vrs)
+        return p[1]()
+
+    def get_integer(self, vrs: list[int]) -> list[int]:
+        p = self._gi
+        if p[0] != vrs:
+            p = self._gi = self._get_plan("Integer", vrs)
+        return p[1]()
+
+    def get_string(self, vrs: list[int]) -> list[str]:
+        p = self._gs
+        if p[0] != vrs:
+            p = self._gs = self._get_plan("String", vrs)
+        return p[1]()
+
+    def set_real(self, vrs: list[int], values: list[float]) -> None:
+        p = self._sr
+        if p[0] != vrs:
+            p = self._sr = self._set_plan("Real", vrs)
+        p[1](values)
+
+    def set_boolean(self, vrs: list[int], values: list[bool]) -> None:
+        p = self._sb
+        if p[0] != vrs:
+            p = self._sb = self._set_plan("Boolean", vrs)
+        p[1](values)  # pythonfmu passes Python bools
+
+    def set_integer(self, vrs: list[int], values: list[int]) -> None:
+        p = self._si
+        if p[0] != vrs:
+            p = self._si = self._set_plan("Integer", vrs)
+        p[1](values)
+
+    def set_string(self, vrs: list[int], values: list[str]) -> None:
+        p = self._ss
+        if p[0] != vrs:
+            p = self._ss = self._set_plan("String", vrs)
+        p[1](values)
+
+    # -- model description ----------------------------------------------------------------------
+    def to_xml(self, model_options: dict[str, str] | None = None) -> Element:
+        """pythonfmu's model description with the ``unit`` of every Real variable and the
+        UnitDefinitions of those units (FMI 2.0 section 2.2.2)."""
+        root: Element = super().to_xml(model_options or {})  # type: ignore[misc]
+        used: dict[str, None] = {}
+        for sv in root.iter("ScalarVariable"):
+            real = sv.find("Real")
+            unit = self._units.get(sv.get("name", ""))
+            if real is not None:
+                if unit is None:
+                    raise ValueError(f"{type(self).__name__}: Real variable '{sv.get('name')}' has no unit: "
+                                     "register it from a signal table")
+                real.set("unit", unit)
+                used[unit] = None
+        defs = Element("UnitDefinitions")
+        for unit in sorted(used):
+            exps, factor = si_unit(unit)
+            attrs = {n: str(e) for n, e in zip(BASE_UNITS, exps, strict=True) if e}
+            if factor != 1.0:
+                attrs["factor"] = repr(factor)
+            SubElement(SubElement(defs, "Unit", name=unit), "BaseUnit", attrs)
+        cosim = root.find("CoSimulation")
+        root.insert(list(root).index(cosim) + 1 if cosim is not None else 0, defs)
+        return root

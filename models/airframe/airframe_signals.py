@@ -1,0 +1,90 @@
+"""Signals of the airframe: its parameters, inputs and outputs, one row each (the FMU's variables).
+
+Outputs name the field of :class:`.adapter.AirframeState` they are read from (their accessor), i.e.
+their slot of :meth:`.adapter.Airframe.values`. Parameters whose start is None are set by the FMU:
+the start position and heading on the departure runway of the default mission (the EDDM runway
+data are written once, in ``missions/munich.yaml``).
+"""
+from __future__ import annotations
+
+from dataclasses import fields
+
+from ..common.signals import Signal, check_table
+from .adapter import AirframeState
+
+__all__ = ["SIGNALS", "STATE_FIELDS"]
+
+#: The slots of :meth:`.adapter.Airframe.values` (the fields of AirframeState, in order).
+STATE_FIELDS: tuple[str, ...] = tuple(f.name for f in fields(AirframeState))
+
+
+def _par(name: str, unit: str, description: str, start: float | bool | int | str | None,
+         type_: str = "Real") -> Signal:
+    return Signal(name, "parameter", unit, description, type_, start)
+
+
+def _in(name: str, unit: str, description: str, start: float | bool = 0.0, type_: str = "Real") -> Signal:
+    return Signal(name, "input", unit, description, type_, start)
+
+
+def _out(name: str, unit: str, description: str, accessor: str | None = None, type_: str = "Real") -> Signal:
+    return Signal(name, "output", unit, description, type_, accessor=accessor)
+
+
+SIGNALS: tuple[Signal, ...] = check_table((
+    _par("weather_file", "1", "Winds aloft and turbulence: a mission or weather file (YAML), absolute or relative "
+                              "to the FMU's resources folder; empty: the wind_* and turbulence_* parameters", "",
+         "String"),
+    _par("start_on_runway", "1", "Start at rest on the runway (else in the air)", True, "Boolean"),
+    _par("trim_at_start", "1", "Air start trimmed in level flight (alpha from the trim)", True, "Boolean"),
+    _par("lat0_deg", "deg", "Initial geodetic latitude (default: the departure runway's threshold)", None),
+    _par("lon0_deg", "deg", "Initial longitude (default: the departure runway's threshold)", None),
+    _par("heading0_deg", "deg", "Initial true heading (default: the departure runway's)", None),
+    _par("alt0_m", "m", "Initial altitude MSL; runway elevation on a runway start (default: the departure "
+                        "runway's)", None),
+    _par("tas0_m_s", "m/s", "Initial true airspeed of an air start", 150.0),
+    _par("alpha0_rad", "rad", "Initial angle of attack of an untrimmed air start", 0.0),
+    _par("ground_elevation_m", "m", "Ground elevation under an air start (default: the departure runway's)", None),
+    _par("flaps0_norm", "1", "Initial flap position, 0 up to 1 full", 0.0),
+    _par("fuel0_kg", "kg", "Initial fuel mass, 0 to 600", 600.0),
+    _par("isa_dev_K", "K", "ISA temperature deviation", 0.0),
+    _par("wind_north_m_s", "m/s", "Steady wind towards north", 0.0),
+    _par("wind_east_m_s", "m/s", "Steady wind towards east", 0.0),
+    _par("wind_down_m_s", "m/s", "Steady wind downwards", 0.0),
+    _par("turbulence_wind_20ft_m_s", "m/s", "Wind speed at 20 ft for MIL-F-8785C turbulence", 0.0),
+    _par("rate_hz", "Hz", "Internal JSBSim rate", 120.0),
+    _par("turbulence_severity", "1", "MIL-F-8785C turbulence severity 0 (off) to 7", 0, "Integer"),
+    _par("turbulence_seed", "1", "Random seed of the turbulence", 0, "Integer"),
+    _in("aileron_norm", "1", "Aileron command, -1 to 1, > 0 rolls right"),
+    _in("elevator_norm", "1", "Elevator command, -1 to 1, > 0 trailing edge down (nose down)"),
+    _in("rudder_norm", "1", "Rudder command, -1 to 1, > 0 yaws the nose right"),
+    _in("flaps_norm", "1", "Flap command, 0 up to 1 full (30 deg)"),
+    _in("airbrake_norm", "1", "Airbrake command, 0 retracted to 1 fully out (rate limited, blown back above its "
+                              "limiting dynamic pressure)"),
+    _in("brakes_norm", "1", "Wheel brakes, 0 to 1"),
+    _in("steering_norm", "1", "Nose-wheel steering, -1 to 1, > 0 right"),
+    _in("thrust_N", "N", "Net thrust along the engine axis"),
+    _in("fuel_flow_kg_s", "kg/s", "Fuel flow burnt from the tank"),
+    _in("added_mass_kg", "kg", "Mass added at the CG to the operating empty mass (e.g. the electrical system's "
+                               "mass_kg), 0 to 10000"),
+    _in("gear_down", "1", "Landing gear command, true = down", True, "Boolean"),
+    _out("lat_deg", "deg", "Geodetic latitude"), _out("lon_deg", "deg", "Longitude"),
+    _out("alt_msl_m", "m", "Altitude above mean sea level"), _out("alt_agl_m", "m", "Altitude above ground"),
+    _out("tas_m_s", "m/s", "True airspeed"), _out("cas_m_s", "m/s", "Calibrated airspeed"),
+    _out("gs_m_s", "m/s", "Ground speed"), _out("mach", "1", "Mach number"),
+    _out("alpha_rad", "rad", "Angle of attack"), _out("beta_rad", "rad", "Sideslip angle"),
+    _out("phi_rad", "rad", "Roll angle"), _out("theta_rad", "rad", "Pitch angle"),
+    _out("psi_rad", "rad", "True heading"),
+    _out("p_rad_s", "rad/s", "Body roll rate"), _out("q_rad_s", "rad/s", "Body pitch rate"),
+    _out("r_rad_s", "rad/s", "Body yaw rate"), _out("load_factor", "1", "Normal load factor Nz"),
+    _out("vs_m_s", "m/s", "Vertical speed, positive up"),
+    _out("p_amb_Pa", "Pa", "Ambient static pressure", "p_Pa"),
+    _out("T_amb_K", "K", "Ambient static temperature", "T_K"),
+    _out("rho_amb_kg_m3", "kg/m3", "Ambient density", "rho_kg_m3"),
+    _out("airbrake_pos_norm", "1", "Airbrake position, 0 retracted to 1 fully out"),
+    _out("on_ground", "1", "A wheel carries weight", type_="Boolean"),
+    _out("mass_kg", "kg", "Aircraft mass"), _out("fuel_kg", "kg", "Fuel mass"),
+    # after the state: the trimmed air start (values() + these two)
+    _out("trim_elevator_norm", "1", "Elevator of the trimmed air start"),
+    _out("trim_thrust_N", "N", "Thrust of the trimmed air start"),
+), "models/airframe/airframe_signals.py")

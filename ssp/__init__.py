@@ -1,0 +1,1 @@
+"""Data of openEMSS installed with it (found as ``openemss.ssp``): the folder's files, not code."""

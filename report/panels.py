@@ -61,7 +61,7 @@ def _sfc_shown(y: np.ndarray) -> np.ndarray:
 
 #: The limits a panel may draw: name -> (FCS parameter holding it, legend, the signal it limits).
 LIMITS = {
-    "Tt41_max": ("fuel_control.Tt41_max_K", "Tt41 limit", ("engine", "T41_K")),
+    "Tt41_max": ("fuel_control.Tt41_max_K", "Tt41 limit", ("engine", "Tt41_K")),
     "N1_max": ("fuel_control.N1_max_pct", "N1 limit", ("engine", "N1_pct")),
 }
 
@@ -74,7 +74,7 @@ TIME_PANELS = (
     Panel("fuel_flow", "fuel flow [kg/s]", (Series("engine", "fuel_flow_kg_s", "fuel flow (engine)"),
                                             Series("fcs", "fuel_flow_cmd_kg_s", "fuel flow command (FCS)"))),
     Panel("temperatures", "temperature [K]", (Series("engine", "Tt4_K", "Tt4 burner exit"),
-                                              Series("engine", "T41_K", "T41 HPT rotor inlet")), ("Tt41_max",)),
+                                              Series("engine", "Tt41_K", "Tt41 HPT rotor inlet")), ("Tt41_max",)),
     Panel("spools", "spool speed [%]", (Series("engine", "N1_pct", "N1 fan"), Series("engine", "N2_pct", "N2 core"),
                                         Series("engine", "N1c_pct", "N1c corrected fan speed")), ("N1_max",)),
     Panel("surge", "surge margin [-]", (Series("engine", "SM_fan", "fan"), Series("engine", "SM_hpc", "HPC"))),

@@ -22,7 +22,7 @@ PARTS = {
     "transfer": "master", "slave": "master", "exchange": "master", "algorithm": "master",
     "iterative": "master", "algorithm_registry": "master", "condition": "master", "execution": "master",
     "manipulators": "scenarios", "observers": "scenarios", "timeseries": "scenarios",
-    "build": "export", "export": "export",
+    "build": "export", "export": "export", "fmu_deps": "export",
     "cli": "cli", "plugins": "cli", "hooks": "cli", "api": "cli", "describe": "cli",
 }
 

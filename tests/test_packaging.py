@@ -68,7 +68,7 @@ def test_a_normal_install_flies_the_mission(tmp_path: Path) -> None:
     work = tmp_path / "work"
     work.mkdir()
     proc = subprocess.run([str(env / "bin" / "emss"), "run", "--stop-time", "20", "--out", "results/demo",
-                           "--no-post-run", "--json"], cwd=work, capture_output=True, text=True)
+                           "--format", "csv", "--no-post-run", "--json"], cwd=work, capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr[-2000:]
     rows = (work / "results" / "demo" / "timeseries.csv").read_text().splitlines()
     head = rows[0].split(",")

@@ -105,7 +105,7 @@ def main(argv: list[str] | None = None) -> int:
         from fmpy import read_model_description
         from fmpy.fmi2 import FMU2Slave
 
-        from openemss.orchestrator.build import ensure_built
+        from openemss.orchestrator.fmu.build import ensure_built
 
         work = Path(tempfile.mkdtemp(prefix="bench_airframe_"))
         try:

@@ -19,7 +19,7 @@ Cases (Larzac 04 preset, explicit Euler, one internal step):
   a climb): two matches per step (the derivative at the step start with the new inputs, then
   the end state);
 * ``FMU in our orchestrator``: the built ``Engine.fmu`` in a one-component SSP system, run by
-  :class:`openemss.orchestrator.execution.Execution` (Jacobi, 20 Hz), inputs held at their
+  :class:`openemss.orchestrator.master.execution.Execution` (Jacobi, 20 Hz), inputs held at their
   start values; the difference to the first case is the FMI and master overhead.
 
     python benchmarks/bench_engine_fmu.py [--repeat 5] [--steps 200]
@@ -117,10 +117,10 @@ def _time(run: object, steps: int, repeat: int) -> tuple[float, float]:
 def _fmu_case(steps: int, repeat: int) -> tuple[float, float] | str:
     try:
         sys.path.insert(0, str(ROOT / "tests"))
-        from openemss.orchestrator.build import ensure_built
-        from openemss.orchestrator.execution import Execution
-        from openemss.orchestrator.ssp import load_system
-        from openemss.orchestrator.system import bind_system
+        from openemss.orchestrator.fmu.build import ensure_built
+        from openemss.orchestrator.master.execution import Execution
+        from openemss.orchestrator.ssp.read import load_system
+        from openemss.orchestrator.ssp.system import bind_system
         from systems import Comp, write_system
     except ImportError as exc:                                  # pragma: no cover
         return f"not run: {exc}"

@@ -149,7 +149,7 @@ def _fmu_row(work: Path, args: argparse.Namespace, mission_file: Path, path: lis
     from fmpy import read_model_description
     from fmpy.fmi2 import FMU2Slave
 
-    from openemss.orchestrator.build import ensure_built
+    from openemss.orchestrator.fmu.build import ensure_built
 
     (fmu,) = ensure_built(ROOT / "fmus", work, names=["fcs"], force=True)
     md = read_model_description(str(fmu))

@@ -14,7 +14,7 @@ import time
 from pathlib import Path
 
 from openemss.models.fcs.mission import load_mission
-from openemss.orchestrator.build import PACKAGE_ROOT
+from openemss.orchestrator.fmu.build import PACKAGE_ROOT
 from openemss.report import mission_check
 from openemss.report.model_performance import ModelPerformance
 

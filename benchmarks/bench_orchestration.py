@@ -35,7 +35,7 @@ Runners, all in this one process on the same built FMU and the same SSD:
   Python can do, and the floor the overheads are measured from. Our master calls
   get and set this way (ctypes' per-call argument conversion costs about 0.45 us
   per call); libcosim (C++) is not bound by it.
-* ``ours``: :class:`openemss.orchestrator.execution.Execution`, Jacobi and
+* ``ours``: :class:`openemss.orchestrator.master.execution.Execution`, Jacobi and
   Gauss-Seidel without observers, and Jacobi with a ``MemoryRecorder`` of every
   connector (fmpy's runner records every connector too). ``initialize()`` is called
   before the clock starts (``run()`` then does not initialize again); ``run()`` also
@@ -97,7 +97,7 @@ SSD_HEAD = ('<?xml version="1.0" encoding="UTF-8"?>\n'
 # -- the system ----------------------------------------------------------------------------------
 def build_gain(work: Path) -> Path:
     """Build ``Gain.fmu`` from the test slave with the project's build-fmus; returns its path."""
-    from openemss.orchestrator.build import ensure_built
+    from openemss.orchestrator.fmu.build import ensure_built
 
     (fmu,) = ensure_built(GAIN_SOURCE, work / "fmus", names=["gain"])
     return fmu
@@ -323,10 +323,10 @@ def bare_loop(fmu: Path, n: int, steps: int, repeat: int, no_argtypes: bool = Fa
 
 def ours(folder: Path, n: int, algorithm: str, steps: int, repeat: int, record: bool = False) -> Measured:
     """Our Execution; ``initialize()`` is outside the clock; ``run()`` timed for two lengths."""
-    from openemss.orchestrator.execution import Execution
-    from openemss.orchestrator.observers import MemoryRecorder
-    from openemss.orchestrator.ssp import load_system
-    from openemss.orchestrator.system import bind_system
+    from openemss.orchestrator.master.execution import Execution
+    from openemss.orchestrator.scenarios.observers import MemoryRecorder
+    from openemss.orchestrator.ssp.read import load_system
+    from openemss.orchestrator.ssp.system import bind_system
 
     bound = bind_system(load_system(folder))
 

@@ -40,12 +40,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--params", type=Path, nargs="+", default=[], help="parameter sets (.ssv) to apply to both")
     args = ap.parse_args(argv)
 
-    from openemss.orchestrator.build import ensure_built
-    from openemss.orchestrator.execution import Execution
-    from openemss.orchestrator.export import export_container
-    from openemss.orchestrator.observers import MemoryRecorder
-    from openemss.orchestrator.ssp import load_system
-    from openemss.orchestrator.system import bind_system
+    from openemss.orchestrator.fmu.build import ensure_built
+    from openemss.orchestrator.master.execution import Execution
+    from openemss.orchestrator.fmu.export import export_container
+    from openemss.orchestrator.scenarios.observers import MemoryRecorder
+    from openemss.orchestrator.ssp.read import load_system
+    from openemss.orchestrator.ssp.system import bind_system
 
     if args.system.resolve() == (ROOT / "ssp").resolve():
         ensure_built(ROOT / "fmus", ROOT / "ssp" / "resources")

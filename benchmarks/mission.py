@@ -54,12 +54,12 @@ def main(argv: list[str] | None = None) -> int:
                     help="record every connector (the former default) instead of emss run's default columns")
     args = ap.parse_args(argv)
 
-    from openemss.orchestrator.build import ensure_built
+    from openemss.orchestrator.fmu.build import ensure_built
     from openemss.orchestrator.errors import EmssError
-    from openemss.orchestrator.execution import Execution
-    from openemss.orchestrator.ssp import load_system
-    from openemss.orchestrator.system import bind_system
-    from openemss.orchestrator.timeseries import default_record, recorder
+    from openemss.orchestrator.master.execution import Execution
+    from openemss.orchestrator.ssp.read import load_system
+    from openemss.orchestrator.ssp.system import bind_system
+    from openemss.orchestrator.scenarios.timeseries import default_record, recorder
 
     ensure_built(ROOT / "fmus", ROOT / "ssp" / "resources")
     work = Path(tempfile.mkdtemp(prefix="emss-bench-mission-"))

@@ -34,11 +34,11 @@ def main(argv: list[str] | None = None) -> int:
     sys.path.insert(0, str(ROOT / "benchmarks"))
     from mission import calibration_ms
 
-    from openemss.orchestrator.build import ensure_built
-    from openemss.orchestrator.execution import Execution
-    from openemss.orchestrator.ssp import load_system
-    from openemss.orchestrator.system import bind_system
-    from openemss.orchestrator.timeseries import default_record, recorder
+    from openemss.orchestrator.fmu.build import ensure_built
+    from openemss.orchestrator.master.execution import Execution
+    from openemss.orchestrator.ssp.read import load_system
+    from openemss.orchestrator.ssp.system import bind_system
+    from openemss.orchestrator.scenarios.timeseries import default_record, recorder
 
     ensure_built(ROOT / "fmus", ROOT / "ssp" / "resources")
     bound = bind_system(load_system(ROOT / "ssp"))

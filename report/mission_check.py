@@ -300,7 +300,7 @@ def pre_run(components: Mapping[str, Path], parameters: Mapping[str, Any]) -> li
 def _repository_path(source: str) -> str:
     """A mission shipped in an FMU (``...Fcs.fmu!resources/missions/munich.yaml``) by the repository file it
     came from, when that exists; else the source as it is."""
-    from openemss.orchestrator.build import PACKAGE_ROOT
+    from openemss.orchestrator.fmu.build import PACKAGE_ROOT
 
     if "!" not in source:
         return source
@@ -317,10 +317,10 @@ def _repository_path(source: str) -> str:
 # -- emss mission check -----------------------------------------------------------------------
 def _bind(system: Path, params: Sequence[Path], settings: Sequence[str]) -> tuple[dict[str, Path], dict[str, Any]]:
     """Components (name -> FMU) and bound parameters of a system with its parameter sets and ``--set`` values."""
-    from openemss.orchestrator.build import PACKAGE_ROOT, ensure_built
+    from openemss.orchestrator.fmu.build import PACKAGE_ROOT, ensure_built
     from openemss.orchestrator.errors import ConfigurationError, EmssError
-    from openemss.orchestrator.ssp import load_system
-    from openemss.orchestrator.system import bind_system
+    from openemss.orchestrator.ssp.read import load_system
+    from openemss.orchestrator.ssp.system import bind_system
 
     project = PACKAGE_ROOT / "ssp"
     if system.is_dir() and project.is_dir() and system.resolve() == project.resolve():
@@ -360,7 +360,7 @@ def cmd_check(args: argparse.Namespace) -> int:
     if not 0.0 <= args.margin <= 1000.0:
         raise ReportError(f"--margin {args.margin}: a percentage from 0 to 1000")
     mission = load_mission(args.mission)
-    from openemss.orchestrator.build import PACKAGE_ROOT
+    from openemss.orchestrator.fmu.build import PACKAGE_ROOT
 
     system = args.system if args.system is not None else PACKAGE_ROOT / "ssp"
     components, values = _bind(system, args.params, args.set)

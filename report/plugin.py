@@ -1,4 +1,4 @@
-"""The report as an ``emss`` plugin (entry point ``openemss.plugins``: see :mod:`openemss.orchestrator.plugins`).
+"""The report as an ``emss`` plugin (entry point ``openemss.plugins``: see :mod:`openemss.orchestrator.cli.plugins`).
 
 * ``post_run``: after every ``emss run`` of a system with a flight control system's
   ``section_index`` and an engine's ``fuel_flow_kg_s`` and ``fuel_burned_kg``, writes
@@ -18,7 +18,7 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path, PurePosixPath
 
-from openemss.orchestrator.cli import finite_number, folder_name
+from openemss.orchestrator.cli.main import finite_number, folder_name
 from openemss.orchestrator.results import atomic_write
 
 from . import mission_check

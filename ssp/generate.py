@@ -21,7 +21,7 @@ import sys
 from pathlib import Path
 
 from openemss.models.fcs.fcs_signals import GAIN_DEFAULTS
-from openemss.orchestrator.ssp_write import ParameterSet, SystemBuilder, connectors_from_fmu
+from openemss.orchestrator.ssp.write import ParameterSet, SystemBuilder, connectors_from_fmu
 
 HERE = Path(__file__).resolve().parent
 RESOURCES = HERE / "resources"

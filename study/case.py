@@ -27,7 +27,7 @@ from typing import Any
 
 from lxml import etree
 
-from openemss.orchestrator import algorithm_registry
+from openemss.orchestrator.master import algorithm_registry
 from openemss.orchestrator.results import atomic_write, check_name
 
 from .child import PARENT_ENV
@@ -90,7 +90,7 @@ def case_dir(out: Path | str, name: str) -> Path:
 
 def write_case_ssv(path: Path, values: tuple[tuple[str, ValueT], ...]) -> Path:
     """The case's parameter values as an SSP parameter set (system-level names component.variable)."""
-    from openemss.orchestrator.ssp_write import ParameterSet
+    from openemss.orchestrator.ssp.write import ParameterSet
 
     root = ParameterSet("case", dict(values)).element()
     path.parent.mkdir(parents=True, exist_ok=True)

@@ -30,7 +30,7 @@ def _tie_to_parent() -> None:
 def main() -> int:
     """Run the ``emss`` command with this process's arguments."""
     _tie_to_parent()
-    from openemss.orchestrator.cli import main as emss_main
+    from openemss.orchestrator.cli.main import main as emss_main
 
     return emss_main(sys.argv[1:])
 

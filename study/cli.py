@@ -20,7 +20,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from openemss.orchestrator.cli import finite_number, folder_name
+from openemss.orchestrator.cli.main import finite_number, folder_name
 
 from .spec import StudyDef, StudyError, load_study
 

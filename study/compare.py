@@ -27,7 +27,7 @@ __all__ = ["read_series", "compare_engines"]
 def read_series(path: Path, columns: list[str]) -> dict[str, np.ndarray]:
     """The named columns (and ``time_s``) of a case's time series (a results folder or a file, any format
     emss run writes) as float arrays (missing: absent; unreadable: empty)."""
-    from openemss.orchestrator.timeseries import TimeSeriesError, read_timeseries
+    from openemss.orchestrator.scenarios.timeseries import TimeSeriesError, read_timeseries
 
     try:
         data = read_timeseries(path).floats()

@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from openemss.orchestrator.results import check_name
-from openemss.orchestrator.timeseries import (
+from openemss.orchestrator.scenarios.timeseries import (
     FILE_NAMES,
     PART_GLOB,
     TimeSeriesError,

@@ -21,7 +21,7 @@ def prepare_system(system: Path) -> None:
 
     ``emss run`` builds them when missing or stale; cases running at the same time must not.
     """
-    from openemss.orchestrator.build import PACKAGE_ROOT, ensure_built
+    from openemss.orchestrator.fmu.build import PACKAGE_ROOT, ensure_built
 
     example = PACKAGE_ROOT / "examples" / "oscillator"
     for folder, sources in ((PACKAGE_ROOT / "ssp", PACKAGE_ROOT / "fmus"), (example, example / "fmus")):
@@ -58,8 +58,8 @@ def expand_cases(study: StudyDef) -> list[CaseDef]:
         A parameter that is not a variable of the system, or a value of the wrong type.
     """
     from openemss.orchestrator.errors import EmssError
-    from openemss.orchestrator.ssp import load_system
-    from openemss.orchestrator.system import bind_system
+    from openemss.orchestrator.ssp.read import load_system
+    from openemss.orchestrator.ssp.system import bind_system
 
     prepare_system(study.system)
     try:

@@ -95,8 +95,8 @@ def cycle_redesign(study: StudyDef, cfg: RedesignConfig, out: Path) -> tuple[lis
     from openemss.models.engine.design_params import TurbofanParams, load_params, preset_path
     from openemss.models.engine.errors import ModelError
     from openemss.orchestrator.errors import EmssError
-    from openemss.orchestrator.ssp import load_system
-    from openemss.orchestrator.system import bind_system
+    from openemss.orchestrator.ssp.read import load_system
+    from openemss.orchestrator.ssp.system import bind_system
 
     folder = out / "cycle"
     folder.mkdir(parents=True, exist_ok=True)

@@ -10,7 +10,7 @@ grid point, a mission and a scenario is one case (:func:`expand_cases`).
     system: ../ssp                    # folder with SystemStructure.ssd, an .ssd or an .ssp (relative to this file)
     stop_time_s: 4000                 # optional, default: the SSD's DefaultExperiment
     rate_hz: 20                       # optional communication rate [Hz]
-    algorithm: jacobi                 # optional: a name of orchestrator/algorithm_registry.py (emss run --help)
+    algorithm: jacobi                 # optional: a name of orchestrator/master/algorithm_registry.py (emss run --help)
     record: [engine.*, fcs.section_index]   # optional: variables to record (default: every connector)
     record_every: 1                   # optional
     params: [../ssp/engine_reference_study.ssv]   # parameter sets applied to every case
@@ -39,8 +39,8 @@ from typing import Any
 import yaml
 
 from openemss.models.common import safe_yaml
-from openemss.orchestrator import algorithm_registry
 from openemss.orchestrator.errors import ConfigurationError
+from openemss.orchestrator.master import algorithm_registry
 from openemss.orchestrator.results import check_name
 
 __all__ = ["StudyError", "Variant", "StudyDef", "load_study", "parse_study"]

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from openemss.orchestrator.build import ensure_built
+from openemss.orchestrator.fmu.build import ensure_built
 
 ROOT = Path(__file__).resolve().parent.parent
 OSCILLATOR = ROOT / "examples" / "oscillator"
@@ -24,7 +24,7 @@ def fmu_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
 @pytest.fixture(scope="session")
 def project_fmus(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     """The project's own FMUs (every slave in fmus/), built once per session: slave name -> FMU path."""
-    from openemss.orchestrator.build import discover
+    from openemss.orchestrator.fmu.build import discover
 
     out = tmp_path_factory.mktemp("project_fmus")
     names = sorted(discover(ROOT / "fmus"))
@@ -51,7 +51,7 @@ def open_slave(fmu: Path, instance_name: str) -> tuple[object, dict[str, int]]:
     from fmpy import read_model_description
     from fmpy.fmi2 import FMU2Slave
 
-    from openemss.orchestrator.slave import extracted
+    from openemss.orchestrator.master.slave import extracted
 
     md = read_model_description(str(fmu))
     slave = FMU2Slave(guid=md.guid, unzipDirectory=extracted(fmu), modelIdentifier=md.coSimulation.modelIdentifier,
@@ -100,13 +100,13 @@ collect_ignore = [] if _os.environ.get("EMSS_IN_PROCESS") else list(ISOLATED)
 
 def table(folder: Path) -> dict[str, object]:
     """The time series of a results folder (any format emss run writes), every column as float64."""
-    from openemss.orchestrator.timeseries import read_timeseries
+    from openemss.orchestrator.scenarios.timeseries import read_timeseries
 
     return read_timeseries(folder).floats()
 
 
 def columns(folder: Path) -> list[str]:
     """The column names of a results folder's time series, in file order."""
-    from openemss.orchestrator.timeseries import read_timeseries
+    from openemss.orchestrator.scenarios.timeseries import read_timeseries
 
     return read_timeseries(folder).names

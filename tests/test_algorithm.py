@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import pytest
 
-from openemss.orchestrator.algorithm import GaussSeidel, Jacobi, gauss_seidel_order
+from openemss.orchestrator.master.algorithm import GaussSeidel, Jacobi, gauss_seidel_order
 
 
 def test_chain_is_ordered_source_first() -> None:

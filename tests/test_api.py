@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 
 import openemss
-from openemss.orchestrator import api
-from openemss.orchestrator.cli import main
+from openemss.orchestrator.cli import api
+from openemss.orchestrator.cli.main import main
 from openemss.orchestrator.errors import ConfigurationError
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from openemss.orchestrator.cli import main
+from openemss.orchestrator.cli.main import main
 from systems import GAIN_CONNECTORS, Comp, write_ssv, write_system
 
 

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from openemss.orchestrator.build import build_fmu, built_hash, ensure_built, main
+from openemss.orchestrator.fmu.build import build_fmu, built_hash, ensure_built, main
 from openemss.orchestrator.errors import BuildError
 
 SLAVE = textwrap.dedent('''

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from conftest import columns, table
-from openemss.orchestrator.cli import main
+from openemss.orchestrator.cli.main import main
 
 
 def test_info_prints_components_connections_and_gauss_seidel_order(

@@ -10,7 +10,7 @@ from xml.etree import ElementTree
 
 import pytest
 
-from openemss.orchestrator.cli import main
+from openemss.orchestrator.cli.main import main
 
 
 def test_plot_variables_of_any_system(oscillator: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -83,8 +83,8 @@ def test_study_cases_counts_the_redesign_engines(capsys: pytest.CaptureFixture[s
 
 
 def test_build_fmus_builds_where_emss_run_looks(monkeypatch: pytest.MonkeyPatch) -> None:
-    from openemss.orchestrator import build
-    from openemss.orchestrator.api import DEFAULT_SYSTEM
+    from openemss.orchestrator.cli.api import DEFAULT_SYSTEM
+    from openemss.orchestrator.fmu import build
 
     seen: list[Path] = []
     monkeypatch.setattr(build, "ensure_built", lambda src, out, *a, **k: seen.append(out) or [])

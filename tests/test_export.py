@@ -17,13 +17,13 @@ from fmpy import read_model_description
 from fmpy.validation import validate_fmu
 from scipy.linalg import expm
 
-from openemss.orchestrator.build import ensure_built
+from openemss.orchestrator.fmu.build import ensure_built
 from openemss.orchestrator.errors import ConfigurationError
-from openemss.orchestrator.execution import Execution
-from openemss.orchestrator.export import check_exportable, export_container
-from openemss.orchestrator.observers import MemoryRecorder
-from openemss.orchestrator.ssp import load_system
-from openemss.orchestrator.system import bind_system
+from openemss.orchestrator.master.execution import Execution
+from openemss.orchestrator.fmu.export import check_exportable, export_container
+from openemss.orchestrator.scenarios.observers import MemoryRecorder
+from openemss.orchestrator.ssp.read import load_system
+from openemss.orchestrator.ssp.system import bind_system
 from thirdparty import run_isolated
 
 RATE_HZ = 100.0  # the oscillator's Jacobi coupling is stable at 100 Hz over 10 s (not at 20 Hz)

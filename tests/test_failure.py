@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 
 from conftest import table
-from openemss.orchestrator.cli import main
+from openemss.orchestrator.cli.main import main
 from openemss.orchestrator.errors import InitializationError
-from openemss.orchestrator.execution import Execution
-from openemss.orchestrator.ssp import load_system
-from openemss.orchestrator.system import bind_system
+from openemss.orchestrator.master.execution import Execution
+from openemss.orchestrator.ssp.read import load_system
+from openemss.orchestrator.ssp.system import bind_system
 from systems import GAIN_CONNECTORS, Comp, write_system
 
 CLOCK = [("clock_s", "output", "Real")]
@@ -68,7 +68,7 @@ def test_nan_outputs_settle_in_initialization(tmp_path: Path, fmu_dir: Path) -> 
     write_system(tmp_path, fmu_dir, [Comp("a", "NanSource.fmu", nan), Comp("b", "NanSource.fmu", nan)],
                  [("a.target", "b.u"), ("b.echo", "a.u")])
     ex = Execution(bind_system(load_system(tmp_path)), rate_hz=10.0, record=["b.u"])
-    from openemss.orchestrator.observers import MemoryRecorder
+    from openemss.orchestrator.scenarios.observers import MemoryRecorder
 
     rec = MemoryRecorder()
     ex.add_observer(rec)

@@ -27,8 +27,8 @@ import numpy as np
 import pytest
 from fmpy import read_model_description
 
-from openemss.orchestrator.build import ensure_built
-from openemss.orchestrator.fmu_deps import vendor_packages
+from openemss.orchestrator.fmu.build import ensure_built
+from openemss.orchestrator.fmu.fmu_deps import vendor_packages
 
 ROOT = Path(__file__).resolve().parent.parent
 HEADERS = Path(__import__("fmpy").__file__).parent / "c-code"

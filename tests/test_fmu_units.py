@@ -62,11 +62,11 @@ def test_ssp_unit_conversion_uses_the_fmus_units(project_fmus: dict[str, Path], 
     by the orchestrator with the FMU's factor: y = N1 * 2 pi / 60 and N1_pct / 100. A connection to an
     input of another dimension (rpm into K) is refused naming both units."""
     from openemss.orchestrator.errors import EmssError
-    from openemss.orchestrator.execution import Execution
-    from openemss.orchestrator.observers import MemoryRecorder
-    from openemss.orchestrator.ssp import load_system
-    from openemss.orchestrator.ssp_write import SystemBuilder
-    from openemss.orchestrator.system import bind_system
+    from openemss.orchestrator.master.execution import Execution
+    from openemss.orchestrator.scenarios.observers import MemoryRecorder
+    from openemss.orchestrator.ssp.read import load_system
+    from openemss.orchestrator.ssp.write import SystemBuilder
+    from openemss.orchestrator.ssp.system import bind_system
 
     res = tmp_path / "resources"
     res.mkdir()

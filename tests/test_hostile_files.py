@@ -18,8 +18,8 @@ from openemss.models.common import safe_yaml
 from openemss.models.fcs.errors import MissionError
 from openemss.models.fcs.mission import load_mission
 from openemss.orchestrator.errors import EmssError, SystemStructureError
-from openemss.orchestrator.manipulators import ScenarioError, load_scenario
-from openemss.orchestrator.ssp import load_system
+from openemss.orchestrator.scenarios.manipulators import ScenarioError, load_scenario
+from openemss.orchestrator.ssp.read import load_system
 from openemss.study.spec import StudyError, load_study
 from systems import GAIN_CONNECTORS, Comp, write_system
 
@@ -298,7 +298,7 @@ def test_hostile_ssd(tmp_path: Path, fmu_dir: Path, case: str) -> None:
 
 @pytest.mark.parametrize("value", ["NaN", "-INF"])
 def test_hostile_ssv_value(tmp_path: Path, fmu_dir: Path, value: str) -> None:
-    from openemss.orchestrator.system import bind_system
+    from openemss.orchestrator.ssp.system import bind_system
 
     folder = gain_system(tmp_path / "sys", fmu_dir)
     ssv = tmp_path / "p.ssv"
@@ -373,8 +373,8 @@ def test_hostile_ssp_entry_outside(tmp_path: Path, fmu_dir: Path) -> None:
 
 def test_hostile_fmu_zip_bomb(tmp_path: Path, fmu_dir: Path) -> None:
     """A component's FMU that is a zip bomb is refused before it is extracted, naming the component."""
-    from openemss.orchestrator.execution import Execution
-    from openemss.orchestrator.system import bind_system
+    from openemss.orchestrator.master.execution import Execution
+    from openemss.orchestrator.ssp.system import bind_system
 
     folder = gain_system(tmp_path / "sys", fmu_dir)
     fmu = folder / "resources" / "Gain.fmu"

@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 
 from conftest import table
-from openemss.orchestrator.cli import main
+from openemss.orchestrator.cli.main import main
 from systems import Comp, write_system
 
 ENGINE = [("mach", "input", "Real"), ("alt_msl_m", "input", "Real"), ("distortion_dPt_frac", "input", "Real"),

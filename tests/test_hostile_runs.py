@@ -21,9 +21,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from openemss.orchestrator.cli import main
+from openemss.orchestrator.cli.main import main
 from openemss.orchestrator.results import ResultsFolder
-from openemss.orchestrator.timeseries import FILE_NAMES, read_timeseries
+from openemss.orchestrator.scenarios.timeseries import FILE_NAMES, read_timeseries
 from systems import GAIN_CONNECTORS, Comp, write_system
 
 FSIZE_LIMIT = 1_000_000  # bytes per file: above the test FMU's largest file (0.35 MB), below the run's CSV

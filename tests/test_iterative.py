@@ -24,16 +24,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from openemss.orchestrator import algorithm_registry
-from openemss.orchestrator.cli import main
+from openemss.orchestrator.cli.main import main
 from openemss.orchestrator.errors import ConfigurationError, CouplingError
-from openemss.orchestrator.execution import Execution
-from openemss.orchestrator.iterative import IterativeGaussSeidel
-from openemss.orchestrator.manipulators import ScenarioManipulator, load_scenario
-from openemss.orchestrator.observers import MemoryRecorder
-from openemss.orchestrator.ssp import load_system
-from openemss.orchestrator.system import bind_system
-from openemss.orchestrator.timeseries import read_timeseries
+from openemss.orchestrator.master import algorithm_registry
+from openemss.orchestrator.master.execution import Execution
+from openemss.orchestrator.master.iterative import IterativeGaussSeidel
+from openemss.orchestrator.scenarios.manipulators import ScenarioManipulator, load_scenario
+from openemss.orchestrator.scenarios.observers import MemoryRecorder
+from openemss.orchestrator.scenarios.timeseries import read_timeseries
+from openemss.orchestrator.ssp.read import load_system
+from openemss.orchestrator.ssp.system import bind_system
 from systems import Comp, write_system
 
 SCRIPT = Path(__file__).resolve().parent / "fmus" / "loop_element.py"
@@ -74,7 +74,7 @@ def run(folder: Path, algorithm: str, steps: int, scenario: Path | None = None) 
 
 def test_the_registry_offers_it_and_the_command_line_reads_the_registry() -> None:
     assert "gauss-seidel-iterative" in algorithm_registry.names()
-    from openemss.orchestrator.cli import build_parser
+    from openemss.orchestrator.cli.main import build_parser
 
     run_parser = build_parser()._subparsers._group_actions[0].choices["run"]  # type: ignore[union-attr]
     choices = next(a.choices for a in run_parser._actions if a.dest == "algorithm")

@@ -13,10 +13,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from openemss.orchestrator.execution import Execution
-from openemss.orchestrator.observers import MemoryRecorder
-from openemss.orchestrator.ssp import load_system
-from openemss.orchestrator.system import bind_system
+from openemss.orchestrator.master.execution import Execution
+from openemss.orchestrator.scenarios.observers import MemoryRecorder
+from openemss.orchestrator.ssp.read import load_system
+from openemss.orchestrator.ssp.system import bind_system
 from thirdparty import require_libcosim, run_isolated
 
 RATE_HZ = 50.0

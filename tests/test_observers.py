@@ -4,11 +4,11 @@ from __future__ import annotations
 import io
 from pathlib import Path
 
-from openemss.orchestrator.execution import Execution
-from openemss.orchestrator.observers import CsvRecorder, MemoryRecorder, Progress
-from openemss.orchestrator.timeseries import ParquetRecorder, read_timeseries
-from openemss.orchestrator.ssp import load_system
-from openemss.orchestrator.system import bind_system
+from openemss.orchestrator.master.execution import Execution
+from openemss.orchestrator.scenarios.observers import CsvRecorder, MemoryRecorder, Progress
+from openemss.orchestrator.scenarios.timeseries import ParquetRecorder, read_timeseries
+from openemss.orchestrator.ssp.read import load_system
+from openemss.orchestrator.ssp.system import bind_system
 
 
 class FileWatcher:

@@ -8,17 +8,18 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from openemss.orchestrator import algorithm_registry, ssp
-from openemss.orchestrator import system as system_module
-from openemss.orchestrator.algorithm import Algorithm, Coupling, step_order
-from openemss.orchestrator.cli import main
+from openemss.orchestrator.cli.main import main
 from openemss.orchestrator.errors import ConfigurationError
-from openemss.orchestrator.exchange import Exchange
-from openemss.orchestrator.execution import Execution
-from openemss.orchestrator.manipulators import ScenarioManipulator, load_scenario
-from openemss.orchestrator.observers import MemoryRecorder
-from openemss.orchestrator.ssp import load_system
-from openemss.orchestrator.system import bind_system
+from openemss.orchestrator.master import algorithm_registry
+from openemss.orchestrator.master.algorithm import Algorithm, Coupling, step_order
+from openemss.orchestrator.master.exchange import Exchange
+from openemss.orchestrator.master.execution import Execution
+from openemss.orchestrator.scenarios.manipulators import ScenarioManipulator, load_scenario
+from openemss.orchestrator.scenarios.observers import MemoryRecorder
+from openemss.orchestrator.ssp import read as ssp
+from openemss.orchestrator.ssp import system as system_module
+from openemss.orchestrator.ssp.read import load_system
+from openemss.orchestrator.ssp.system import bind_system
 from systems import GAIN_CONNECTORS, Comp, write_system
 
 

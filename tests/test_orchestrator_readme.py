@@ -10,10 +10,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from openemss.orchestrator.execution import Execution
-from openemss.orchestrator.observers import MemoryRecorder
-from openemss.orchestrator.ssp import load_system
-from openemss.orchestrator.system import bind_system
+from openemss.orchestrator.master.execution import Execution
+from openemss.orchestrator.scenarios.observers import MemoryRecorder
+from openemss.orchestrator.ssp.read import load_system
+from openemss.orchestrator.ssp.system import bind_system
 
 ROOT = Path(__file__).resolve().parents[1]
 README = ROOT / "orchestrator" / "README.md"

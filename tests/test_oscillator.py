@@ -20,10 +20,10 @@ import numpy as np
 import pytest
 from scipy.linalg import expm
 
-from openemss.orchestrator.execution import Execution
-from openemss.orchestrator.observers import MemoryRecorder
-from openemss.orchestrator.ssp import load_system
-from openemss.orchestrator.system import bind_system
+from openemss.orchestrator.master.execution import Execution
+from openemss.orchestrator.scenarios.observers import MemoryRecorder
+from openemss.orchestrator.ssp.read import load_system
+from openemss.orchestrator.ssp.system import bind_system
 from systems import write_ssv
 
 # Natural frequencies about 2 and 4 rad/s: at 12.5 to 100 Hz the coupling is in its asymptotic range.

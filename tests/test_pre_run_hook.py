@@ -1,4 +1,4 @@
-"""The plugins' pre-run hook in emss run (orchestrator/hooks.py, called by api.run): its lines are printed as
+"""The plugins' pre-run hook in emss run (orchestrator/cli/hooks.py, called by api.run): its lines are printed as
 warnings before the run, with every component's FMU and the bound parameters (--set included); a hook that fails is one
 warning line and the run goes ahead; --no-pre-run skips the hooks."""
 from __future__ import annotations
@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from openemss.orchestrator import cli, hooks
+from openemss.orchestrator.cli import main as cli, hooks
 
 
 def _plugin(name: str, hook: object) -> types.ModuleType:

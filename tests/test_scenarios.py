@@ -8,13 +8,13 @@ import numpy as np
 import pytest
 
 from conftest import table
-from openemss.orchestrator.cli import main
+from openemss.orchestrator.cli.main import main
 from openemss.orchestrator.errors import ConfigurationError
-from openemss.orchestrator.execution import Execution
-from openemss.orchestrator.manipulators import ScenarioError, ScenarioManipulator, load_scenario
-from openemss.orchestrator.observers import MemoryRecorder
-from openemss.orchestrator.ssp import load_system
-from openemss.orchestrator.system import bind_system
+from openemss.orchestrator.master.execution import Execution
+from openemss.orchestrator.scenarios.manipulators import ScenarioError, ScenarioManipulator, load_scenario
+from openemss.orchestrator.scenarios.observers import MemoryRecorder
+from openemss.orchestrator.ssp.read import load_system
+from openemss.orchestrator.ssp.system import bind_system
 from systems import GAIN_CONNECTORS, Comp, write_system
 
 SCENARIO = """description: override, ramp and release a connected input; set an unconnected one and a parameter

@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 from lxml import etree
 
-from openemss.orchestrator.execution import Execution
-from openemss.orchestrator.observers import MemoryRecorder
-from openemss.orchestrator.ssp import load_system
-from openemss.orchestrator.ssp_write import MappingEntry, SystemBuilder, connectors_from_fmu
-from openemss.orchestrator.system import bind_system
+from openemss.orchestrator.master.execution import Execution
+from openemss.orchestrator.scenarios.observers import MemoryRecorder
+from openemss.orchestrator.ssp.read import load_system
+from openemss.orchestrator.ssp.write import MappingEntry, SystemBuilder, connectors_from_fmu
+from openemss.orchestrator.ssp.system import bind_system
 from thirdparty import require_libcosim, run_isolated
 
 

@@ -16,9 +16,9 @@ import numpy as np
 import pytest
 from fmpy import read_model_description
 
-from openemss.orchestrator.build import ensure_built
-from openemss.orchestrator.ssp import load_system
-from openemss.orchestrator.system import bind_system
+from openemss.orchestrator.fmu.build import ensure_built
+from openemss.orchestrator.ssp.read import load_system
+from openemss.orchestrator.ssp.system import bind_system
 
 ROOT = Path(__file__).resolve().parent.parent
 SYSTEMS = sorted(p.parent for base in ("ssp", "examples") for p in (ROOT / base).rglob("SystemStructure.ssd"))
@@ -68,8 +68,8 @@ LIBCOSIM_VARS = ["airframe.alt_msl_m", "airframe.tas_m_s", "airframe.lat_deg", "
 
 
 def _run_ours(system: Path, stop_s: float, record: list[str]) -> dict[str, np.ndarray]:
-    from openemss.orchestrator.execution import Execution
-    from openemss.orchestrator.observers import MemoryRecorder
+    from openemss.orchestrator.master.execution import Execution
+    from openemss.orchestrator.scenarios.observers import MemoryRecorder
 
     ex = Execution(bind_system(load_system(system)), algorithm="jacobi", record=record)
     assert ex.rate_hz == 20.0  # from the SSD
@@ -129,7 +129,7 @@ def test_the_redesigned_engine_set_meets_the_thrust_with_a_better_sfc(shipped: P
     from openemss.fmus.engine import DESIGN
     from openemss.models.engine.cycle_design import design
     from openemss.models.engine.design_params import load_params, preset_path
-    from openemss.orchestrator.ssp import read_ssv
+    from openemss.orchestrator.ssp.read import read_ssv
 
     values = {pv.name: pv.value for pv in read_ssv(shipped / "engine_redesigned.ssv")[0]}
     ref = load_params(preset_path("reference_study"))
@@ -142,7 +142,7 @@ def test_the_redesigned_engine_set_meets_the_thrust_with_a_better_sfc(shipped: P
 def test_the_ssd_binds_nothing_the_fmus_defaults_are_the_shipped_configuration(shipped: Path) -> None:
     """Issue 16 point 2: the SSD carries no parameter binding, so its FMUs' defaults are what flies; `emss
     validate` warns for each binding that differs from the FMU's default (naming file:line and value)."""
-    from openemss.orchestrator.cli import binding_warnings
+    from openemss.orchestrator.cli.main import binding_warnings
 
     bound = bind_system(load_system(shipped))
     assert bound.parameters == [] and binding_warnings(bound) == []

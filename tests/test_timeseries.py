@@ -20,12 +20,12 @@ from xml.etree import ElementTree
 import numpy as np
 import pytest
 
-from openemss.orchestrator.cli import main
-from openemss.orchestrator.execution import Execution
-from openemss.orchestrator.observers import MemoryRecorder
-from openemss.orchestrator.ssp import load_system
-from openemss.orchestrator.system import bind_system
-from openemss.orchestrator.timeseries import (
+from openemss.orchestrator.cli.main import main
+from openemss.orchestrator.master.execution import Execution
+from openemss.orchestrator.scenarios.observers import MemoryRecorder
+from openemss.orchestrator.ssp.read import load_system
+from openemss.orchestrator.ssp.system import bind_system
+from openemss.orchestrator.scenarios.timeseries import (
     ParquetRecorder,
     default_record,
     read_timeseries,

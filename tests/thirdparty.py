@@ -6,7 +6,7 @@ interpreter and leaves objects behind that refer to its library's code, so
 unloading it in the test process corrupts the heap and the process may abort
 at exit (seen as "corrupted double-linked list" in glibc's thread teardown, in
 about one run in ten). Our own master never unloads a library (see
-``orchestrator/slave.py``). The comparisons with other tools therefore run in
+``orchestrator/master/slave.py``). The comparisons with other tools therefore run in
 a child process that hands back its results as JSON and leaves with
 ``os._exit``, before any finalization.
 """

@@ -9,13 +9,13 @@ The Python API (a notebook's entry point)::
     r.summary             # summary.json of a mission run
     r.info                # run.json
 
-``run`` is :func:`openemss.orchestrator.api.run`, the code behind ``emss run``;
+``run`` is :func:`openemss.orchestrator.cli.api.run`, the code behind ``emss run``;
 ``read_timeseries`` reads any run's results folder back.
 
 This file is the ``openemss`` package itself (pyproject maps the package ``openemss`` to this
 folder and every sub-package to its own top-level folder).
 """
-from openemss.orchestrator.api import RunResult, run
-from openemss.orchestrator.timeseries import TimeSeries, read_timeseries
+from openemss.orchestrator.cli.api import RunResult, run
+from openemss.orchestrator.scenarios.timeseries import TimeSeries, read_timeseries
 
 __all__ = ["run", "RunResult", "read_timeseries", "TimeSeries"]

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from openemss.orchestrator.cli import main
+from openemss.orchestrator.cli.main import main
 
 
 def test_trim_json_keys_and_balance(capsys: pytest.CaptureFixture[str]) -> None:

@@ -29,7 +29,7 @@ from scipy.optimize import brentq
 from openemss.models.airframe import asb_estimate as E
 from openemss.models.airframe.aero import geometric_model, isa
 from openemss.models.airframe.vlm import vlm_downwash_gradient, vlm_wing
-from openemss.orchestrator.cli import main
+from openemss.orchestrator.cli.main import main
 
 G = geometric_model().geom
 W = G.wing

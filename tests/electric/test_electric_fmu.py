@@ -10,7 +10,7 @@ from fmpy.validation import validate_fmu
 
 from conftest import assert_house_style, open_slave
 from openemss.models.electric.system import ElectricSystem
-from openemss.orchestrator.manipulators import load_scenario
+from openemss.orchestrator.scenarios.manipulators import load_scenario
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -18,7 +18,7 @@ import pytest
 from openemss.models.engine.cycle_design import design
 from openemss.models.engine.cycle_study import cycle_study, jet_velocity_ratio, plot_carpet, write_csv
 from openemss.models.engine.design_params import load_params, preset_path
-from openemss.orchestrator.cli import main
+from openemss.orchestrator.cli.main import main
 
 
 def test_carpet_meets_its_constraints_and_trends(tmp_path: Path) -> None:

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from openemss.orchestrator.cli import main
+from openemss.orchestrator.cli.main import main
 
 
 def test_design_json_has_si_keys_and_every_station(capsys: pytest.CaptureFixture[str]) -> None:

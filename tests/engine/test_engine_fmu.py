@@ -103,10 +103,10 @@ def test_fmu_and_model_identical(fmu: Path, tmp_path: Path) -> None:
 def test_runs_in_our_orchestrator_and_libcosim(fmu: Path, tmp_path: Path) -> None:
     """A one-component SSP system: start at N1 70 % at 3000 m, Mach 0.5, fuel flow input bound to a
     higher value: the spools accelerate. Ours and libcosim against the Python model, 1e-9."""
-    from openemss.orchestrator.execution import Execution
-    from openemss.orchestrator.observers import MemoryRecorder
-    from openemss.orchestrator.ssp import load_system
-    from openemss.orchestrator.system import bind_system
+    from openemss.orchestrator.master.execution import Execution
+    from openemss.orchestrator.scenarios.observers import MemoryRecorder
+    from openemss.orchestrator.ssp.read import load_system
+    from openemss.orchestrator.ssp.system import bind_system
     from systems import Comp, write_system
     from thirdparty import require_libcosim, run_isolated
 

@@ -30,12 +30,12 @@ from openemss.models.fcs.fcs import FlightControlSystem
 from openemss.models.fcs.geo import LatLon, from_local_ne, local_ne_m
 from openemss.models.fcs.mission import load_mission
 from openemss.models.fcs.state import AircraftState, EngineState
-from openemss.orchestrator.build import build_fmu, ensure_built
-from openemss.orchestrator.execution import Execution
-from openemss.orchestrator.manipulators import ScenarioManipulator, load_scenario
-from openemss.orchestrator.observers import MemoryRecorder
-from openemss.orchestrator.ssp import load_system
-from openemss.orchestrator.system import bind_system
+from openemss.orchestrator.fmu.build import build_fmu, ensure_built
+from openemss.orchestrator.master.execution import Execution
+from openemss.orchestrator.scenarios.manipulators import ScenarioManipulator, load_scenario
+from openemss.orchestrator.scenarios.observers import MemoryRecorder
+from openemss.orchestrator.ssp.read import load_system
+from openemss.orchestrator.ssp.system import bind_system
 from systems import Comp, write_ssv, write_system
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -458,7 +458,7 @@ def test_gain_outside_its_range_is_refused(fmus: Path, tmp_path: Path) -> None:
 
 
 def _cli_error(folder: Path, capsys: pytest.CaptureFixture[str]) -> str:
-    from openemss.orchestrator.cli import main
+    from openemss.orchestrator.cli.main import main
 
     rc = main(["run", str(folder), "--out", str(folder / "out"), "--stop-time", "1"])
     err = [ln for ln in capsys.readouterr().err.splitlines() if ln.strip()]

@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 from synthetic_runs import N, Runs
 
-from openemss.orchestrator.cli import main
+from openemss.orchestrator.cli.main import main
 
 
 def test_summary_of_a_torn_last_row_says_so(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from openemss.orchestrator.cli import main
+from openemss.orchestrator.cli.main import main
 
 CHROMIUM = Path("/usr/bin/chromium")
 #: Chromium here must not reach for the network (updates, sync, QUIC) and needs no sandbox as root.

@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 from scipy.optimize import brentq
 
-from openemss.orchestrator.cli import main
+from openemss.orchestrator.cli.main import main
 from openemss.report.mission_check import pre_run
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 from synthetic_runs import WF_KG_S, N, Runs
 
-from openemss.orchestrator.cli import main
-from openemss.orchestrator.execution import Execution
-from openemss.orchestrator.observers import Progress
-from openemss.orchestrator.ssp import load_system
-from openemss.orchestrator.system import bind_system
+from openemss.orchestrator.cli.main import main
+from openemss.orchestrator.master.execution import Execution
+from openemss.orchestrator.scenarios.observers import Progress
+from openemss.orchestrator.ssp.read import load_system
+from openemss.orchestrator.ssp.system import bind_system
 from openemss.report.plugin import status_variable
 
 FIGURES = {"ground_track.png", "altitude_mach.png", "fuel_burned.png", "fuel_flow_tt4.png", "spool_speeds.png",

@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from openemss.orchestrator.cli import main
+from openemss.orchestrator.cli.main import main
 
 ROOT = Path(__file__).resolve().parents[2]
 FIGURES = {"ground_track.png", "altitude_mach.png", "fuel_burned.png", "fuel_flow_tt4.png", "spool_speeds.png",

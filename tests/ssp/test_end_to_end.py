@@ -18,7 +18,7 @@ import yaml
 from conftest import table
 from openemss.models.fcs.geo import LatLon
 from openemss.models.fcs.mission import load_mission
-from openemss.orchestrator.cli import main
+from openemss.orchestrator.cli.main import main
 
 ROOT = Path(__file__).resolve().parents[2]
 

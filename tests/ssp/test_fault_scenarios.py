@@ -19,7 +19,7 @@ import pytest
 import yaml
 
 from conftest import table
-from openemss.orchestrator.cli import main
+from openemss.orchestrator.cli.main import main
 
 ROOT = Path(__file__).resolve().parents[2]
 MISSION = {

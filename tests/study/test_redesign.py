@@ -10,8 +10,8 @@ import pytest
 
 from openemss.models.engine.cycle_design import design
 from openemss.models.engine.design_params import load_params, preset_path, replace
-from openemss.orchestrator.build import ensure_built
-from openemss.orchestrator.ssp import read_ssv
+from openemss.orchestrator.fmu.build import ensure_built
+from openemss.orchestrator.ssp.read import read_ssv
 from openemss.study.case import CaseResult
 from openemss.study.compare import compare_engines
 from openemss.study.redesign import BASELINE, REDESIGNED, cycle_redesign, parse_redesign

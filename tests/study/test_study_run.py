@@ -19,8 +19,8 @@ from pathlib import Path
 
 import pytest
 
-from openemss.orchestrator.cli import main
-from openemss.orchestrator.timeseries import read_timeseries
+from openemss.orchestrator.cli.main import main
+from openemss.orchestrator.scenarios.timeseries import read_timeseries
 from openemss.study.case import CaseDef, CaseResult, run_case
 from openemss.study.dataset import read_study
 from openemss.study.plan import expand_cases

@@ -5,7 +5,7 @@ from pathlib import Path
 
 import pytest
 
-from openemss.orchestrator.cli import main
+from openemss.orchestrator.cli.main import main
 from openemss.study.plan import expand_cases
 from openemss.study.spec import StudyError, load_study
 

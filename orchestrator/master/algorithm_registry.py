@@ -11,10 +11,10 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
+from ..errors import ConfigurationError
+from ..ssp.system_model import BoundSystem
 from .algorithm import Algorithm, GaussSeidel, Jacobi, step_order
-from .errors import ConfigurationError
 from .iterative import ATOL, MAX_ITERATIONS, RTOL, IterativeGaussSeidel
-from .system_model import BoundSystem
 
 
 @dataclass(frozen=True)

@@ -1,7 +1,7 @@
 """Run a system from Python: ``openemss.run(...)`` returns the time series, the summary and the run record.
 
 The ``emss run`` command is this function with its arguments parsed from the command line
-(:func:`openemss.orchestrator.cli.cmd_run`), and a study's case is ``emss run`` in a child process
+(:func:`openemss.orchestrator.cli.main.cmd_run`), and a study's case is ``emss run`` in a child process
 (:mod:`openemss.study.child`): one code path for all three.
 
 Example
@@ -25,16 +25,16 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .build import PACKAGE_ROOT, ensure_built
-from .errors import ConfigurationError, EmssError
-from .execution import Execution
-from .manipulators import INT32_RANGE, ScenarioManipulator, load_scenario
-from .observers import Progress, RealTimePacer, RunRecord
-from .results import ResultsError, ResultsFolder, RunInterrupted, atomic_write, check_name, stop_on_signals
-from .ssp import load_system
-from .ssp_model import SystemDef
-from .system import BoundSystem, bind_system
-from .timeseries import DEFAULT_FORMAT, FILE_NAMES, TimeSeries, default_record, read_timeseries, recorder
+from ..errors import ConfigurationError, EmssError
+from ..fmu.build import PACKAGE_ROOT, ensure_built
+from ..master.execution import Execution
+from ..results import ResultsError, ResultsFolder, RunInterrupted, atomic_write, check_name, stop_on_signals
+from ..scenarios.manipulators import INT32_RANGE, ScenarioManipulator, load_scenario
+from ..scenarios.observers import Progress, RealTimePacer, RunRecord
+from ..scenarios.timeseries import DEFAULT_FORMAT, FILE_NAMES, TimeSeries, default_record, read_timeseries, recorder
+from ..ssp.model import SystemDef
+from ..ssp.read import load_system
+from ..ssp.system import BoundSystem, bind_system
 
 if TYPE_CHECKING:
     import pandas
@@ -131,7 +131,7 @@ def load(system: Path | str | SystemDef, params: Sequence[Path | str] = (),
         return bound
     from lxml import etree
 
-    from .ssp_write import ParameterSet
+    from ..ssp.write import ParameterSet
 
     values: dict[str, ValueT] = {}
     every: list[str] | None = None
@@ -207,7 +207,7 @@ def ensure_project_fmus(system: Path, report: Callable[[str], None] | None = Non
 
 
 def multiples(items: Mapping[str, int] | Sequence[str]) -> dict[str, int]:
-    from .execution import MAX_STEP_MULTIPLE
+    from ..master.execution import MAX_STEP_MULTIPLE
 
     pairs = [f"{k}={v}" for k, v in items.items()] if isinstance(items, Mapping) else list(items)
     out: dict[str, int] = {}

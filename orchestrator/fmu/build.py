@@ -38,10 +38,10 @@ from pathlib import Path
 from fmpy.validation import validate_fmu
 from lxml import etree
 
-from .errors import BuildError, EmssError
+from ..errors import BuildError, EmssError
 from .fmu_deps import insert_guard, link_libpython, requirements_guard, vendor_packages
 
-PACKAGE_ROOT = Path(__file__).resolve().parent.parent  # folder holding orchestrator/, models/, fmus/
+PACKAGE_ROOT = Path(__file__).resolve().parent.parent.parent  # folder holding orchestrator/, models/, fmus/
 MODELS_DIR = PACKAGE_ROOT / "models"
 DEFAULT_SOURCE_DIR = PACKAGE_ROOT / "fmus"
 BUILD_INFO = "openemss_build.json"
@@ -257,7 +257,7 @@ def _stage(src: SlaveSource, digest: str, stage: Path, options: dict[str, bool])
     req = stage / "requirements.txt"
     req.write_text("".join(f"{r}\n" for r in (*src.requirements, PYTHONFMU_REQUIREMENT)))
     info = stage / BUILD_INFO
-    from . import __version__
+    from .. import __version__
 
     record = {"source": src.script.name, "source_sha256": digest, "openemss": __version__, **options}
     if options.get("vendor"):

@@ -15,14 +15,14 @@ from typing import Protocol
 
 import numpy as np
 
+from ..errors import ConfigurationError, EmssError, InitializationError
+from ..results import RunInterrupted
+from ..ssp.system_model import BoundSystem
 from . import algorithm_registry
 from .algorithm import Algorithm, StepOrder, step_order
 from .condition import StopCondition
-from .errors import ConfigurationError, EmssError, InitializationError
 from .exchange import IO_TYPES, Exchange, Signal, TypeVectors
-from .results import RunInterrupted
 from .slave import FmuLog, Slave
-from .system_model import BoundSystem
 
 __all__ = ["DEFAULT_RATE_HZ", "IO_TYPES", "MAX_RATE_HZ", "MAX_STEPS", "MAX_STEP_MULTIPLE", "MIN_RATE_HZ",
            "Execution", "Manipulator", "Observer", "Signal", "TypeVectors", "check_rate"]

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from .system import BoundSystem
-from .timeseries import unit_from_description
+from ..scenarios.timeseries import unit_from_description
+from ..ssp.system import BoundSystem
 
 
 def parameters(bound: BoundSystem) -> list[dict[str, Any]]:

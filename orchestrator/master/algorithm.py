@@ -18,7 +18,7 @@ from typing import Protocol
 
 import numpy as np
 
-from .system_model import BoundSystem
+from ..ssp.system_model import BoundSystem
 
 
 @dataclass(frozen=True)

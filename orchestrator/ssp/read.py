@@ -26,10 +26,10 @@ from pathlib import Path, PurePosixPath
 
 from lxml import etree
 
-from .errors import Problem, SystemStructureError
+from ..errors import Problem, SystemStructureError
+from ..results import archive_problems
 from .flatten import flatten
-from .results import archive_problems
-from .ssp_model import (
+from .model import (
     ComponentDef,
     ConnectionDef,
     ConnectorDef,

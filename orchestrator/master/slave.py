@@ -29,9 +29,9 @@ from fmpy.fmi2 import (
     fmi2FMUstate,
 )
 
-from .errors import SlaveError
-from .results import check_archive
-from .system_model import ComponentModel, VariableInfo
+from ..errors import SlaveError
+from ..results import check_archive
+from ..ssp.system_model import ComponentModel, VariableInfo
 
 _STATUS = ("ok", "warning", "discard", "error", "fatal", "pending")
 _EXTRACTED: dict[tuple[str, int, int], str] = {}

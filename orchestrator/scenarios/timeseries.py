@@ -37,15 +37,15 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .errors import ConfigurationError, EmssError
+from ..errors import ConfigurationError, EmssError
+from ..results import ResultsError, atomic_write, os_reason
 from .observers import CsvRecorder
-from .results import ResultsError, atomic_write, os_reason
 
 if TYPE_CHECKING:
     import pandas
 
-    from .execution import Execution
-    from .system import BoundSystem
+    from ..master.execution import Execution
+    from ..ssp.system import BoundSystem
 
 FORMATS = ("parquet", "csv", "mat")
 DEFAULT_FORMAT = "parquet"

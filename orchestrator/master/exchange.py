@@ -20,8 +20,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .errors import ConfigurationError, EmssError
-from .system_model import BoundSystem, VariableInfo
+from ..errors import ConfigurationError, EmssError
+from ..ssp.system_model import BoundSystem, VariableInfo
 from .transfer import Segment, Transfer
 
 if TYPE_CHECKING:

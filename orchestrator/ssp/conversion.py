@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 
-from .ssp import Hop, LinearTransformationDef, MappingTransformationDef
+from .read import Hop, LinearTransformationDef, MappingTransformationDef
 from .units import IDENTITY, Affine, Unit, UnitMismatch, conversion
 
 UnitLookup = Callable[[str], Unit | None]

@@ -32,8 +32,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from ..errors import ConfigurationError, CouplingError
 from .algorithm import Coupling, GaussSeidel, StepOrder
-from .errors import ConfigurationError, CouplingError
 
 RTOL = 1e-8  #: default relative tolerance on the loop inputs [-]
 ATOL = 1e-10  #: default absolute tolerance on the loop inputs, in the inputs' units

@@ -72,10 +72,10 @@ from fmpy.model_description import (
     write_model_description,
 )
 
-from .algorithm import gauss_seidel_order
-from .errors import ConfigurationError
-from .results import ResultsError, os_reason
-from .system import BoundSystem, Link, VariableInfo
+from ..errors import ConfigurationError
+from ..master.algorithm import gauss_seidel_order
+from ..results import ResultsError, os_reason
+from ..ssp.system import BoundSystem, Link, VariableInfo
 
 #: Container format this writer produces; fmpy's runtime refuses any other.
 CONTAINER_VERSION = "0.1.0"

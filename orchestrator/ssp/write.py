@@ -24,7 +24,7 @@ from pathlib import Path
 
 from lxml import etree
 
-from .ssp import NS, OSP_ANNOTATION_TYPE, SSD_FILE_NAME, _schema
+from .read import NS, OSP_ANNOTATION_TYPE, SSD_FILE_NAME, _schema
 from .units import EXPONENT_NAMES
 
 ParameterValueT = float | int | bool | str

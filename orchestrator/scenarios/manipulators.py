@@ -38,12 +38,12 @@ import yaml
 
 from openemss.models.common import safe_yaml
 
-from .condition import OPERATORS, Condition, parse_condition
-from .errors import ScenarioError
-from .exchange import InputModifier
+from ..errors import ScenarioError
+from ..master.condition import OPERATORS, Condition, parse_condition
+from ..master.exchange import InputModifier
 
 if TYPE_CHECKING:
-    from .execution import Execution
+    from ..master.execution import Execution
 
 __all__ = ["INT32_RANGE", "KINDS", "OPERATORS", "Condition", "Event", "ScenarioError", "ScenarioManipulator",
            "load_scenario", "parse_condition"]

@@ -16,15 +16,16 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, NoReturn
 
-from . import algorithm_registry, api
-from .algorithm import step_order
-from .errors import EmssError, Problem, SystemStructureError
-from .execution import DEFAULT_RATE_HZ, MAX_RATE_HZ, MIN_RATE_HZ
+from ..errors import EmssError, Problem, SystemStructureError
+from ..master import algorithm_registry
+from ..master.algorithm import step_order
+from ..master.execution import DEFAULT_RATE_HZ, MAX_RATE_HZ, MIN_RATE_HZ
+from ..results import RunInterrupted, os_reason
+from ..scenarios.timeseries import DEFAULT_FORMAT, FORMATS
+from ..ssp.system import BoundSystem
+from . import api
 from .hooks import USER_ERRORS
 from .plugins import plugins
-from .results import RunInterrupted, os_reason
-from .system import BoundSystem
-from .timeseries import DEFAULT_FORMAT, FORMATS
 
 #: The system ``emss run`` and ``emss info`` use without a SYSTEM argument (ssp/, the Munich mission).
 DEFAULT_SYSTEM = api.DEFAULT_SYSTEM
@@ -285,8 +286,8 @@ def fix_swallowed_system(args: argparse.Namespace) -> None:
 
 
 def cmd_export(args: argparse.Namespace) -> int:
-    from .execution import check_rate
-    from .export import export_container
+    from ..fmu.export import export_container
+    from ..master.execution import check_rate
 
     bound = _load(args)
     sysdef = bound.definition

@@ -12,7 +12,7 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from .errors import ScenarioError
+from ..errors import ScenarioError
 from .exchange import Exchange
 
 OPERATORS: dict[str, Callable[[float, float], bool]] = {

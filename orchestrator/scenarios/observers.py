@@ -19,10 +19,10 @@ from typing import IO, TYPE_CHECKING, Any
 
 import numpy as np
 
-from .results import ResultsError, RunInterrupted, atomic_write, open_stream, os_reason
+from ..results import ResultsError, RunInterrupted, atomic_write, open_stream, os_reason
 
 if TYPE_CHECKING:
-    from .execution import Execution
+    from ..master.execution import Execution
 
 RESERVE_NAME = ".emss-reserve"
 RESERVE_BYTES = 256 * 1024  #: disk held back for the last write of run.json [bytes]

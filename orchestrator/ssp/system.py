@@ -13,11 +13,11 @@ from pathlib import Path
 from fmpy import read_model_description
 from fmpy.model_description import ModelDescription
 
+from ..errors import Problem, SystemStructureError
 from .conversion import ConversionError, discrete_path, real_path
-from .errors import Problem, SystemStructureError
+from .model import ComponentDef, FlatConnection, ParameterBindingDef, SystemDef
 from .parameters import resolve_parameters
-from .ssp import read_ssv
-from .ssp_model import ComponentDef, FlatConnection, ParameterBindingDef, SystemDef
+from .read import read_ssv
 from .system_model import (  # re-exported: the types of a bound system are named through this module too
     BUFFER_TYPE,
     BoundSystem,

@@ -11,8 +11,8 @@ from pathlib import Path
 
 from fmpy.model_description import ModelDescription
 
-from .errors import Problem, SystemStructureError
-from .ssp_model import ComponentDef, SystemDef
+from ..errors import Problem, SystemStructureError
+from .model import ComponentDef, SystemDef
 from .units import IDENTITY, Affine, Unit
 
 #: FMI 2.0 variable types as the orchestrator buffers them (Enumeration travels as Integer).

@@ -13,9 +13,9 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
+from ..errors import Problem
 from .conversion import ConversionError, unit_step
-from .errors import Problem
-from .ssp_model import (
+from .model import (
     LinearTransformationDef,
     MappingEntryDef,
     MappingTransformationDef,

@@ -32,7 +32,7 @@ import zipfile
 from importlib import metadata
 from pathlib import Path
 
-from .errors import BuildError
+from ..errors import BuildError
 
 #: distribution names whose import name differs
 _IMPORT_NAMES = {"pyyaml": "yaml"}

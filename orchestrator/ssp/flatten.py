@@ -10,8 +10,8 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from .errors import Problem
-from .ssp_model import (
+from ..errors import Problem
+from .model import (
     ComponentDef,
     FlatConnection,
     Hop,

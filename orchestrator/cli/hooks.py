@@ -7,9 +7,9 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from .errors import EmssError
+from ..errors import EmssError
+from ..ssp.system import BoundSystem
 from .plugins import plugin_name, plugins
-from .system import BoundSystem
 
 #: Exception types that model and plugin commands raise for bad input (one line, no traceback); filled by
 #: the CLI as it registers their commands.
@@ -34,7 +34,7 @@ def proposed(bound: BoundSystem, hook: str) -> str | None:
 
 def status_variable(bound: BoundSystem, requested: str | None) -> str | None:
     """The progress bar's status variable: ``requested`` (checked), else the first a plugin proposes."""
-    from .errors import ConfigurationError
+    from ..errors import ConfigurationError
 
     if requested is not None:
         try:

@@ -1,0 +1,10 @@
+"""cli/: the command line, one part of the orchestrator.
+
+The command line: the ``emss`` command (:mod:`.main`, also ``python -m openemss.orchestrator.cli``) and its
+plugins.
+
+May import: its own modules, ``ssp/``, ``master/``, ``fmu/``, ``scenarios/``, the shared modules at the
+package root (``errors``, ``results``, ``__init__``).
+
+Modules: ``main``, ``plugins``, ``hooks``, ``api``, ``describe``. The parts: orchestrator/README.md.
+"""

@@ -76,7 +76,23 @@ class _RowSampler:
         self.rows += 1
 
 
-class MemoryRecorder:
+class EveryNth:
+    """The sampling rule of the recorders: every ``every``-th macro step, and the last step of a run
+    that stopped between two of them (its final state, which a summary reads)."""
+
+    every: int
+    _skipped: float | None = None  # time of the last step when it was not recorded
+
+    def _due(self, k: int, time_s: float) -> bool:
+        self._skipped = time_s if k % self.every else None
+        return not k % self.every
+
+    def _record_last_step(self, error: BaseException | None) -> None:
+        if error is None and self._skipped is not None:
+            self.sample(0, self._skipped)  # type: ignore[attr-defined]
+
+
+class MemoryRecorder(EveryNth):
     """Keeps every sample in memory; ``result()`` gives a dict of numpy arrays by column name.
 
     Parameters
@@ -89,14 +105,12 @@ class MemoryRecorder:
         self.every = every
         self._sampler = _RowSampler(1024)
         self._blocks: list[np.ndarray] = []
-        self._skipped: float | None = None  # time of the last step when it was not recorded
 
     def start(self, execution: Execution) -> None:
         self._sampler.attach(execution)
 
     def sample(self, k: int, time_s: float) -> None:
-        self._skipped = time_s if k % self.every else None
-        if k % self.every:
+        if not self._due(k, time_s):
             return
         s = self._sampler
         if s.rows == s.block_rows:
@@ -106,8 +120,7 @@ class MemoryRecorder:
 
     def finish(self, execution: Execution, error: BaseException | None) -> None:
         s = self._sampler
-        if error is None and self._skipped is not None:  # a run stopped between two recorded steps:
-            self.sample(0, self._skipped)                # its last step is recorded (the final state)
+        self._record_last_step(error)
         if s.rows:
             self._blocks.append(s.block[: s.rows].copy())
             s.rows = 0
@@ -117,7 +130,7 @@ class MemoryRecorder:
         return {name: data[:, j] for j, name in enumerate(self._sampler.columns)}
 
 
-class CsvRecorder:
+class CsvRecorder(EveryNth):
     """Streams samples to a CSV file, flushing at least every ``flush_interval_s`` of wall time.
 
     Rows are written whole: each flush is one write of complete rows, and a write that fails
@@ -138,7 +151,6 @@ class CsvRecorder:
         self._fmt = ""
         self._good_bytes = 0  # length of the file up to its last complete row
         self._last_time_s: float | None = None
-        self._skipped: float | None = None  # time of the last step when it was not recorded
         self.rows_written = 0
 
     def start(self, execution: Execution) -> None:
@@ -169,8 +181,7 @@ class CsvRecorder:
         self._good_bytes += len(data)
 
     def sample(self, k: int, time_s: float) -> None:
-        self._skipped = time_s if k % self.every else None
-        if k % self.every:
+        if not self._due(k, time_s):
             return
         s = self._sampler
         s.fill(time_s)
@@ -195,8 +206,7 @@ class CsvRecorder:
     def finish(self, execution: Execution, error: BaseException | None) -> None:
         if self._file is not None:
             try:
-                if error is None and self._skipped is not None:  # a run stopped between two recorded steps:
-                    self.sample(0, self._skipped)                # its last step is recorded (the final state)
+                self._record_last_step(error)
                 self.flush()
             finally:
                 if self._file is not None:

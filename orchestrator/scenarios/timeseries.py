@@ -39,7 +39,7 @@ import numpy as np
 
 from ..errors import ConfigurationError, EmssError
 from ..results import ResultsError, atomic_write, os_reason
-from .observers import CsvRecorder
+from .observers import CsvRecorder, EveryNth
 
 if TYPE_CHECKING:
     import pandas
@@ -195,7 +195,7 @@ def arrow_schema(columns: Sequence[Column]) -> Any:
                                          "fmi_type": c.type_name}) for c in columns])
 
 
-class ParquetRecorder:
+class ParquetRecorder(EveryNth):
     """Streams samples into a Parquet dataset folder, one complete part file per flush.
 
     Parameters
@@ -240,12 +240,10 @@ class ParquetRecorder:
             raise ResultsError(f"cannot write {self.path}: {os_reason(exc)}") from None
         self._parts = 0
         self._open = True
-        self._skipped: float | None = None  # time of the last step when it was not recorded
         self._last_flush = time.perf_counter()
 
     def sample(self, k: int, time_s: float) -> None:
-        self._skipped = time_s if k % self.every else None
-        if k % self.every:
+        if not self._due(k, time_s):
             return
         s = self._sampler
         s.fill(time_s)
@@ -291,8 +289,7 @@ class ParquetRecorder:
 
     def finish(self, execution: Execution, error: BaseException | None) -> None:
         try:
-            if error is None and self._skipped is not None:  # a run stopped between two recorded steps:
-                self.sample(0, self._skipped)                # its last step is recorded (the final state)
+            self._record_last_step(error)
             self.flush()
         finally:
             self._open = False

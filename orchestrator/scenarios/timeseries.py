@@ -31,6 +31,7 @@ import re
 import shutil
 import time
 from collections.abc import Sequence
+from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -221,6 +222,8 @@ class ParquetRecorder(EveryNth):
         self._last_time_s: float | None = None
         self._open = False
         self.rows_written = 0
+        self._writer: ThreadPoolExecutor | None = None
+        self._pending: Future[None] | None = None
 
     @property
     def columns(self) -> list[Column]:
@@ -252,23 +255,44 @@ class ParquetRecorder(EveryNth):
             self.flush()
 
     def flush(self) -> None:
-        """Write the buffered rows as one more part file (whole: written to a hidden name, then renamed)."""
+        """Hand the buffered rows to the writer thread as one more part file (whole: written to a hidden
+        name, then renamed).
+
+        The write (pyarrow's compression and file output, C++ that releases the GIL) overlaps the next
+        macro steps on another core: it is about two thirds of what recording costs. At most one part is
+        in flight: a flush first waits for the one before and raises its error, so a failed write stops
+        the run at the next flush (within ``flush_interval_s``) or at its end, never silently.
+        """
+        self._wait()
         s = self._sampler
         if not self._open:
             return
         self._last_flush = time.perf_counter()
         if not s.rows:
             return
+        rows = s.rows
+        arrays = s.arrays()  # copies: the sampler fills its buffer again meanwhile
+        final = self.path / f"part-{self._parts:05d}.parquet"
+        self._parts += 1
+        if self._writer is None:
+            self._writer = ThreadPoolExecutor(max_workers=1, thread_name_prefix="emss-parquet")
+        self._pending = self._writer.submit(self._write, arrays, rows, final)
+
+    def _wait(self) -> None:
+        """Wait for the part in flight; its ResultsError is raised here, in the run's thread."""
+        if self._pending is not None:
+            pending, self._pending = self._pending, None
+            pending.result()
+
+    def _write(self, arrays: list[np.ndarray], rows: int, final: Path) -> None:
         import pyarrow as pa
         import pyarrow.parquet as pq
 
-        rows = s.rows
-        arrays = s.arrays()
         last = float(arrays[0][-1])
-        table = pa.Table.from_arrays([pa.array(a) for a in arrays], schema=self._schema)
-        final = self.path / f"part-{self._parts:05d}.parquet"
+        s = self._sampler
         tmp = self.path / f".{final.name}.tmp"
         try:
+            table = pa.Table.from_arrays([pa.array(a) for a in arrays], schema=self._schema)
             with open(tmp, "wb") as f:  # our own handle: closed here even when the disk is full
                 pq.write_table(table, f, compression="zstd", compression_level=ZSTD_LEVEL,
                                use_byte_stream_split=[c.name for c in s.columns if c.type_name == "Real"],
@@ -283,7 +307,6 @@ class ParquetRecorder(EveryNth):
                 exc = OSError(getattr(exc, "errno", None), str(exc))
             kept = f"; rows up to t = {self._last_time_s:.6g} s kept" if self._last_time_s is not None else ""
             raise ResultsError(f"cannot write {final} at t = {last:.6g} s: {os_reason(exc)}{kept}") from None
-        self._parts += 1
         self.rows_written += rows
         self._last_time_s = last
 
@@ -291,8 +314,12 @@ class ParquetRecorder(EveryNth):
         try:
             self._record_last_step(error)
             self.flush()
+            self._wait()
         finally:
             self._open = False
+            if self._writer is not None:
+                self._writer.shutdown(wait=True)
+                self._writer = None
 
 
 class MatRecorder(ParquetRecorder):

@@ -11,7 +11,9 @@ Runs ``ssp/`` (engine, airframe and FCS FMUs wired by the shipped SSD, the Munic
   pythonfmu), µs per macro step and share of the wall time;
 * the orchestrator's own share: wall time minus everything spent inside the FMUs (transfers,
   recording, the loop itself);
-* the recorders' cost per macro step (sampling and writing, the end of the run included), for every
+* the recorders' cost per macro step (sampling and writing, the end of the run included; their
+  ``start``, before the first step -- imports, the file's schema -- is printed apart, in ms, as the
+  FMUs' set-up is), for every
   format of ``--formats`` (default ``csv,parquet``: the former default and today's), all attached to
   the same run and recording the same columns, so their ratio is free of the machine's load; the
   columns are ``emss run``'s default (outputs, and inputs not merely copying a connected output), or
@@ -103,16 +105,18 @@ def main(argv: list[str] | None = None) -> int:
 
 
 class Timed:
-    """An observer around a recorder, adding up the wall time of its sample and finish calls."""
+    """An observer around a recorder, adding up the wall time of its sample and finish calls (``seconds``)
+    and, apart, of its start before the first step (``start_seconds``)."""
 
     def __init__(self, inner: object) -> None:
         self.inner = inner
         self.seconds = 0.0
+        self.start_seconds = 0.0
 
     def start(self, execution: object) -> None:
         t0 = time.perf_counter()
         self.inner.start(execution)
-        self.seconds += time.perf_counter() - t0
+        self.start_seconds += time.perf_counter() - t0
 
     def sample(self, k: int, time_s: float) -> None:
         t0 = time.perf_counter()
@@ -134,12 +138,13 @@ def _report_recorders(timed: dict[str, Timed], work: Path, steps: int, columns: 
         return
     print(f"\nrecorders, same run, {columns} columns, {steps} macro steps (perf_counter around each call: "
           "about 0.1 us of it is the timing itself)")
-    print(f"{'format':<10}{'us/step':>10}{'ratio':>8}{'file MB':>10}")
+    print(f"{'format':<10}{'us/step':>10}{'ratio':>8}{'file MB':>10}{'start ms':>10}")
     base = next(iter(timed.values())).seconds
     for fmt, t in timed.items():
         files = [p for p in (work / fmt).iterdir()]
         size = sum(_size(p) for p in files) / 1e6
-        print(f"{fmt:<10}{1e6 * t.seconds / max(steps, 1):>10.2f}{t.seconds / base if base else 0:>8.2f}{size:>10.2f}")
+        print(f"{fmt:<10}{1e6 * t.seconds / max(steps, 1):>10.2f}{t.seconds / base if base else 0:>8.2f}{size:>10.2f}"
+              f"{1e3 * t.start_seconds:>10.1f}")
 
 
 def calibration_ms() -> float:

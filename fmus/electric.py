@@ -5,7 +5,7 @@ speeds (the engine's ``N1_rpm``, ``N2_rpm``), the thrust lever (the flight contr
 ``vs_m_s`` and ``on_ground`` (the airframe's) and ``pulse_load_W`` (an event-driven pulse load, set by a scenario).
 Outputs: the signed shaft powers ``offtake_hp_W`` and ``offtake_lp_W`` under the engine FMU's input names
 (> 0 taken from the spool, < 0 delivered to it), the bus, battery and ledger figures, the limit flags,
-``ems_mode`` and ``mass_kg`` (the airframe's ``added_mass_kg``).
+``ems_mode`` and ``added_mass_kg`` (the system's mass, fed to the airframe's input of that name).
 
 Parameters: every entry of ``openemss.models.electric``'s ``data/electric.yaml`` under its dotted name
 (``ems.boost_W``, ``battery.n_parallel``, ...), tunable during the run; the battery's layout and initial

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from operator import itemgetter
 
 from pythonfmu import Fmi2Slave
 from pythonfmu.enums import Fmi2Status
@@ -26,6 +27,7 @@ from openemss.fmus.signal_io import SignalIO
 from openemss.models.engine.design_params import TurbofanParams, load_params, preset_path, replace
 from openemss.models.engine.engine_model import (
     FLAGS,
+    INPUT_FIELDS,
     OUTPUTS,
     BleedValve,
     EngineInputs,
@@ -43,6 +45,12 @@ _INPUTS = tuple(s for s in SIGNALS if s.causality == "input")
 _REAL_INPUTS = tuple(s.name for s in _INPUTS if s.type == "Real")
 #: (FMU input, field of EngineInputs) of the inputs that go to the model as they are
 _TO_MODEL = tuple((s.name, s.source) for s in _INPUTS if s.source in {f.name for f in dataclasses.fields(EngineInputs)})
+_FIELD_INPUT = {field: name for name, field in _TO_MODEL}
+#: Per field of EngineInputs (the model's input array), the slot of its FMU input among the Real inputs (the
+#: slave's list ``_u``), or None for a Boolean input (read by name)
+_SLOTS = tuple(_REAL_INPUTS.index(_FIELD_INPUT[f]) if _FIELD_INPUT[f] in _REAL_INPUTS else None for f in INPUT_FIELDS)
+_BOOLS = tuple((i, _FIELD_INPUT[f]) for i, f in enumerate(INPUT_FIELDS) if _SLOTS[i] is None)
+_ALT, _DT = INPUT_FIELDS.index("alt_m"), INPUT_FIELDS.index("dT_isa_K")
 
 
 class Engine(SignalIO, Fmi2Slave):
@@ -58,6 +66,8 @@ class Engine(SignalIO, Fmi2Slave):
             setattr(self, f"design_{f}", float(getattr(base, f)))
         self._model: EngineModel | None = None
         self.register_signals(SIGNALS)
+        # the model's input array from the Real inputs (a Boolean's slot filled after): one itemgetter
+        self._take = itemgetter(*(j if j is not None else 0 for j in _SLOTS))
         self._y = [0.0] * len(OUTPUTS)
         self._yb = [False] * len(FLAGS)
         self._yi = [0]
@@ -105,15 +115,25 @@ class Engine(SignalIO, Fmi2Slave):
 
     def do_step(self, current_time: float, step_size: float) -> bool:
         """One step; a step the engine cannot compute (an input not finite, or, unless
-        ``accept_solver_failure``, a gas path that cannot be matched) fails with the cause logged."""
-        bad = [f"{name}={getattr(self, name)}" for name in _REAL_INPUTS if not math.isfinite(getattr(self, name))]
-        if bad:
-            self.log(f"engine: t={current_time:.6g} s: input(s) not finite: {', '.join(bad)}; the engine cannot "
-                     "compute its outputs", Fmi2Status.error, "logStatusError")
-            return False
-        u = self._inputs()
+        ``accept_solver_failure``, a gas path that cannot be matched) fails with the cause logged.
+
+        The inputs go to the model as one array (:meth:`.EngineModel.step_array`), no object per step."""
+        ins = self._u
+        total = sum(ins)
+        if total - total != 0.0:             # an input not finite (or a sum that overflows: then checked one by one)
+            bad = [f"{name}={getattr(self, name)}" for name in _REAL_INPUTS if not math.isfinite(getattr(self, name))]
+            if bad:
+                self.log(f"engine: t={current_time:.6g} s: input(s) not finite: {', '.join(bad)}; the engine "
+                         "cannot compute its outputs", Fmi2Status.error, "logStatusError")
+                return False
         m = self._model
-        m.step(step_size, u)  # type: ignore[union-attr]
+        uin = m.input_array  # type: ignore[union-attr]
+        uin[:] = self._take(ins)
+        for i, name in _BOOLS:
+            uin[i] = bool(getattr(self, name))
+        if self.use_ambient:
+            uin[_ALT], uin[_DT] = condition_from_ambient(self.p_amb_Pa, self.T_amb_K)
+        m.step_array(step_size, uin)  # type: ignore[union-attr]
         if m.flags[SOLVER_FAILED] and not self.accept_solver_failure:  # type: ignore[union-attr]
             self.log(f"{m.message} (outside the engine's envelope; set engine.accept_solver_failure=true "  # type: ignore[union-attr]
                      "to fly on with the state held)", Fmi2Status.error, "logStatusError")

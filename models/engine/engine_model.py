@@ -48,6 +48,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from .atmosphere import free_stream
 from .cycle_design import design
 from .design_params import TurbofanParams, load_params, preset_path
@@ -56,17 +58,34 @@ from .engine_signals import FLAGS, OUTPUTS, BleedValve, EngineInputs, EngineLimi
 from .errors import ModelError, OutOfRangeError
 from .flow import T_STD_K
 from .offdesign import OffDesignPoint, TurbofanMaps, TurbofanOffDesign, scaled_maps
-from .transient import TransientState, TurbofanTransient
+from .transient import _FREE_L, _KEY_CLEAN, _ROWS9, TransientState, TurbofanTransient, _LazyResult
 
-__all__ = ["EngineInputs", "EngineLimits", "BleedValve", "EngineModel", "OUTPUTS", "FLAGS", "condition_from_ambient"]
+__all__ = ["EngineInputs", "EngineLimits", "BleedValve", "EngineModel", "OUTPUTS", "FLAGS", "INPUT_FIELDS",
+           "condition_from_ambient"]
 
 #: Lowest map beta accepted in a transient, a tenth of the beta range inside the surge-side beta line
 #: (beta 0, about on the surge line). Near and beyond it the speed lines are flat or extrapolated and the
 #: match can jump to a non-physical branch on which less fuel moves the compressor further toward surge; a
 #: fuel flow that needs more is limited there (``fuel_limited``, ``surge``).
 _BETA_FLOOR = 0.1
+#: Largest customer bleed W/W25 [-] taken; a larger input is clipped (and logged).
+_CUSTOMER_BLEED_MAX = 0.3
 _IDX = {name: i for i, (name, _) in enumerate(OUTPUTS)}
 _SOLVER_FAILED = [name for name, _ in FLAGS].index("solver_failed")
+#: Fields of EngineInputs, in order: the layout of the input array of :meth:`EngineModel.step_array`.
+INPUT_FIELDS: tuple[str, ...] = tuple(f.name for f in dataclasses.fields(EngineInputs))
+# the slots of the state array (jit_step.ST), also where the Python step keeps its scalars
+_ST_N1, _ST_N2, _ST_VPOS, _ST_VCMD, _ST_FUEL, _ST_T, _ST_A1, _ST_A2, _ST_WFS, _ST_N1S, _ST_N2S, _ST_PT3, _ST_KEYOK = \
+    range(13)
+_ST_KEY, _ST_FLAG, _N_ST = 13, 27, 33
+
+
+_euler_step: Callable[..., int] | None = None     # jit_step.euler_step, imported on first use
+
+
+def _slot(i: int, doc: str) -> property:
+    """A float attribute held in the model's state array ``_st`` at slot i."""
+    return property(lambda m: float(m._st[i]), lambda m, v: m._st.__setitem__(i, v), doc=doc)
 
 
 @dataclass(frozen=True)
@@ -169,6 +188,19 @@ class EngineModel:
         self.limits, self.valve, self.target, self.crit = limits, valve, distortion_target, critical_angle_deg
         self.linear_input_frac = linear_input_frac
         self.log: Callable[[str], None] = logger if logger is not None else (lambda msg: None)
+        # the scalars of the state, in one array the compiled step reads and writes (jit_step.ST)
+        self._st = np.zeros(_N_ST)
+        #: Step with the compiled step (:mod:`.jit_step`) where it applies; False: the Python step around the
+        #: compiled match (the same numbers, slower; for benchmarks and tests).
+        self.compiled_step = True
+        self._fast: tuple[Any, ...] | None = None   # (par, J_in, Js_free, Js_in, J_base, bundle) of the compiled step
+        self._buf: np.ndarray | None = None         # the last match as jit_step.BUF, when the compiled step holds it
+        self._bufs = np.zeros((2, 89))              # the compiled step's two match buffers: the last, the next
+        self._k = 0                                 # the row of _bufs holding the last match
+        self._lazy = False                          # the state is to be formed from _buf when read
+        self._state: TransientState | None = None
+        self._uin = np.empty(len(INPUT_FIELDS))
+        self._vals = np.empty(len(OUTPUTS))
         self.t_s = 0.0
         self.N1_rpm = self.N2_rpm = 0.0
         self.valve_pos = 0.0
@@ -182,10 +214,107 @@ class EngineModel:
         self.port_W = (0.0, 0.0)                # (HP, LP) shaft port powers applied [W], + taken from the spool
         self.port_limited = False
         self.message = ""
-        self.state: TransientState | None = None
-        self._key: tuple[float, ...] | None = None
+        self.state = None
+        self._key = None
         self._clipped: set[str] = set()
         self._theta: tuple[object, float] = (None, 1.0)        # (flight condition, sqrt(Tt2 / 288.15 K))
+
+    # ------------------------------------------------------------------ state
+    N1_rpm = _slot(_ST_N1, "LP spool speed [rpm].")
+    N2_rpm = _slot(_ST_N2, "HP spool speed [rpm].")
+    valve_pos = _slot(_ST_VPOS, "Handling bleed valve position [-], 0 closed, 1 open.")
+    fuel_burned_kg = _slot(_ST_FUEL, "Fuel burned since the start [kg].")
+    t_s = _slot(_ST_T, "Time [s].")
+
+    @property
+    def valve_open_cmd(self) -> bool:
+        """Whether the handling bleed valve is commanded open."""
+        return bool(self._st[_ST_VCMD])
+
+    @valve_open_cmd.setter
+    def valve_open_cmd(self, v: bool) -> None:
+        self._st[_ST_VCMD] = 1.0 if v else 0.0
+
+    @property
+    def _key(self) -> tuple[float, ...] | None:
+        """The inputs of the last step that matched (:meth:`_make_key`), None after a failed or limited one."""
+        return tuple(self._st[_ST_KEY:_ST_FLAG].tolist()) if self._st[_ST_KEYOK] else None
+
+    @_key.setter
+    def _key(self, key: tuple[float, ...] | None) -> None:
+        self._st[_ST_KEYOK] = key is not None
+        if key is not None:
+            self._st[_ST_KEY:_ST_FLAG] = key
+
+    @property
+    def state(self) -> TransientState | None:
+        """The engine at the last match (:class:`.transient.TransientState`), None before :meth:`start`."""
+        if self._lazy:                          # held by the compiled step: formed now, as the Python step would
+            self._lazy = False
+            self._state = self._state_of(self._buf)  # type: ignore[arg-type]
+        return self._state
+
+    @state.setter
+    def state(self, s: TransientState | None) -> None:
+        self._lazy, self._state = False, s
+        if s is not None:
+            self._st[_ST_A1:_ST_N2S + 1] = (s.dN1_dt_rpm_s, s.dN2_dt_rpm_s, s.Wf_kg_s, s.N1_rpm, s.N2_rpm)
+
+    def _state_of(self, b: np.ndarray) -> TransientState:
+        """The TransientState of a match buffer (:data:`.jit_step.BUF`): the object the Python step forms there."""
+        fast = self._fast
+        assert fast is not None
+        t, Wf, hb, it, N1, N2, alt, Mach, dT, cust, hp, lp = b[77:89].tolist()
+        res = _LazyResult(None, None, b[39:75].reshape(6, 6).copy(), int(it), int(it) + 1)
+        return self.tr._make_state(t, N1, N2, b[0:9].copy(), b[9:18].copy(), b[18:39].copy(), res, fast[4],
+                                   (alt, Mach, dT), ("Wf_kg_s", Wf), (cust, hp, lp), (None, None), hb, _ROWS9, _FREE_L)
+
+    def _cache_of_buf(self) -> tuple[Any, ...]:
+        """The transient's Jacobian cache at the match the compiled step holds (as its compiled iteration forms it)."""
+        b, fast = self._buf, self._fast
+        assert b is not None and fast is not None
+        return (_KEY_CLEAN, b[39:75].reshape(6, 6).copy(), fast[1], fast[2], fast[3], b[75:77].copy())
+
+    def _hold(self) -> None:
+        """After a Python step: hand its match to the compiled step if that applies there (no distortion, the
+        compiled iteration's cache), else leave the compiled step off until it does."""
+        s, tr, self._buf = self._state, self.tr, None
+        if not self.compiled_step or self.method != "euler" or s is None or s.fast is None or s._xa is None:
+            return
+        c, fc = tr._cache, self.od.fast
+        if c is None or len(c) != 6 or c[0] != _KEY_CLEAN or fc is None or not tr.compiled_iteration or \
+                s.distortion != (None, None):
+            return
+        fcb, f = tr.bundle(fc), self._fast
+        if f is None or f[1] is not c[2] or f[2] is not c[3] or f[3] is not c[4] or f[4] is not s._jbase or \
+                f[5] is not fcb:
+            global _euler_step
+            from .jit_step import euler_step, step_data    # (needs numba: imported where the compiled path runs)
+            _euler_step = euler_step
+            par = self._par() if f is None else f[0]
+            self._fast = (par, c[2], c[3], c[4], s._jbase, fcb,
+                          step_data(fcb, par, self._st, self._uin, self._vals, c[2], c[3], c[4], self._bufs))
+        b = self._bufs[self._k]
+        b[0:9] = s._xa
+        b[39:75] = c[1].ravel()
+        b[75:77] = c[5]
+        self._buf = b
+
+    def _par(self) -> np.ndarray:
+        """The constants of the compiled step (:data:`.jit_step.PAR`), from this model's."""
+        from .jit_step import PAR
+        lim, v, p, od = self.limits, self.valve, self.p, self.od
+        val = dict(Wf_min_kg_s=lim.Wf_min_frac * self.dp.Wf_kg_s, Wf_Pt3_min_kg_s_Pa=self.Wf_Pt3_min_kg_s_Pa,
+                   Wf_decel_max_kg_s2=self.Wf_decel_max_kg_s2, assist_hp_max_W=lim.assist_hp_max_W,
+                   offtake_hp_max_W=lim.offtake_hp_max_W, assist_lp_max_W=lim.assist_lp_max_W,
+                   offtake_lp_max_W=lim.offtake_lp_max_W, linear_input_frac=self.linear_input_frac,
+                   N1_design_rpm=p.N1_rpm, N2_design_rpm=p.N2_rpm, Wf_ref_kg_s=od.ref["Wf"], P_hp_ref_W=od.ref["P_hp"],
+                   P_lp_ref_W=od.ref["P_lp"], I_lp_kg_m2=self.tr.I_lp, I_hp_kg_m2=self.tr.I_hp,
+                   threshold_N1c_pct=v.threshold_N1c_pct, band_pct=v.band_pct, stroke_s=v.stroke_s,
+                   open_frac=v.open_frac, Nc1_design_rpm=self._Nc1_d, BPR_design=p.BPR, FAR_lean=lim.FAR_lean,
+                   N1_max_pct=lim.N1_max_pct, N2_max_pct=lim.N2_max_pct, beta_floor=_BETA_FLOOR, T_std_K=T_STD_K,
+                   customer_bleed_max=_CUSTOMER_BLEED_MAX)
+        return np.array([float(val[n]) for n in PAR])
 
     # ------------------------------------------------------------------ inputs
     def _clip(self, kind: str, v: float, lo: float, hi: float) -> float:
@@ -222,7 +351,7 @@ class EngineModel:
         self.port_W, self.port_limited = (hp, lp), hp_cut or lp_cut
         kw: dict[str, object] = dict(
             alt_m=u.alt_m, Mach=u.Mach, dT_isa_K=u.dT_isa_K, distortion=dist, tol=self.tol,
-            customer_bleed_frac=self._clip("customer_bleed_frac", u.customer_bleed_frac, 0.0, 0.3),
+            customer_bleed_frac=self._clip("customer_bleed_frac", u.customer_bleed_frac, 0.0, _CUSTOMER_BLEED_MAX),
             offtake_hp_W=hp, offtake_lp_W=lp)
         return Wf, kw
 
@@ -259,6 +388,7 @@ class EngineModel:
         self._key = self._make_key(pt.Wf_kg_s, u)
         # started at a speed: its input is the fuel it burns there (not a fuel cut)
         self._publish(pt.Wf_kg_s, u.Wf_kg_s if N1_pct is None else pt.Wf_kg_s)
+        self._hold()
         return self.values
 
     # ------------------------------------------------------------------ step
@@ -361,6 +491,55 @@ class EngineModel:
 
     def step(self, dt_s: float, u: EngineInputs) -> list[float]:
         """Advance by `dt_s` [s] with the inputs `u` held; returns :attr:`values` (flags in :attr:`flags`)."""
+        if self._buf is not None:
+            self._uin[:] = (u.Wf_kg_s, u.alt_m, u.Mach, u.dT_isa_K, u.offtake_hp_W, u.offtake_lp_W,
+                            u.customer_bleed_frac, u.distortion_on, u.sector_deg, u.dPt_frac, u.dTt_K)
+            return self.step_array(dt_s, self._uin, u)
+        return self._step(dt_s, u)
+
+    def step_array(self, dt_s: float, u: np.ndarray, inputs: EngineInputs | None = None) -> list[float]:
+        """:meth:`step` with the inputs as a float array in the order of :data:`INPUT_FIELDS` (the engine FMU's
+        way: no object per step); `inputs`, if given, the same inputs as an :class:`EngineInputs`."""
+        if self._buf is not None:               # the compiled step (jit_step.euler_step), if it takes this one
+            dt_s = round(dt_s, 12)
+            n = max(1, math.ceil(dt_s / self.dt_internal_s - 1e-9))
+            if u is not self._uin:
+                self._uin[:] = u
+            out = _euler_step(dt_s, dt_s / n, self._fast[6], self._k, self.tol)  # type: ignore[index, misc]
+            if out >= 0:
+                self._k = k = 1 - self._k
+                self._buf, self._lazy = self._bufs[k], True
+                self.tr.cache_source = self._cache_of_buf
+                self.values[:] = self._vals.tolist()
+                self.fuel_limited = False
+                if out:
+                    self._flags_changed(out)
+                return self.values
+        if inputs is None:
+            inputs = EngineInputs(*u.tolist())
+            inputs = dataclasses.replace(inputs, distortion_on=bool(inputs.distortion_on))
+        return self._step(dt_s, inputs)
+
+    @property
+    def input_array(self) -> np.ndarray:
+        """The model's own input array (the fields of :class:`EngineInputs` in the order of :data:`INPUT_FIELDS`):
+        filled by the caller and passed to :meth:`step_array`, it is not copied."""
+        return self._uin
+
+    def _flags_changed(self, out: int) -> None:
+        """The flags after a compiled step; their rising edges (bits 0-5 of `out`) logged as :meth:`_publish` does."""
+        st = self._st
+        self.flags[:] = [bool(x) for x in st[_ST_FLAG:_ST_FLAG + len(FLAGS)].tolist()]
+        v = self.values
+        for i, (name, _) in enumerate(FLAGS):
+            if out & (1 << i):
+                self.events += 1
+                self.log(f"engine: t={self.t_s:.6g} s: {name} (N1 {v[6]:.2f} %, N2 {v[7]:.2f} %, "
+                         f"SM fan {v[17]:.4f}, SM HPC {v[18]:.4f}, FAR4 {v[26]:.5f}, shaft ports HP "
+                         f"{v[28]:.6g} W, LP {v[29]:.6g} W)")
+
+    def _step(self, dt_s: float, u: EngineInputs) -> list[float]:
+        """The step in Python around the compiled (or Python) match; hands over to the compiled step after it."""
         if self.state is None:
             raise ModelError("EngineModel.step before start()")
         # to 1 ps: masters that form the same step differently (t = k h differences, integer ns ticks) then
@@ -368,6 +547,9 @@ class EngineModel:
         dt_s = round(dt_s, 12)
         n = max(1, math.ceil(dt_s / self.dt_internal_s - 1e-9))
         h = dt_s / n
+        if self.tr.cache_source is not None:    # the compiled step's cache, formed before its buffer is let go
+            self.tr._cache = self.tr._cache
+        self._buf = None
         Wf, kw = self._kwargs(u)
         Wf_slew = self.state.Wf_kg_s - self.Wf_decel_max_kg_s2 * dt_s   # the fuel system's decel limit
         if Wf < Wf_slew:
@@ -427,6 +609,7 @@ class EngineModel:
         if failed and not self.flags[3]:
             self.log(self.message)
         self._publish(Wf_used, u.Wf_kg_s, failed)
+        self._hold()
         return self.values
 
     # ------------------------------------------------------------------ outputs
@@ -459,6 +642,8 @@ class EngineModel:
                bool(FAR4 < lim.FAR_lean or Wf_in < lim.Wf_min_frac * self.dp.Wf_kg_s),
                bool(N1_pct > lim.N1_max_pct or N2_pct > lim.N2_max_pct), failed, self.fuel_limited,
                self.port_limited]
+        self._st[_ST_PT3] = v[14]
+        self._st[_ST_FLAG:_ST_FLAG + len(new)] = new
         for i, (name, _) in enumerate(FLAGS):
             if i != _SOLVER_FAILED and new[i] and not self.flags[i]:     # a failed match is logged by step()
                 self.events += 1

@@ -61,7 +61,8 @@ def _cache_dir() -> str:
         os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "openemss", "numba")
     here = os.path.dirname(os.path.abspath(__file__))
     digest = hashlib.sha256(__name__.encode())            # compiled code refers to its module by name
-    kernels = ("jit_kernels.py", "jit_cycle.py", "jit_freestream.py", "jit_solve.py", "shaft.py", "compressor.py",
+    kernels = ("jit_kernels.py", "jit_cycle.py", "jit_freestream.py", "jit_solve.py", "jit_step.py", "shaft.py",
+               "compressor.py",
                "flow.py", "turbine.py", "nozzle.py", "combustion.py",
                os.path.join("..", "common", "atmosphere.py"))
     for name in kernels:                                   # a kernel embeds the ones it calls: hash all

@@ -36,7 +36,7 @@ from .jit_cycle import cycle
 from .jit_freestream import free_stream
 from .jit_kernels import jit
 
-__all__ = ["CONVERGED", "STALLED", "REFUSED", "FREE", "INPUTS", "chord_solve"]
+__all__ = ["CONVERGED", "STALLED", "REFUSED", "FREE", "INPUTS", "bundle", "chord_solve", "free_stream_at"]
 
 #: :func:`chord_solve` statuses: converged; stalled (max |r| not halved, a step refused by
 #: Python's rules, or eight iterations), Python's chord would give up there too; refused: the
@@ -46,6 +46,36 @@ CONVERGED, STALLED, REFUSED = 0, 1, 2
 FREE = (0, 1, 2, 5, 6, 7)
 INPUTS = (3, 4, 8)
 _MAX_IT = 8
+
+
+def bundle(fc: Any) -> tuple[Any, ...]:
+    """The arrays of a :class:`.jit_cycle.FastCycle` that :func:`chord_solve` needs, as one tuple passed through
+    unopened by its callers (:mod:`.transient`, :mod:`.jit_step`); :func:`_open` is its only reader."""
+    return (fc.fsc, fc.atm, fc.e, fc.gc, fc.gs, fc.bl, *fc.maps)
+
+
+@jit
+def _open(fcb: Any) -> Any:
+    """The parts of a :func:`bundle`: (fsc, atm, e, gc, gs, bl, fan, hpc, hpt, lpt)."""
+    fsc, atm, e, gc, gs, bl, fan, hpc, hpt, lpt = fcb
+    return fsc, atm, e, gc, gs, bl, fan, hpc, hpt, lpt
+
+
+@jit
+def free_stream_at(fcb: Any, alt: float, Mach: float, dT: float) -> int:
+    """Make the free-stream cache of the bundle (its ``fsc``: (alt, Mach, dT) then the six values of
+    :func:`.jit_freestream.free_stream`) hold the flight condition (alt [m], Mach [-], dT [K]), computing it only
+    if it differs from the one held; 0, or 1 (the cache untouched) where the free stream refuses it."""
+    fsc, atm, _, gc, gs = _open(fcb)[:5]
+    if fsc[0] == alt and fsc[1] == Mach and fsc[2] == dT:
+        return 0
+    fs_new = np.empty(6)
+    if free_stream(gc, gs, atm, alt, Mach, dT, fs_new) != 0:
+        return 1
+    fsc[0], fsc[1], fsc[2] = alt, Mach, dT
+    for k in range(6):
+        fsc[3 + k] = fs_new[k]
+    return 0
 
 
 @jit
@@ -70,9 +100,8 @@ def _resid(xf: np.ndarray, xr: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: n
 
 @jit
 def chord_solve(xf: np.ndarray, u: np.ndarray, H0: np.ndarray, J_in: np.ndarray, Js_free: np.ndarray,
-                Js_in: np.ndarray, fsc: np.ndarray, atm: np.ndarray, e: np.ndarray, gc: np.ndarray,
-                gs: np.ndarray, bl: np.ndarray, fan: Any, hpc: Any, hpt: Any, lpt: Any, tol: float, H: np.ndarray,
-                r: np.ndarray, o: np.ndarray, sens: np.ndarray) -> tuple[int, int]:
+                Js_in: np.ndarray, fcb: Any, tol: float, H: np.ndarray, r: np.ndarray, o: np.ndarray,
+                sens: np.ndarray) -> tuple[int, int]:
     """One transient match: :meth:`.transient.TurbofanTransient._chord` on the compiled residuals.
 
     Parameters
@@ -84,8 +113,8 @@ def chord_solve(xf: np.ndarray, u: np.ndarray, H0: np.ndarray, J_in: np.ndarray,
     H0, J_in, Js_free, Js_in : the cached inverse Jacobian (6, 6) of the matched residuals, their derivatives
         by the inputs (6, 3), the shaft residuals' (HP, LP) derivatives by the matched unknowns (2, 6) and by
         the inputs (2, 3); H0 is not changed.
-    fsc : cache of the free stream, (alt, Mach, dT) then the six values of :func:`free_stream` (recomputed when
-        cond differs from its first three entries).
+    fcb : the compiled cycle's arrays (:func:`bundle`); its free-stream cache ``fsc`` is updated
+        (:func:`free_stream_at`).
     tol : convergence when max |r| of the six matched residuals < tol.
     H, r, o, sens : outputs: the updated inverse Jacobian, the residuals (9) and outputs (:data:`.jit_cycle.OUT`,
         surge margins included) at the match, and the shaft residuals' (HP, LP) change per unit of scaled fuel
@@ -97,14 +126,10 @@ def chord_solve(xf: np.ndarray, u: np.ndarray, H0: np.ndarray, J_in: np.ndarray,
     (status, iterations) : status :data:`CONVERGED`, :data:`STALLED` or :data:`REFUSED`; the outputs are
         set only when converged.
     """
+    fsc, _, e, gc, gs, bl, fan, hpc, hpt, lpt = _open(fcb)
     xin, cond, ctl = u[0:3], u[3:6], u[6:12]
-    if not (fsc[0] == cond[0] and fsc[1] == cond[1] and fsc[2] == cond[2]):
-        fs_new = np.empty(6)
-        if free_stream(gc, gs, atm, cond[0], cond[1], cond[2], fs_new) != 0:
-            return REFUSED, 0
-        fsc[0], fsc[1], fsc[2] = cond[0], cond[1], cond[2]
-        for k in range(6):
-            fsc[3 + k] = fs_new[k]
+    if free_stream_at(fcb, cond[0], cond[1], cond[2]) != 0:
+        return REFUSED, 0
     fs = fsc[3:].copy()         # contiguous: cycle then has the signature it is compiled for elsewhere (reused)
     din = np.empty(3)
     for k in range(3):

@@ -40,7 +40,8 @@ from .errors import OutOfRangeError
 from .jit_kernels import jit
 
 __all__ = ["ShaftTerm", "SPOOLS", "TURBINE", "COMPRESSOR", "PORT", "TURBOFAN_SHAFTS", "TERM_INDEX", "term_arrays",
-           "spool_balance", "turbine_power_required", "net_power", "spool_acceleration"]
+           "spool_balance", "turbine_power_required", "net_power", "spool_acceleration",
+           "spool_acceleration_of"]
 
 #: Spools of the two-spool turbofan, in the order of the balances (index 0 HP, 1 LP).
 SPOOLS: tuple[str, ...] = ("hp", "lp")
@@ -156,10 +157,21 @@ def turbine_power_required(compressor_powers_W: Iterable[float], offtake_W: floa
     return (P_C + offtake_W) / eta_mech
 
 
+@jit
+def spool_acceleration_of(net_power_W: float, N_rpm: float, inertia_kg_m2: float) -> float:
+    """:func:`spool_acceleration` without its check (N_rpm, inertia_kg_m2 > 0), for compiled callers."""
+    omega = N_rpm * math.pi / 30.0
+    return net_power_W / (inertia_kg_m2 * omega) * 30.0 / math.pi
+
+
 def spool_acceleration(net_power_W: float, N_rpm: float, inertia_kg_m2: float) -> float:
-    """Spool acceleration dN/dt [rpm/s] from the net power [W], speed [rpm] and polar inertia [kg m^2]."""
+    """Spool acceleration dN/dt [rpm/s] from the net power [W], speed [rpm] and polar inertia [kg m^2]:
+    dN/dt = P_net / (I omega) * 30/pi, omega = N pi/30."""
     if not (N_rpm > 0.0 and inertia_kg_m2 > 0.0):
         raise OutOfRangeError(f"shaft.spool_acceleration: N_rpm={N_rpm!r} and inertia_kg_m2={inertia_kg_m2!r} "
                               f"must be > 0")
-    omega = N_rpm * math.pi / 30.0
-    return net_power_W / (inertia_kg_m2 * omega) * 30.0 / math.pi
+    return _accel(net_power_W, N_rpm, inertia_kg_m2)
+
+
+# called from Python, the plain function (a compiled call would cost more than the arithmetic)
+_accel = getattr(spool_acceleration_of, "py_func", spool_acceleration_of)

@@ -145,14 +145,29 @@ class TurbofanTransient:
         self.od = od
         self.I_lp = p.I_lp_kg_m2 if I_lp_kg_m2 is None else I_lp_kg_m2
         self.I_hp = p.I_hp_kg_m2 if I_hp_kg_m2 is None else I_hp_kg_m2
-        self._cache: tuple[Any, ...] | None = None
+        self._c: tuple[Any, ...] | None = None
+        #: Forms the cache when it is first read, or None; set by a caller that keeps the cache in its own
+        #: arrays between calls (:class:`.engine_model.EngineModel`'s compiled step).
+        self.cache_source: Callable[[], tuple[Any, ...] | None] | None = None
         self._u = np.empty(12)                      # inputs of jit_solve.chord_solve, filled per call
+        self._bundle: tuple[Any, tuple[Any, ...]] | None = None     # (FastCycle, its jit_solve.bundle)
         #: Match with the compiled iteration (:mod:`.jit_solve`) where it applies; False: the Python iteration on
         #: the compiled residuals (the same numbers, slower; for benchmarks and tests).
         self.compiled_iteration = True
         if not (self.I_lp > 0.0 and self.I_hp > 0.0):
             raise OutOfRangeError(f"{p.name}: spool inertias I_lp_kg_m2={self.I_lp!r}, I_hp_kg_m2={self.I_hp!r} "
                                   "must be > 0 (set them in the parameter file)")
+
+    @property
+    def _cache(self) -> tuple[Any, ...] | None:
+        """The cached Jacobian: (key, H, J_in, Js_free, Js_in[, fuel sensitivity of the shaft residuals]) or None."""
+        if self.cache_source is not None:
+            self._c, self.cache_source = self.cache_source(), None
+        return self._c
+
+    @_cache.setter
+    def _cache(self, c: tuple[Any, ...] | None) -> None:
+        self._c, self.cache_source = c, None
 
     def state(self, t_s: float, N1_rpm: float, N2_rpm: float, Wf_kg_s: float, alt_m: float = 0.0,
               Mach: float = 0.0, dT_isa_K: float = 0.0, guess: TransientState | OffDesignPoint | None = None,
@@ -284,10 +299,6 @@ class TurbofanTransient:
         fc, c = self.od.fast, self._cache
         if fc is None or c is None or c[0] != _KEY_CLEAN:
             return _REFUSED
-        global _chord_solve
-        if _chord_solve is None:
-            from .jit_solve import chord_solve
-            _chord_solve = chord_solve
         od, p, u = self.od, self.od.p, self._u
         xf = guess._xa.copy() if guess._xa is not None else np.array(guess.x)
         u[:] = (N1_rpm / p.N1_rpm, N2_rpm / p.N2_rpm, Wf_kg_s / od.ref["Wf"], *cond, 0.0, Wf_kg_s, *extras,
@@ -297,15 +308,25 @@ class TurbofanTransient:
             J_in, Js_free, Js_in = c[2], c[3], c[4]
         else:                                       # the same numbers, the layout the kernel is compiled for
             J_in, Js_free, Js_in = np.ascontiguousarray(c[2]), np.ascontiguousarray(c[3]), np.ascontiguousarray(c[4])
-        f, h, t, lp = fc.maps
-        status, it = _chord_solve(xf, u, c[1], J_in, Js_free, Js_in, fc.fsc, fc.atm, fc.e, fc.gc, fc.gs, fc.bl,
-                                  f, h, t, lp, tol, H, r, o, sens)
+        fcb = self.bundle(fc)                       # (imports jit_solve on first use)
+        status, it = _chord_solve(xf, u, c[1], J_in, Js_free, Js_in, fcb, tol, H, r, o, sens)
         if status != _CONVERGED:
             return int(status)
         self._cache = (c[0], H, J_in, Js_free, Js_in, sens)
         res = _LazyResult(None, None, H, it, it + 1)     # x and r of the matched block are not read
         return self._make_state(t_s, N1_rpm, N2_rpm, xf, r, o, res, guess._jbase, cond, ("Wf_kg_s", Wf_kg_s),
                                 extras, (None, None), hb, _ROWS9, _FREE_L)
+
+    def bundle(self, fc: Any) -> tuple[Any, ...]:
+        """The compiled cycle's arrays of `fc` (:func:`.jit_solve.bundle`), formed once per cycle; also imports
+        :mod:`.jit_solve` (which needs numba) on first use."""
+        b = self._bundle
+        if b is None or b[0] is not fc:
+            global _chord_solve
+            from .jit_solve import bundle, chord_solve
+            _chord_solve = chord_solve
+            b = self._bundle = (fc, bundle(fc))
+        return b[1]
 
     def _fd_jacobian(self, od: TurbofanOffDesign, x: np.ndarray, cond: tuple[float, float, float],
                      demand: tuple[str, float], extras: tuple[float, float, float],

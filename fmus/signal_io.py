@@ -49,6 +49,16 @@ def _picker(slave: Any, vector: str, idx: list[int]) -> Callable[[], list[Any]]:
     return lambda: list(get(vec(slave)))
 
 
+def _tuple_getter(idx: list[int]) -> Callable[[Sequence[Any]], tuple[Any, ...]]:
+    """A function giving the tuple of the items at ``idx`` of a sequence (of none, one or more)."""
+    if not idx:
+        return lambda seq: ()
+    if len(idx) == 1:
+        i = idx[0]
+        return lambda seq: (seq[i],)
+    return itemgetter(*idx)  # type: ignore[return-value]
+
+
 class SignalIO:
     """Mix-in of a pythonfmu slave whose variables come from signal tables (see the module)."""
 
@@ -152,6 +162,18 @@ class SignalIO:
         rows = [self._out_vr.get(vr) for vr in vrs]
         if all(r is not None for r in rows):
             return list(vrs), _picker(self, _VECTOR[kind], [self._out_index[r.name] for r in rows])  # type: ignore[union-attr]
+        if kind == "Real" and all(r is not None or vr in self._in_index for vr, r in zip(vrs, rows, strict=True)):
+            # outputs and Real inputs (a recorder's batch): the outputs from their vector, the inputs from _u,
+            # one itemgetter each, put back in the order asked by a third
+            outs = [(k, self._out_index[r.name]) for k, r in enumerate(rows) if r is not None]
+            ins = [(k, self._in_index[vr]) for k, (vr, r) in enumerate(zip(vrs, rows, strict=True)) if r is None]
+            order = [k for k, _ in outs] + [k for k, _ in ins]
+            get_y, get_u = _tuple_getter([i for _, i in outs]), _tuple_getter([j for _, j in ins])
+            back = itemgetter(*sorted(range(len(order)), key=order.__getitem__)) if len(order) > 1 else None
+            vec, u = attrgetter(_VECTOR[kind]), self._u                   # (_u is never replaced)
+            if back is None:
+                return list(vrs), lambda: [*get_y(vec(self)), *get_u(u)]
+            return list(vrs), lambda: list(back(get_y(vec(self)) + get_u(u)))
         getters = [self.vars[vr].getter for vr in vrs]
         cast = {"Real": float, "Boolean": bool, "Integer": int, "String": str}[kind]
         return list(vrs), lambda: [cast(g()) for g in getters]

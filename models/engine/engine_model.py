@@ -80,9 +80,6 @@ _ST_N1, _ST_N2, _ST_VPOS, _ST_VCMD, _ST_FUEL, _ST_T, _ST_A1, _ST_A2, _ST_WFS, _S
 _ST_KEY, _ST_FLAG, _N_ST = 13, 27, 33
 
 
-_euler_step: Callable[..., int] | None = None     # jit_step.euler_step, imported on first use
-
-
 def _slot(i: int, doc: str) -> property:
     """A float attribute held in the model's state array ``_st`` at slot i."""
     return property(lambda m: float(m._st[i]), lambda m, v: m._st.__setitem__(i, v), doc=doc)
@@ -197,6 +194,9 @@ class EngineModel:
         self._buf: np.ndarray | None = None         # the last match as jit_step.BUF, when the compiled step holds it
         self._bufs = np.zeros((2, 89))              # the compiled step's two match buffers: the last, the next
         self._k = 0                                 # the row of _bufs holding the last match
+        self._rows = (self._bufs[0], self._bufs[1])
+        self._dt: tuple[float | None, float, float] = (None, 0.0, 0.0)  # (step asked, rounded, internal step)
+        self._cache_of_current = self._cache_of_buf
         self._lazy = False                          # the state is to be formed from _buf when read
         self._state: TransientState | None = None
         self._uin = np.empty(len(INPUT_FIELDS))
@@ -288,13 +288,11 @@ class EngineModel:
         fcb, f = tr.bundle(fc), self._fast
         if f is None or f[1] is not c[2] or f[2] is not c[3] or f[3] is not c[4] or f[4] is not s._jbase or \
                 f[5] is not fcb:
-            global _euler_step
-            from .jit_step import euler_step, step_data    # (needs numba: imported where the compiled path runs)
-            _euler_step = euler_step
+            from .jit_step import resolved, step_data    # (needs numba: imported where the compiled path runs)
             par = self._par() if f is None else f[0]
-            self._fast = (par, c[2], c[3], c[4], s._jbase, fcb,
-                          step_data(fcb, par, self._st, self._uin, self._vals, c[2], c[3], c[4], self._bufs))
-        b = self._bufs[self._k]
+            data = step_data(fcb, par, self._st, self._uin, self._vals, c[2], c[3], c[4], self._bufs)
+            self._fast = (par, c[2], c[3], c[4], s._jbase, fcb, data, resolved(data))
+        b = self._rows[self._k]
         b[0:9] = s._xa
         b[39:75] = c[1].ravel()
         b[75:77] = c[5]
@@ -501,17 +499,22 @@ class EngineModel:
         """:meth:`step` with the inputs as a float array in the order of :data:`INPUT_FIELDS` (the engine FMU's
         way: no object per step); `inputs`, if given, the same inputs as an :class:`EngineInputs`."""
         if self._buf is not None:               # the compiled step (jit_step.euler_step), if it takes this one
-            dt_s = round(dt_s, 12)
-            n = max(1, math.ceil(dt_s / self.dt_internal_s - 1e-9))
+            d = self._dt
+            if d[0] != dt_s:                    # the step and its internal step as _step forms them
+                r = round(dt_s, 12)
+                d = self._dt = (dt_s, r, r / max(1, math.ceil(r / self.dt_internal_s - 1e-9)))
             if u is not self._uin:
                 self._uin[:] = u
-            out = _euler_step(dt_s, dt_s / n, self._fast[6], self._k, self.tol)  # type: ignore[index, misc]
+            fast = self._fast
+            out = fast[7](d[1], d[2], fast[6], self._k, self.tol)  # type: ignore[index]
             if out >= 0:
                 self._k = k = 1 - self._k
-                self._buf, self._lazy = self._bufs[k], True
-                self.tr.cache_source = self._cache_of_buf
+                self._buf, self._lazy = self._rows[k], True
+                if self.tr.cache_source is None:
+                    self.tr.cache_source = self._cache_of_current
                 self.values[:] = self._vals.tolist()
-                self.fuel_limited = False
+                if self.fuel_limited:
+                    self.fuel_limited = False
                 if out:
                     self._flags_changed(out)
                 return self.values

@@ -89,6 +89,9 @@ def test_fmu_and_model_identical(fmu: Path, tmp_path: Path) -> None:
         slave.doStep(currentCommunicationPoint=k * H, communicationStepSize=H)
         got.append(slave.getReal(out_vr))
         got_flags.append(list(slave.getBoolean(flag_vr)))
+        # a recorder's batch, outputs and inputs mixed, served as the outputs and inputs read apart
+        mixed = [*in_vr[:3], *out_vr[:5], *in_vr[3:], out_vr[-1]]
+        assert list(slave.getReal(mixed)) == [*_reals(u)[:3], *got[-1][:5], *_reals(u)[3:], got[-1][-1]]
     slave.terminate()
     slave.fmi2FreeInstance(slave.component)  # keep the library loaded (thirdparty.py)
     ref_a, got_a = np.array(ref), np.array(got)

@@ -1,7 +1,7 @@
 """Engine FMU speed: cost of one 50 ms engine step, in the FMU as our orchestrator runs it and in Python.
 
-Target of issue 5: under 150 microseconds per 50 ms step (the engine alone at 300x real
-time). Prints a table (median and best of several repeats, microseconds per step) and a
+Targets: issue 5, under 150 microseconds per 50 ms step (the engine alone at 300x real time);
+issue 18 point 5, the model at most 25 us per step on the mission-like profile. Prints a table (median and best of several repeats, microseconds per step) and a
 cProfile summary of where the time of a step goes; asserts nothing (DESIGN.md, rule 12).
 
 Cases (Larzac 04 preset, explicit Euler, one internal step):

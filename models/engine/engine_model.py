@@ -89,6 +89,11 @@ class _SpeedClampedTurbine:
         return self.inner.evaluate(Nc if Nc > self.Nc_min else (self.Nc_min if Nc < self.Nc_max else self.Nc_max)
                                    if Nc < self.Nc_max else self.Nc_max, PR)
 
+    def kernel_tuple(self) -> Any:
+        """The inner map as the compiled gas path reads it, with the clamp of :meth:`evaluate` (below only: the
+        conditional expression there returns Nc unchanged above Nc_min)."""
+        return self.inner.kernel_tuple(self.Nc_min)
+
     def __getattr__(self, name: str) -> Any:
         return getattr(self.inner, name)
 

@@ -281,6 +281,15 @@ class BicubicTable:
         a_kl = np.einsum("km,ijmn,ln->ijkl", _M, g, _M)
         return a_kl.reshape(nx - 1, ny - 1, 16)
 
+    def kernel_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The table as the compiled kernels read it (:func:`.jit_kernels.table`): grid x, grid y, inverse cell
+        widths in x and y, cell coefficients (nx-1, ny-1, outputs, 16) and the limits (x_lo, x_hi, y_lo, y_hi,
+        x_min, x_max, y_min, y_max)."""
+        nx, ny = len(self.x), len(self.y)
+        cells = np.array([[list(self._cells[i][j]) for j in range(ny - 1)] for i in range(nx - 1)], dtype=float)
+        lim = np.array([self.x_lo, self.x_hi, self.y_lo, self.y_hi, self.x_min, self.x_max, self.y_min, self.y_max])
+        return np.array(self.x), np.array(self.y), np.array(self._ihx), np.array(self._ihy), cells, lim
+
     # ------------------------------------------------------------------ evaluation
     def _out_of_range(self, x: float, y: float) -> OutOfRangeError:
         if not (self.x_min <= x <= self.x_max):

@@ -54,6 +54,8 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import Any, Literal
 
+import numpy as np
+
 from .errors import ModelError, OutOfRangeError
 from .map_interp import BicubicTable
 from .map_points import CompressorPoint, CompressorPointD, TurbinePoint, TurbinePointD
@@ -260,6 +262,11 @@ class CompressorMap:
                            ("_surge_x", surge_x), ("_surge_w", surge_w)):
             object.__setattr__(self, key, value)
 
+    def kernel_arrays(self) -> tuple[np.ndarray, ...]:
+        """The table's arrays (:meth:`.map_interp.BicubicTable.kernel_arrays`), then the surge line's nodes:
+        relative speeds and corrected flows (what :func:`.jit_kernels.surge_margin` reads)."""
+        return (*self._table.kernel_arrays(), np.array(self._surge_x), np.array(self._surge_w))
+
     def beta_of_rline(self, rline: float) -> float:
         """Beta [-] of a source R-line value [-]."""
         r = self.data.line_values
@@ -416,6 +423,10 @@ class TurbineMap:
         for key, value in (("name", data.name), ("nc_rel", nc_rel), ("pr", data.line_values), ("nc_rel_design", 1.0),
                            ("pr_design", data.line_design), ("_table", table)):
             object.__setattr__(self, key, value)
+
+    def kernel_arrays(self) -> tuple[np.ndarray, ...]:
+        """The table's arrays (:meth:`.map_interp.BicubicTable.kernel_arrays`) and two empty surge nodes."""
+        return (*self._table.kernel_arrays(), np.full(2, np.nan), np.full(2, np.nan))
 
     @property
     def nc_rel_range(self) -> tuple[float, float]:

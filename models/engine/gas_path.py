@@ -25,10 +25,11 @@ Two modes (parameter ``mode``):
   :mod:`.offdesign` (W2, beta_fan, beta_hpc, N1, N2, PR_hpt, PR_lpt, BPR, Wf, then beta_booster,
   beta of the fan's and HPC's distorted sectors) and the residuals its :data:`.offdesign.RESIDUALS`;
 * design (1): each turbomachine runs at its design pressure ratio and efficiency
-  (parameters ``PR_fan_outer`` ...), W2, BPR and the speeds are given; the unknowns that remain
-  are the turbine pressure ratios and the fuel flow, matched to the spools' power balances and
-  the design Tt4 (residuals 6, 7, 8); the map and nozzle-area residuals are zero and the corrected
-  flows and nozzle areas are outputs (:mod:`.cycle_design` solves this).
+  (parameters ``PR_fan_outer`` ...), W2, BPR and the speeds are given, the burner heats to the
+  design Tt4 (the fuel flow follows in closed form, :func:`.combustion.burner_far`); the unknowns
+  that remain are the turbine pressure ratios, matched to the spools' power balances (residuals 6
+  and 7); the other residuals are zero and the corrected flows and nozzle areas are outputs
+  (:mod:`.cycle_design` solves this).
 
 Nothing here raises: the return value is 0, or an error code (:data:`ERRORS`) with the component
 where it arose (:data:`STAGES`) in ``err[1]``, and the Python callers raise one clear line.
@@ -49,7 +50,7 @@ from typing import Any
 import numpy as np
 
 from . import jit_kernels as K
-from .combustion import burner_exit_T
+from .combustion import burner_exit_T, burner_far
 from .compressor import compress_exit
 from .flow import P_STD_PA, T_STD_K, mix_state
 from .jit_kernels import jit
@@ -101,7 +102,7 @@ ERRORS: dict[int, str] = {
     2: "unknowns out of range (W2, N1, N2, Wf > 0, BPR >= 0, turbine PRs >= 1 required)",
     3: "the bleeds take all of the HPC flow",
     4: "the handling bleed needs an HPC pressure ratio above 1 and a fraction in [0, 1)",
-    5: "the burner's fuel-air ratio leaves [0, stoichiometric]",
+    5: "the burner's fuel-air ratio leaves [0, stoichiometric] (or, at design, Tt4 is not above Tt3)",
     6: "a nozzle's inlet total pressure is below the ambient pressure (reverse flow)",
     7: "a cooling flow's pressure is below that of its entry into the turbine",
     8: "a flow or pressure is not finite or not positive",
@@ -493,17 +494,29 @@ def turbofan(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: 
     W31 = W3 - W_exit
     _put(S, _S31, W31, T3, P3, 0.0, h3)
     _stage(err, _ST_HPC)
-    # burner
-    if not (Wf >= 0.0) or not (0.0 < e[EP.eta_burner] <= 1.0):
+    # burner: the fuel flow given (off-design), or the exit temperature (design)
+    if not (0.0 < e[EP.eta_burner] <= 1.0):
         _mark(err, 2, _ST_BURN)
         return err[0]
     f31 = 0.0
     W_air = W31 / (1.0 + f31)
-    f4 = f31 + Wf / W_air
+    if design:
+        Tt4 = e[EP.Tt4_ref]
+        if not Tt4 > T3:
+            _mark(err, 5, _ST_BURN)
+            return err[0]
+        f4 = burner_far(gc, gs, T3, f31, Tt4, e[EP.eta_burner], gs[13], err)
+        Wf = W_air * (f4 - f31)
+    else:
+        if not (Wf >= 0.0):
+            _mark(err, 2, _ST_BURN)
+            return err[0]
+        f4 = f31 + Wf / W_air
     if not (0.0 <= f4 <= gs[1]):
         _mark(err, 5, _ST_BURN)
         return err[0]
-    Tt4 = burner_exit_T(gc, gs, T3, f31, f4, e[EP.eta_burner], gs[13], e[EP.Tt4_guess_K], err) if Wf > 0 else T3
+    if not design:
+        Tt4 = burner_exit_T(gc, gs, T3, f31, f4, e[EP.eta_burner], gs[13], e[EP.Tt4_guess_K], err) if Wf > 0 else T3
     W4 = W31 + W_air * (f4 - f31)
     P4 = P3 * (1.0 - e[EP.dPqP_burner])
     h4 = K.h(gc, gs, Tt4, f4, err)

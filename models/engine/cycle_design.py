@@ -39,7 +39,7 @@ from .compressor import CompressorResult, compressor
 from .design_params import EngineParams, TurbofanParams, TurbojetParams
 from .duct import duct
 from .errors import ConvergenceError, ModelError, OutOfRangeError
-from .flow import T_STD_K, FlowStation, mix
+from .flow import T_STD_K, FlowStation
 from .gas import GasModel
 from .gas_path import pack_params
 from .inlet import inlet, ram_recovery_mil_e_5008b
@@ -242,7 +242,7 @@ def _turbofan(p: TurbofanParams, W2: float, gas: GasModel) -> DesignPoint:
     """The turbofan's design point: the one gas path (:func:`.gas_path.turbofan`) in design mode, its two
     turbine pressure ratios matched to the spools' power balances (compressors, offtakes, mechanical losses)."""
     from .combustion import h_fuel_liquid
-    from .gas_path import OUT, SINK, STATIONS, MAX_BLEEDS, turbofan
+    from .gas_path import MAX_BLEEDS, OUT, SINK, STATIONS, turbofan
     from .newton import newton_solve
     if p.nozzle_type != "convergent":
         raise ModelError(f"{p.name}: the turbofan's nozzles are convergent (nozzle_type={p.nozzle_type!r} is for "

@@ -58,7 +58,7 @@ from .nozzle import convergent_throat
 from .shaft import TERM_INDEX, TURBOFAN_SHAFTS, spool_balance, term_arrays
 from .turbine import expand_h
 
-__all__ = ["EP", "PARAMS", "STATIONS", "ROW", "OUT", "O", "SINK", "ERRORS", "STAGES", "MAX_BLEEDS", "turbofan",
+__all__ = ["EP", "PARAMS", "STATIONS", "ROW", "OUT", "OX", "SINK", "ERRORS", "STAGES", "MAX_BLEEDS", "turbofan",
            "pack_params"]
 
 #: The engine's parameters as the gas path reads them, by name (one declaration; the vector is packed by name).
@@ -85,7 +85,7 @@ SINK: dict[str, int] = {"overboard": 0, "bypass": 1, "hpt": 2, "lpt": 3}
 #: Most bleeds of one engine: the design's (at most 14) and the handling and customer bleeds.
 MAX_BLEEDS = 16
 
-#: Outputs ``o`` by index (:data:`O`): thrusts [N], corrected speeds [rpm], temperatures [K], pressures [Pa],
+#: Outputs ``o`` by index (:data:`OX`): thrusts [N], corrected speeds [rpm], temperatures [K], pressures [Pa],
 #: handling bleed [-], FAR4 [-], W2 [kg/s], surge margins (worst sector, clean sector) [-], powers [W] ...
 OUT: tuple[str, ...] = ("Fn", "Fg", "ram", "N1c", "N2c", "Tt4", "T41", "Tt21", "Tt17", "Tt7", "Pt3", "Pt2", "hb",
                         "FAR4", "W2", "SM_fan", "SM_hpc", "P_hpt", "P_lpt", "P_hpc", "P_fan", "SM_fan_clean",
@@ -93,7 +93,7 @@ OUT: tuple[str, ...] = ("Fn", "Fg", "ram", "N1c", "N2c", "Tt4", "T41", "Tt21", "
                         "choked_bypass", "Wc2", "Wc25", "Wc4", "Wc45", "Wc21", "PR_fan", "eta_fan", "PR_booster",
                         "eta_booster", "PR_hpc", "eta_hpc", "eta_hpt", "eta_lpt", "Nc_fan_1", "beta_fan_1",
                         "Nc_hpc_1", "beta_hpc_1", "Wf", "N1", "N2", "BPR", "PRh", "PRl")
-O = enum.IntEnum("O", [(n, i) for i, n in enumerate(OUT)])
+OX = enum.IntEnum("OX", [(n, i) for i, n in enumerate(OUT)])
 
 #: Error codes (``err[0]``): 1 a temperature outside the gas tables or a map read beyond its margin (the
 #: kernels' code), then the gas path's own checks.

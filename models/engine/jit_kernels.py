@@ -61,12 +61,15 @@ def _cache_dir() -> str:
         os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "openemss", "numba")
     here = os.path.dirname(os.path.abspath(__file__))
     digest = hashlib.sha256(__name__.encode())            # compiled code refers to its module by name
-    kernels = ("jit_kernels.py", "jit_cycle.py", "jit_freestream.py", "jit_solve.py", "shaft.py", "compressor.py",
-               "flow.py", "turbine.py", "nozzle.py", "combustion.py",
-               os.path.join("..", "common", "atmosphere.py"))
-    for name in kernels:                                   # a kernel embeds the ones it calls: hash all
-        with open(os.path.join(here, name), "rb") as fh:
-            digest.update(fh.read())
+    # a kernel embeds the ones it calls: hash every module of the package that holds one (found by its
+    # decorator, so that a new kernel module cannot be forgotten), and the common atmosphere compiled into them
+    paths = [os.path.join(here, n) for n in sorted(os.listdir(here)) if n.endswith(".py")]
+    paths.append(os.path.join(here, "..", "common", "atmosphere.py"))
+    for path in paths:
+        with open(path, "rb") as fh:
+            src = fh.read()
+        if b"@jit" in src or path.endswith("atmosphere.py"):
+            digest.update(os.path.basename(path).encode() + src)
     return os.path.join(root, digest.hexdigest()[:20])
 
 

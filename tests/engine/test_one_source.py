@@ -103,7 +103,7 @@ def test_gas_path_compiled_equals_plain_python() -> None:
             np.testing.assert_allclose(a[key], b[key], rtol=1e-12, atol=1e-9)
         o_a, o_b = np.array(a["o"]), np.array(b["o"])
         np.testing.assert_allclose(o_a, o_b, rtol=1e-11, atol=1e-12, equal_nan=True,
-                                   err_msg=str(list(zip(OUT, o_a, o_b))))
+                                   err_msg=str(list(zip(OUT, o_a, o_b, strict=True))))
     assert ok > 60 and refused > 0, (ok, refused)          # both branches exercised, all configurations
     for a, b in zip(comp["designs"], plain["designs"], strict=True):   # design mode (Fn_target solved by brentq)
         np.testing.assert_allclose(a, b, rtol=1e-11, atol=1e-12)

@@ -20,6 +20,7 @@ import math
 
 import numpy as np
 import pytest
+from test_offdesign import closure
 
 from openemss.models.engine import shaft
 from openemss.models.engine.cycle_design import DesignPoint, design
@@ -28,7 +29,6 @@ from openemss.models.engine.engine_model import FLAGS, OUTPUTS, EngineInputs, En
 from openemss.models.engine.errors import OutOfRangeError
 from openemss.models.engine.offdesign import TurbofanOffDesign
 from openemss.models.engine.transient import TurbofanTransient
-from test_offdesign import closure
 
 P_PORT_W = 150e3          # a port power of 4 % (HP) to 6 % (LP) of the design spool powers
 _LIMITED = [n for n, _ in FLAGS].index("shaft_power_limited")

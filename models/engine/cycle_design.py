@@ -1,9 +1,11 @@
 """Design point of the single-spool turbojet and the two-spool separate-flow turbofan.
 
 From the design parameters (:mod:`.design_params`) the cycle is computed
-station by station (:mod:`.stations`) with the components of this package;
-each spool's turbine delivers the power its compressors and offtakes need
-(:mod:`.shaft`), which fixes the turbine pressure ratios. With a thrust
+station by station (:mod:`.stations`) on the engine's one gas path, the one its
+off-design uses too: the turbofan's :func:`.gas_path.turbofan` in design mode,
+the turbojet's :func:`.turbojet_path.turbojet_path`. Each spool's turbine delivers
+the power its compressors and offtakes need (:mod:`.shaft`), which fixes the
+turbine pressure ratios. With a thrust
 target the inlet mass flow is solved with :func:`scipy.optimize.brentq` (the
 cycle is linear in W except for absolute power offtakes, so two linear
 steps give a tight bracket around the root).
@@ -34,18 +36,16 @@ from scipy.optimize import brentq
 
 from .atmosphere import FreeStream, free_stream
 from .bleed import BleedSpec, stage_fractions
-from .burner import burner_to_temperature
-from .compressor import CompressorResult, compressor
+from .compressor import CompressorResult
 from .design_params import EngineParams, TurbofanParams, TurbojetParams
-from .duct import duct
 from .errors import ConvergenceError, ModelError, OutOfRangeError
 from .flow import T_STD_K, FlowStation
 from .gas import GasModel
 from .gas_path import pack_params
-from .inlet import inlet, ram_recovery_mil_e_5008b
+from .inlet import ram_recovery_mil_e_5008b
 from .nozzle import NozzleResult, convergent_nozzle, ideal_nozzle
-from .shaft import TURBOFAN_SHAFTS, turbine_power_required
-from .turbine import Cooling, TurbineResult, turbine_for_power
+from .shaft import TURBOFAN_SHAFTS
+from .turbine import TurbineResult
 
 __all__ = ["ComponentDesign", "DesignPoint", "design", "gas_of"]
 
@@ -184,38 +184,18 @@ def _nozzle(p: EngineParams, fs: FlowStation, P_amb: float, Cv: float, Cd: float
     return convergent_nozzle(fs, P_amb, Cv, Cd, gas)
 
 
-def _cooling(bleeds: Mapping[str, FlowStation], specs: tuple[BleedSpec, ...], sink: str) -> list[Cooling]:
-    return [Cooling(bleeds[b.name], b.sink_frac_P) for b in specs if b.sink == sink]
-
-
 def _turbojet(p: TurbojetParams, W2: float, gas: GasModel) -> DesignPoint:
+    """The turbojet's design point: its one gas path (:func:`.turbojet_path.turbojet_path`) at the design
+    values, the turbine delivering the compressor's and the offtake's power."""
+    from .turbojet_path import turbojet_path
     fr = free_stream(p.alt_m, p.Mach, p.dT_isa_K, gas)
-    st: dict[str, FlowStation] = {"0": fr.station(W2, gas)}
-    st["2"] = inlet(st["0"], p.Mach, p.inlet_pi)
-    c = compressor(st["2"], p.PR_c, p.eta_c, p.bleeds, gas)
-    bl = {b.name: s for b, s in zip(p.bleeds, c.bleeds, strict=True)}
-    if len(bl) != len(p.bleeds):
-        raise ModelError(f"{p.name}: bleed names must be unique, got {[b.name for b in p.bleeds]}")
-    st["3"] = c.out
-    st["31"] = c.out.with_W(c.out.W_kg_s - sum(bl[b.name].W_kg_s for b in p.bleeds if b.at_exit))
-    bu = burner_to_temperature(st["31"], p.Tt4_K, p.eta_burner, p.dPqP_burner, p.T_fuel_K, gas)
-    st["4"] = bu.out
-    P_t = turbine_power_required([c.power_W], p.offtake_W, p.eta_mech)
-    t = turbine_for_power(st["4"], P_t, p.eta_t, _cooling(bl, p.bleeds, "hpt") + _cooling(bl, p.bleeds, "lpt"),
-                          gas)
-    st["41"], st["5"] = t.rotor_in, t.out
-    st["7"] = duct(t.out, p.dPqP_jetpipe)
-    n = _nozzle(p, st["7"], fr.amb.P_Pa, p.Cv, p.Cd, gas)
-    st["8"] = st["7"]
-    if any(b.sink == "bypass" for b in p.bleeds):
-        raise ModelError(f"{p.name}: a turbojet has no bypass to return a bleed to")
-    ram = W2 * fr.V0_m_s
-    Fn = n.Fg_N - ram
+    g = turbojet_path(p, gas, fr, W2, lambda _st: (p.PR_c, p.eta_c, math.nan))
+    st, c, t, bu, n = g.stations, g.compressor, g.turbine, g.burner, g.nozzle
     comps = {"compressor": _comp(c, st["2"], p.N_rpm), "turbine": _comp(t, st["4"], p.N_rpm)}
-    return DesignPoint(p, fr, MappingProxyType(st), MappingProxyType(bl), MappingProxyType(comps),
-                       MappingProxyType({"core": n}), Fn, n.Fg_N, ram, bu.Wf_kg_s,
-                       bu.Wf_kg_s / Fn if Fn > 0 else math.inf, st["3"].Pt_Pa / st["2"].Pt_Pa, 0.0,
-                       (1.0 - p.eta_mech) * P_t, p.offtake_W, bu.heat_unreleased_W, bu.heat_released_W)
+    return DesignPoint(p, fr, MappingProxyType(st), MappingProxyType(g.bleeds), MappingProxyType(comps),
+                       MappingProxyType({"core": n}), g.Fn_N, n.Fg_N, g.ram_drag_N, bu.Wf_kg_s,
+                       bu.Wf_kg_s / g.Fn_N if g.Fn_N > 0 else math.inf, st["3"].Pt_Pa / st["2"].Pt_Pa, 0.0,
+                       (1.0 - p.eta_mech) * t.power_W, p.offtake_W, bu.heat_unreleased_W, bu.heat_released_W)
 
 
 def _turbofan_params(p: TurbofanParams, W2: float, P_hp_ref: float, P_lp_ref: float) -> np.ndarray:

@@ -39,7 +39,13 @@ def cycle(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: np.
     :func:`.gas_path.turbofan` with scratch arrays for its stations, bleeds and powers; 0 or its error code."""
     S, B, PW = np.empty((_NST, 5)), np.empty((MAX_BLEEDS, 6)), np.empty(_NPW)
     err, dist = np.zeros(2, np.int64), np.zeros((2, 4))
-    return turbofan(x, fs, ctl, e, gc, gs, bl, fan, hpc, hpt, lpt, fan, dist, S, B, PW, r, o, err, with_sm)
+    # contiguous copies and a plain bool: the gas path then has the argument types FastCycle.evaluate calls it
+    # with, and numba compiles it once for both (a slice's layout or a literal False is another type: a second
+    # compilation of the largest kernel, some 25 s)
+    flag = np.empty(1, np.bool_)
+    flag[0] = with_sm
+    return turbofan(x.copy(), fs.copy(), ctl.copy(), e, gc, gs, bl, fan, hpc, hpt, lpt, fan, dist, S, B, PW, r, o,
+                    err, flag[0])
 
 
 def _maps(od: Any) -> tuple[Any, ...]:
@@ -76,6 +82,9 @@ class FastCycle:
     def __init__(self, od: Any) -> None:
         from .combustion import h_fuel_liquid
         p, ref, g = od.p, od.ref, od.gas
+        if len(p.bleeds) + 2 > MAX_BLEEDS:                  # the handling and customer bleeds come on top
+            from .errors import ModelError
+            raise ModelError(f"{p.name}: at most {MAX_BLEEDS - 2} bleeds, got {len(p.bleeds)}")
         self.e = pack_params(dict(
             mode=0.0, W2_ref=ref["W2"], PRh_ref=ref["PRh"], PRl_ref=ref["PRl"], Wf_ref=ref["Wf"],
             N1_design_rpm=p.N1_rpm, N2_design_rpm=p.N2_rpm, BPR_ref=p.BPR, Nc1_design_rpm=ref["Nc1"],

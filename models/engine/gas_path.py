@@ -98,7 +98,7 @@ OX = enum.IntEnum("OX", [(n, i) for i, n in enumerate(OUT)])
 #: Error codes (``err[0]``): 1 a temperature outside the gas tables or a map read beyond its margin (the
 #: kernels' code), then the gas path's own checks.
 ERRORS: dict[int, str] = {
-    1: "a temperature leaves the gas tables or a map is read beyond its extrapolation margin",
+    1: f"a temperature leaves the gas tables ({K.T_MIN:g} K to {K.T_MAX:g} K)",
     2: "unknowns out of range (W2, N1, N2, Wf > 0, BPR >= 0, turbine PRs >= 1 required)",
     3: "the bleeds take all of the HPC flow",
     4: "the handling bleed needs an HPC pressure ratio above 1 and a fraction in [0, 1)",
@@ -106,6 +106,7 @@ ERRORS: dict[int, str] = {
     6: "a nozzle's inlet total pressure is below the ambient pressure (reverse flow)",
     7: "a cooling flow's pressure is below that of its entry into the turbine",
     8: "a flow or pressure is not finite or not positive",
+    9: "its map is read beyond the map's extrapolation margin (corrected speed, beta or pressure ratio off the map)",
 }
 #: Where the first error arose (``err[1]``).
 STAGES: tuple[str, ...] = ("", "inlet", "fan", "booster", "HPC", "burner", "HPT", "LPT", "bypass duct", "nozzles",
@@ -166,7 +167,10 @@ def _map_c(m: Any, Nc: float, beta: float, v: np.ndarray, gx: np.ndarray, gy: np
            err: np.ndarray) -> tuple[float, float, float]:
     """(corrected flow [kg/s], PR [-], efficiency [-]) of a scaled compressor map at corrected speed Nc, beta."""
     sc = m[6]
+    first = err[0] == 0
     K.table(m[0], m[1], m[2], m[3], m[4], m[5], Nc / sc[3], beta, v, gx, gy, err)
+    if first and err[0] != 0:
+        err[0] = 9
     return v[0] * sc[0], (v[1] - 1.0) * sc[1] + 1.0, v[2] * sc[2]
 
 
@@ -177,7 +181,10 @@ def _map_t(m: Any, Nc: float, PR: float, v: np.ndarray, gx: np.ndarray, gy: np.n
     sc = m[6]
     N = Nc if Nc > sc[4] else sc[4]
     N = N if N < sc[5] else sc[5]
+    first = err[0] == 0
     K.table(m[0], m[1], m[2], m[3], m[4], m[5], N / sc[3], (PR - 1.0) / sc[1] + 1.0, v, gx, gy, err)
+    if first and err[0] != 0:
+        err[0] = 9
     return v[0] * sc[0], v[1] * sc[2]
 
 

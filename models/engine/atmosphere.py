@@ -17,13 +17,16 @@ P. P. Walsh, P. Fletcher, "Gas Turbine Performance", 2nd ed., 2004, ch. 2.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
+
+import numpy as np
 
 from ..common import atmosphere as _atm
 from .errors import OutOfRangeError
-from .flow import FlowStation, flow_TP, total_from_static
+from .flow import FlowStation, flow_TP
 from .gas import DEFAULT_GAS, GasModel
+from .jit_freestream import atm_array
+from .jit_freestream import free_stream as _free_stream
 
 __all__ = ["ALT_MIN_M", "ALT_MAX_M", "Ambient", "FreeStream", "isa", "free_stream"]
 
@@ -113,7 +116,10 @@ def free_stream(alt_m: float, Mach: float, dT_isa_K: float = 0.0,
     """
     if not (0.0 <= Mach <= 3.0):
         raise OutOfRangeError(f"atmosphere.free_stream: Mach={Mach!r} is outside the valid range 0 to 3")
-    amb = isa(alt_m, dT_isa_K)
-    V0 = Mach * math.sqrt(gas.gamma(amb.T_K) * gas.R() * amb.T_K)
-    Tt0, Pt0 = total_from_static(amb.T_K, amb.P_Pa, V0, 0.0, gas)
-    return FreeStream(amb, Mach, V0, Tt0, Pt0)
+    amb = isa(alt_m, dT_isa_K)                      # raises with the atmosphere's message
+    gc, gs = gas.kernel_arrays()
+    fs = np.empty(6)
+    if _free_stream(gc, gs, atm_array(), float(alt_m), float(Mach), float(dT_isa_K), fs) != 0:
+        raise OutOfRangeError(f"atmosphere.free_stream: the totals at {amb.T_K!r} K and Mach {Mach!r} leave the "
+                              "gas tables")
+    return FreeStream(amb, Mach, float(fs[2]), float(fs[0]), float(fs[1]))

@@ -32,7 +32,19 @@ from .gas import DEFAULT_GAS, FUEL_LIQUID_SPECIES, GasModel
 from .jit_kernels import jit
 from .thermo import T_REF_K
 
-__all__ = ["h_fuel_liquid", "far_burner", "T_burner_exit", "burner_exit_T"]
+__all__ = ["h_fuel_liquid", "far_burner", "T_burner_exit", "burner_exit_T", "burner_far"]
+
+
+@jit
+def burner_far(gc: np.ndarray, gs: np.ndarray, Tt3_K: float, FAR_in: float, Tt4_K: float, eta_b: float,
+               h_fuel_J_kg: float, err: np.ndarray) -> float:
+    """Burner exit fuel-air ratio [-] that heats the flow from Tt3 to Tt4 [K] (the closed form of
+    :func:`far_burner`; h_fuel_J_kg the liquid fuel's enthalpy, gs[12] the LHV): the one implementation, called
+    by :func:`far_burner` and the design mode of the gas path (:mod:`.gas_path`); ``err[0]`` set where the gas
+    tables end."""
+    ha3, hf3 = K.h_parts(gc, gs, Tt3_K, err)
+    ha4, hf4 = K.h_parts(gc, gs, Tt4_K, err)
+    return FAR_in + (ha4 - ha3 + FAR_in * (hf4 - hf3)) / (eta_b * gs[12] + h_fuel_J_kg - hf4)
 
 
 @jit
@@ -112,10 +124,11 @@ def far_burner(Tt3_K: float, Tt4_K: float, eta_b: float = 1.0, FAR_in: float = 0
     _check("far_burner", gas, eta_b, FAR_in)
     if not (Tt4_K > Tt3_K):
         raise OutOfRangeError(f"combustion.far_burner: Tt4_K={Tt4_K!r} K must exceed Tt3_K={Tt3_K!r} K")
-    ha3, hf3 = gas.h_parts(Tt3_K)
-    ha4, hf4 = gas.h_parts(Tt4_K)
-    far4 = FAR_in + (ha4 - ha3 + FAR_in * (hf4 - hf3)) / (
-        eta_b * gas.LHV_J_kg + h_fuel_liquid(T_fuel_K, gas) - hf4)
+    gas.h_parts(Tt3_K)                               # raise with their messages if a temperature is out of range
+    gas.h_parts(Tt4_K)
+    err = np.zeros(1, np.int64)
+    gc, gs = gas.kernel_arrays()
+    far4 = float(burner_far(gc, gs, Tt3_K, FAR_in, Tt4_K, eta_b, h_fuel_liquid(T_fuel_K, gas), err))
     if far4 > gas.FAR_stoich:
         raise OutOfRangeError(
             f"combustion.far_burner: reaching Tt4_K={Tt4_K!r} K from Tt3_K={Tt3_K!r} K needs "

@@ -1,9 +1,11 @@
 """Design point of the single-spool turbojet and the two-spool separate-flow turbofan.
 
 From the design parameters (:mod:`.design_params`) the cycle is computed
-station by station (:mod:`.stations`) with the components of this package;
-each spool's turbine delivers the power its compressors and offtakes need
-(:mod:`.shaft`), which fixes the turbine pressure ratios. With a thrust
+station by station (:mod:`.stations`) on the engine's one gas path, the one its
+off-design uses too: the turbofan's :func:`.gas_path.turbofan` in design mode,
+the turbojet's :func:`.turbojet_path.turbojet_path`. Each spool's turbine delivers
+the power its compressors and offtakes need (:mod:`.shaft`), which fixes the
+turbine pressure ratios. With a thrust
 target the inlet mass flow is solved with :func:`scipy.optimize.brentq` (the
 cycle is linear in W except for absolute power offtakes, so two linear
 steps give a tight bracket around the root).
@@ -29,24 +31,26 @@ from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Any
 
+import numpy as np
 from scipy.optimize import brentq
 
 from .atmosphere import FreeStream, free_stream
 from .bleed import BleedSpec, stage_fractions
-from .burner import burner_to_temperature
-from .compressor import CompressorResult, compressor
+from .compressor import CompressorResult
 from .design_params import EngineParams, TurbofanParams, TurbojetParams
-from .duct import duct
 from .errors import ConvergenceError, ModelError, OutOfRangeError
-from .flow import T_STD_K, FlowStation, mix
+from .flow import T_STD_K, FlowStation
 from .gas import GasModel
-from .inlet import inlet
+from .gas_path import pack_params
+from .inlet import ram_recovery_mil_e_5008b
 from .nozzle import NozzleResult, convergent_nozzle, ideal_nozzle
-from .shaft import turbine_power_required
-from .splitter import splitter
-from .turbine import Cooling, TurbineResult, turbine_for_power
+from .shaft import TURBOFAN_SHAFTS
+from .turbine import TurbineResult
 
 __all__ = ["ComponentDesign", "DesignPoint", "design", "gas_of"]
+
+#: Names of the gas path's power vector: the declared shaft terms, then the spools' mechanical losses.
+PW_NAMES: tuple[str, ...] = tuple(t.name for t in TURBOFAN_SHAFTS) + ("mech_hp", "mech_lp")
 
 _GASES: dict[tuple[float, float], GasModel] = {}
 
@@ -180,96 +184,113 @@ def _nozzle(p: EngineParams, fs: FlowStation, P_amb: float, Cv: float, Cd: float
     return convergent_nozzle(fs, P_amb, Cv, Cd, gas)
 
 
-def _cooling(bleeds: Mapping[str, FlowStation], specs: tuple[BleedSpec, ...], sink: str) -> list[Cooling]:
-    return [Cooling(bleeds[b.name], b.sink_frac_P) for b in specs if b.sink == sink]
-
-
 def _turbojet(p: TurbojetParams, W2: float, gas: GasModel) -> DesignPoint:
+    """The turbojet's design point: its one gas path (:func:`.turbojet_path.turbojet_path`) at the design
+    values, the turbine delivering the compressor's and the offtake's power."""
+    from .turbojet_path import turbojet_path
     fr = free_stream(p.alt_m, p.Mach, p.dT_isa_K, gas)
-    st: dict[str, FlowStation] = {"0": fr.station(W2, gas)}
-    st["2"] = inlet(st["0"], p.Mach, p.inlet_pi)
-    c = compressor(st["2"], p.PR_c, p.eta_c, p.bleeds, gas)
-    bl = {b.name: s for b, s in zip(p.bleeds, c.bleeds, strict=True)}
-    if len(bl) != len(p.bleeds):
-        raise ModelError(f"{p.name}: bleed names must be unique, got {[b.name for b in p.bleeds]}")
-    st["3"] = c.out
-    st["31"] = c.out.with_W(c.out.W_kg_s - sum(bl[b.name].W_kg_s for b in p.bleeds if b.at_exit))
-    bu = burner_to_temperature(st["31"], p.Tt4_K, p.eta_burner, p.dPqP_burner, p.T_fuel_K, gas)
-    st["4"] = bu.out
-    P_t = turbine_power_required([c.power_W], p.offtake_W, p.eta_mech)
-    t = turbine_for_power(st["4"], P_t, p.eta_t, _cooling(bl, p.bleeds, "hpt") + _cooling(bl, p.bleeds, "lpt"),
-                          gas)
-    st["41"], st["5"] = t.rotor_in, t.out
-    st["7"] = duct(t.out, p.dPqP_jetpipe)
-    n = _nozzle(p, st["7"], fr.amb.P_Pa, p.Cv, p.Cd, gas)
-    st["8"] = st["7"]
-    if any(b.sink == "bypass" for b in p.bleeds):
-        raise ModelError(f"{p.name}: a turbojet has no bypass to return a bleed to")
-    ram = W2 * fr.V0_m_s
-    Fn = n.Fg_N - ram
+    g = turbojet_path(p, gas, fr, W2, lambda _st: (p.PR_c, p.eta_c, math.nan))
+    st, c, t, bu, n = g.stations, g.compressor, g.turbine, g.burner, g.nozzle
     comps = {"compressor": _comp(c, st["2"], p.N_rpm), "turbine": _comp(t, st["4"], p.N_rpm)}
-    return DesignPoint(p, fr, MappingProxyType(st), MappingProxyType(bl), MappingProxyType(comps),
-                       MappingProxyType({"core": n}), Fn, n.Fg_N, ram, bu.Wf_kg_s,
-                       bu.Wf_kg_s / Fn if Fn > 0 else math.inf, st["3"].Pt_Pa / st["2"].Pt_Pa, 0.0,
-                       (1.0 - p.eta_mech) * P_t, p.offtake_W, bu.heat_unreleased_W, bu.heat_released_W)
+    return DesignPoint(p, fr, MappingProxyType(st), MappingProxyType(g.bleeds), MappingProxyType(comps),
+                       MappingProxyType({"core": n}), g.Fn_N, n.Fg_N, g.ram_drag_N, bu.Wf_kg_s,
+                       bu.Wf_kg_s / g.Fn_N if g.Fn_N > 0 else math.inf, st["3"].Pt_Pa / st["2"].Pt_Pa, 0.0,
+                       (1.0 - p.eta_mech) * t.power_W, p.offtake_W, bu.heat_unreleased_W, bu.heat_released_W)
+
+
+def _turbofan_params(p: TurbofanParams, W2: float, P_hp_ref: float, P_lp_ref: float) -> np.ndarray:
+    """The gas path's parameters (:data:`.gas_path.PARAMS`) in design mode: the turbomachines at their design
+    pressure ratios and efficiencies, the unknowns (turbine PRs) unscaled, the bleed schedules off."""
+    one = 1.0
+    return pack_params(dict(
+        mode=1.0, W2_ref=W2, PRh_ref=one, PRl_ref=one, Wf_ref=one, N1_design_rpm=p.N1_rpm, N2_design_rpm=p.N2_rpm,
+        BPR_ref=p.BPR if p.BPR > 0.0 else one, Nc1_design_rpm=one, inlet_pi=p.inlet_pi,
+        k_inner=(p.PR_fan_inner - 1.0) / (p.PR_fan_outer - 1.0), eff_ratio_inner=p.eta_fan_inner / p.eta_fan_outer,
+        booster=1.0 if p.PR_booster > 1.0 else 0.0, dPqP_21_24=p.dPqP_21_24, dPqP_24_25=p.dPqP_24_25,
+        dPqP_burner=p.dPqP_burner, dPqP_44_45=p.dPqP_44_45, dPqP_5_7=p.dPqP_5_7, dPqP_13_17=p.dPqP_13_17,
+        handling_bleed_frac=p.handling_bleed_frac, hb_open_frac=0.0, hb_N1c_frac=0.0, hb_ramp_frac=one,
+        handling_bleed_stage=p.handling_bleed_stage, hpc_stages=p.hpc_stages, bypass_bleed_frac=p.bypass_bleed_frac,
+        eta_burner=p.eta_burner, Tt4_guess_K=p.Tt4_K, Cv_core=p.Cv_core, Cv_bypass=p.Cv_bypass,
+        eta_mech_hp=p.eta_mech_hp, eta_mech_lp=p.eta_mech_lp, Wc21_ref=one, Wc4_ref=one, Wc45_ref=one, A8_ref=one,
+        A18_ref=one, P_hp_ref=P_hp_ref, P_lp_ref=P_lp_ref, Fn_ref=one, Tt4_ref=p.Tt4_K,
+        PR_fan_outer=p.PR_fan_outer, eta_fan_outer=p.eta_fan_outer, PR_booster=p.PR_booster,
+        eta_booster=p.eta_booster if p.PR_booster > 1.0 else 1.0, PR_hpc=p.PR_hpc, eta_hpc=p.eta_hpc,
+        eta_hpt=p.eta_hpt, eta_lpt=p.eta_lpt))
 
 
 def _turbofan(p: TurbofanParams, W2: float, gas: GasModel) -> DesignPoint:
+    """The turbofan's design point: the one gas path (:func:`.gas_path.turbofan`) in design mode, its two
+    turbine pressure ratios matched to the spools' power balances (compressors, offtakes, mechanical losses)."""
+    from .combustion import h_fuel_liquid
+    from .gas_path import MAX_BLEEDS, OUT, SINK, STATIONS, turbofan
+    from .newton import newton_solve
+    if p.nozzle_type != "convergent":
+        raise ModelError(f"{p.name}: the turbofan's nozzles are convergent (nozzle_type={p.nozzle_type!r} is for "
+                         "the turbojet)")
     fr = free_stream(p.alt_m, p.Mach, p.dT_isa_K, gas)
-    st: dict[str, FlowStation] = {"0": fr.station(W2, gas)}
-    st["2"] = inlet(st["0"], p.Mach, p.inlet_pi)
-    core2, byp2 = splitter(st["2"], p.BPR)
-    fo = compressor(byp2, p.PR_fan_outer, p.eta_fan_outer, (), gas)
-    fi = compressor(core2, p.PR_fan_inner, p.eta_fan_inner, (), gas)
-    st["13"], st["21"] = fo.out, fi.out
-    d21 = duct(fi.out, p.dPqP_21_24)
-    bo = compressor(d21, p.PR_booster, p.eta_booster if p.PR_booster > 1.0 else 1.0, (), gas)
-    st["24"] = bo.out
-    st["25"] = duct(bo.out, p.dPqP_24_25)
-    specs = list(p.bleeds)
-    if p.handling_bleed_frac > 0.0:
-        fP, fw = stage_fractions(p.handling_bleed_stage, p.hpc_stages, p.PR_hpc)
-        specs.append(BleedSpec("handling", p.handling_bleed_frac, fP, fw, "bypass"))
-    if p.customer_bleed_frac > 0.0:
-        specs.append(BleedSpec("customer", p.customer_bleed_frac, 1.0, 1.0, "overboard"))
-    specs_t = tuple(specs)
-    hc = compressor(st["25"], p.PR_hpc, p.eta_hpc, specs_t, gas)
-    bl = {b.name: s for b, s in zip(specs_t, hc.bleeds, strict=True)}
-    if len(bl) != len(specs_t):
-        raise ModelError(f"{p.name}: bleed names must be unique, got {[b.name for b in specs_t]}")
-    st["3"] = hc.out
-    st["31"] = hc.out.with_W(hc.out.W_kg_s - sum(bl[b.name].W_kg_s for b in specs_t if b.at_exit))
-    bu = burner_to_temperature(st["31"], p.Tt4_K, p.eta_burner, p.dPqP_burner, p.T_fuel_K, gas)
-    st["4"] = bu.out
-    P_hpt = turbine_power_required([hc.power_W], p.offtake_hp_W, p.eta_mech_hp)
-    ht = turbine_for_power(st["4"], P_hpt, p.eta_hpt, _cooling(bl, specs_t, "hpt"), gas)
-    st["41"], st["44"] = ht.rotor_in, ht.out
-    st["45"] = duct(ht.out, p.dPqP_44_45)
-    P_lpt = turbine_power_required([fo.power_W, fi.power_W, bo.power_W], p.offtake_lp_W, p.eta_mech_lp)
-    lt = turbine_for_power(st["45"], P_lpt, p.eta_lpt, _cooling(bl, specs_t, "lpt"), gas)
-    st["5"] = lt.out
-    st["7"] = duct(lt.out, p.dPqP_5_7)
-    st["8"] = st["7"]
-    b13 = st["13"].with_W(st["13"].W_kg_s * (1.0 - p.bypass_bleed_frac))
-    back = [bl[b.name] for b in specs_t if b.sink == "bypass"]
-    st["16"] = mix([b13, *back], b13.Pt_Pa, gas) if back else b13
-    st["17"] = duct(st["16"], p.dPqP_13_17)
-    st["18"] = st["17"]
+    specs = list(p.bleeds) + ([BleedSpec("handling", p.handling_bleed_frac, *stage_fractions(
+        p.handling_bleed_stage, p.hpc_stages, p.PR_hpc), "bypass")] if p.handling_bleed_frac > 0.0 else []) + (
+        [BleedSpec("customer", p.customer_bleed_frac, 1.0, 1.0, "overboard")] if p.customer_bleed_frac > 0.0 else [])
+    if len({b.name for b in specs}) != len(specs):
+        raise ModelError(f"{p.name}: bleed names must be unique, got {[b.name for b in specs]}")
+    if len(specs) > MAX_BLEEDS:
+        raise ModelError(f"{p.name}: at most {MAX_BLEEDS} bleeds, got {len(specs)}")
+    fs = np.array([fr.Tt0_K, fr.Pt0_Pa, fr.V0_m_s, fr.amb.P_Pa, p.Mach, ram_recovery_mil_e_5008b(p.Mach)])
+    ctl = np.array([3.0, p.Tt4_K, p.customer_bleed_frac, p.offtake_hp_W, p.offtake_lp_W, 0.0])
+    gc, gs0 = gas.kernel_arrays()
+    gs = np.append(gs0, h_fuel_liquid(p.T_fuel_K, gas))
+    bl = np.array([[b.frac_W, b.frac_P, b.frac_work, SINK[b.sink], b.sink_frac_P] for b in p.bleeds],
+                  dtype=float).reshape(-1, 5)
+    dummy = (*(np.zeros(2),) * 4, np.zeros((1, 1, 3, 16)), np.zeros(8), np.ones(6), np.zeros(2), np.zeros(2))
+    S, B, PW = np.empty((len(STATIONS), 5)), np.empty((MAX_BLEEDS, 6)), np.empty(len(PW_NAMES))
+    r, o, err, dist = np.empty(12), np.empty(len(OUT)), np.zeros(2, np.int64), np.zeros((2, 4))
+    x = np.ones(9 + (p.PR_booster > 1.0))
+    box = {"e": _turbofan_params(p, W2, 1.0, 1.0)}
+
+    def run(prs: np.ndarray) -> np.ndarray:
+        x[5], x[6] = prs
+        err[:] = 0
+        code = turbofan(x, fs, ctl, box["e"], gc, gs, bl, dummy, dummy, dummy, dummy, dummy, dist, S, B, PW, r, o,
+                        err, False)
+        if code:
+            from .gas_path import ERRORS, STAGES
+            raise OutOfRangeError(f"{STAGES[int(err[1])] or 'gas path'}: {ERRORS.get(code, f'error {code}')}")
+        return r[6:8].copy()
+
+    prs0 = np.array([2.5, 2.5])
+    run(prs0)                                           # the compressors' powers: the balances' scales
+    box["e"] = _turbofan_params(p, W2, max(PW[PW_NAMES.index("hpc")], 1.0),
+                                max(PW[PW_NAMES.index("fan_outer")] + PW[PW_NAMES.index("fan_inner")]
+                                    + PW[PW_NAMES.index("booster")], 1.0))
+    res = newton_solve(run, prs0, ("hp_power", "lp_power"), tol=1e-13, where=f"design of {p.name!r}")
+    run(res.x)
+    out = dict(zip(OUT, o.tolist(), strict=True))
+    st = {k: FlowStation(*(float(v) for v in S[i])) for i, k in enumerate(STATIONS)}
+    st["8"], st["18"] = st["7"], st["17"]
+    bl_st = {b.name: FlowStation(*(float(v) for v in B[i, :5])) for i, b in enumerate(specs)}
     if p.bypass_bleed_frac > 0.0:
-        bl["bypass_overboard"] = st["13"].with_W(st["13"].W_kg_s * p.bypass_bleed_frac)
-    nc = _nozzle(p, st["7"], fr.amb.P_Pa, p.Cv_core, p.Cd_core, gas)
+        bl_st["bypass_overboard"] = st["13"].with_W(st["13"].W_kg_s * p.bypass_bleed_frac)
+    P = dict(zip(PW_NAMES, PW.tolist(), strict=True))
+    sq = {k: math.sqrt(st[k].Tt_K / T_STD_K) for k in ("2", "21", "25", "4", "45")}
+    W2c, fr_core = out["Wc2"], 1.0 / (1.0 + p.BPR)
+    comps = {"fan_outer": ComponentDesign(W2c * (1.0 - fr_core), p.PR_fan_outer, p.eta_fan_outer, p.N1_rpm,
+                                          p.N1_rpm / sq["2"], P["fan_outer"]),
+             "fan_inner": ComponentDesign(W2c * fr_core, p.PR_fan_inner, p.eta_fan_inner, p.N1_rpm,
+                                          p.N1_rpm / sq["2"], P["fan_inner"]),
+             "booster": ComponentDesign(out["Wc21"], out["PR_booster"], out["eta_booster"], p.N1_rpm,
+                                        p.N1_rpm / sq["21"], P["booster"]),
+             "hpc": ComponentDesign(out["Wc25"], p.PR_hpc, p.eta_hpc, p.N2_rpm, p.N2_rpm / sq["25"], P["hpc"]),
+             "hpt": ComponentDesign(out["Wc4"], out["PRh"], p.eta_hpt, p.N2_rpm, p.N2_rpm / sq["4"], P["hpt"]),
+             "lpt": ComponentDesign(out["Wc45"], out["PRl"], p.eta_lpt, p.N1_rpm, p.N1_rpm / sq["45"], P["lpt"])}
+    nc = _nozzle(p, st["7"], fr.amb.P_Pa, p.Cv_core, p.Cd_core, gas)      # the throats' details (views)
     nb = _nozzle(p, st["17"], fr.amb.P_Pa, p.Cv_bypass, p.Cd_bypass, gas)
-    ram = W2 * fr.V0_m_s
-    Fg = nc.Fg_N + nb.Fg_N
-    Fn = Fg - ram
-    comps = {"fan_outer": _comp(fo, byp2, p.N1_rpm), "fan_inner": _comp(fi, core2, p.N1_rpm),
-             "booster": _comp(bo, d21, p.N1_rpm), "hpc": _comp(hc, st["25"], p.N2_rpm),
-             "hpt": _comp(ht, st["4"], p.N2_rpm), "lpt": _comp(lt, st["45"], p.N1_rpm)}
-    mech = (1.0 - p.eta_mech_hp) * P_hpt + (1.0 - p.eta_mech_lp) * P_lpt
-    return DesignPoint(p, fr, MappingProxyType(st), MappingProxyType(bl), MappingProxyType(comps),
-                       MappingProxyType({"core": nc, "bypass": nb}), Fn, Fg, ram, bu.Wf_kg_s,
-                       bu.Wf_kg_s / Fn if Fn > 0 else math.inf, st["3"].Pt_Pa / st["2"].Pt_Pa, p.BPR,
-                       mech, p.offtake_hp_W + p.offtake_lp_W, bu.heat_unreleased_W, bu.heat_released_W)
+    Wf, Fn = out["Wf"], out["Fn"]
+    return DesignPoint(p, fr, MappingProxyType(st), MappingProxyType(bl_st), MappingProxyType(comps),
+                       MappingProxyType({"core": nc, "bypass": nb}), Fn, out["Fg"], out["ram"], Wf,
+                       Wf / Fn if Fn > 0 else math.inf, st["3"].Pt_Pa / st["2"].Pt_Pa, p.BPR,
+                       P["mech_hp"] + P["mech_lp"], p.offtake_hp_W + p.offtake_lp_W,
+                       Wf * (1.0 - p.eta_burner) * gas.LHV_J_kg,
+                       Wf * (p.eta_burner * gas.LHV_J_kg + h_fuel_liquid(p.T_fuel_K, gas)))
 
 
 def _run(p: EngineParams, W2: float, gas: GasModel) -> DesignPoint:

@@ -25,8 +25,11 @@ the deficit at any width); at a constant ``dPt_frac`` (relative to the clean flo
 face mean falls as the sector widens and the penalty falls beyond theta_crit. The rise
 below theta_crit is the scaling above, not a prediction (tests/engine/test_distortion.py).
 
-Here the sectors' exit flows are mixed (mass, air, fuel, enthalpy conserved)
-before the next component, i.e. the distortion is not carried downstream.
+The sectors are computed in the gas path (:func:`.gas_path.turbofan`, one more unknown, the
+distorted sector's beta, and one more residual, the equal exit pressures, per distorted face);
+their exit flows are mixed (mass, air, fuel, enthalpy conserved, at the flow-weighted total
+pressure) before the next component, i.e. the distortion is not carried downstream. This module
+describes a distortion (:class:`Distortion`).
 
 References
 ----------
@@ -41,20 +44,11 @@ P. P. Walsh, P. Fletcher, "Gas Turbine Performance", 2nd ed., 2004, sec. 5.2.6.
 
 from __future__ import annotations
 
-import math
-from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Protocol
 
 from .errors import OutOfRangeError
-from .flow import P_STD_PA, T_STD_K, FlowStation, flow_TP
-from .gas import DEFAULT_GAS, GasModel
 
-__all__ = ["Distortion", "SectorPoint", "map_sectors", "flow_residual", "pressure_residual"]
-
-
-class _Map(Protocol):
-    def evaluate(self, Nc: float, beta: float) -> tuple[float, float, float]: ...
+__all__ = ["Distortion"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -93,74 +87,3 @@ class Distortion:
             raise OutOfRangeError(f"distortion: dTt_K={self.dTt_K!r} is outside [0, 300] K")
         if not (0.0 < self.critical_angle_deg <= 360.0):
             raise OutOfRangeError(f"distortion: critical_angle_deg={self.critical_angle_deg!r} is outside (0, 360]")
-
-
-@dataclass(frozen=True, slots=True)
-class SectorPoint:
-    """One sector of a compressor on its map.
-
-    Attributes
-    ----------
-    frac : float
-        Share of the annulus [-].
-    inlet : FlowStation
-        Sector inlet: its total state, and the flow the map passes through the sector [kg/s].
-    Nc : float
-        Corrected speed [rpm] at the sector's inlet temperature.
-    beta, PR, eff : float
-        Map coordinate, pressure ratio and isentropic efficiency of the sector [-].
-    """
-
-    frac: float
-    inlet: FlowStation
-    Nc: float
-    beta: float
-    PR: float
-    eff: float
-
-    @property
-    def Pt_exit_Pa(self) -> float:
-        """Sector exit total pressure [Pa]."""
-        return self.inlet.Pt_Pa * self.PR
-
-
-def map_sectors(face: FlowStation, d: Distortion | None, cmap: _Map, N_rpm: float, betas: Sequence[float],
-                gas: GasModel = DEFAULT_GAS) -> list[SectorPoint]:
-    """Sectors of a compressor face (one if `d` is None, else clean and distorted) on the map.
-
-    Parameters
-    ----------
-    face : FlowStation
-        Undistorted face state (its W is not used).
-    d : Distortion or None
-        The distortion.
-    cmap : compressor map scaled to the design point (``evaluate(Nc, beta) -> (Wc, PR, eff)``).
-    N_rpm : float
-        Mechanical speed [rpm].
-    betas : sequence of float
-        Map coordinate of each sector (clean first).
-    gas : GasModel
-        Gas model.
-    """
-    states = [(1.0, face.Tt_K, face.Pt_Pa)] if d is None else [
-        (1.0 - d.sector_frac, face.Tt_K, face.Pt_Pa),
-        (d.sector_frac, face.Tt_K + d.attenuation * d.dTt_K, face.Pt_Pa * (1.0 - d.attenuation * d.dPt_frac))]
-    out = []
-    for (frac, Tt, Pt), beta in zip(states, betas, strict=True):
-        Nc = N_rpm / math.sqrt(Tt / T_STD_K)
-        Wc, PR, eff = cmap.evaluate(Nc, beta)
-        W = frac * Wc * (Pt / P_STD_PA) / math.sqrt(Tt / T_STD_K)
-        fs = flow_TP(W, Tt, Pt, face.FAR, gas) if (Tt != face.Tt_K) else FlowStation(W, Tt, Pt, face.FAR,
-                                                                                        face.ht_J_kg)
-        out.append(SectorPoint(frac, fs, Nc, beta, PR, eff))
-    return out
-
-
-def flow_residual(sectors: Sequence[SectorPoint], W_kg_s: float) -> float:
-    """(sum of the sector flows - W) / W [-]: the map flow must equal the flow supplied."""
-    return (sum(s.inlet.W_kg_s for s in sectors) - W_kg_s) / W_kg_s
-
-
-def pressure_residual(sectors: Sequence[SectorPoint]) -> float:
-    """Relative difference of the exit total pressures of the distorted and the clean sector [-]."""
-    return sectors[1].Pt_exit_Pa / sectors[0].Pt_exit_Pa - 1.0

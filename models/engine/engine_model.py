@@ -57,6 +57,7 @@ from .distortion import Distortion
 from .engine_signals import FLAGS, OUTPUTS, BleedValve, EngineInputs, EngineLimits, condition_from_ambient
 from .errors import ModelError, OutOfRangeError
 from .flow import T_STD_K
+from .jit_kernels import AVAILABLE
 from .offdesign import OffDesignPoint, TurbofanMaps, TurbofanOffDesign, scaled_maps
 from .transient import _FREE_L, _KEY_CLEAN, _ROWS9, TransientState, TurbofanTransient, _LazyResult
 
@@ -104,6 +105,11 @@ class _SpeedClampedTurbine:
     def evaluate(self, Nc: float, PR: float) -> Any:
         return self.inner.evaluate(Nc if Nc > self.Nc_min else (self.Nc_min if Nc < self.Nc_max else self.Nc_max)
                                    if Nc < self.Nc_max else self.Nc_max, PR)
+
+    def kernel_tuple(self) -> Any:
+        """The inner map as the compiled gas path reads it, with the clamp of :meth:`evaluate` (below only: the
+        conditional expression there returns Nc unchanged above Nc_min)."""
+        return self.inner.kernel_tuple(self.Nc_min)
 
     def __getattr__(self, name: str) -> Any:
         return getattr(self.inner, name)
@@ -192,7 +198,7 @@ class EngineModel:
         self.compiled_step = True
         self._fast: tuple[Any, ...] | None = None   # (par, J_in, Js_free, Js_in, J_base, bundle) of the compiled step
         self._buf: np.ndarray | None = None         # the last match as jit_step.BUF, when the compiled step holds it
-        self._bufs = np.zeros((2, 89))              # the compiled step's two match buffers: the last, the next
+        self._bufs = np.zeros((2, 0))               # the compiled step's two match buffers: the last, the next
         self._k = 0                                 # the row of _bufs holding the last match
         self._rows = (self._bufs[0], self._bufs[1])
         self._dt: tuple[float | None, float, float] = (None, 0.0, 0.0)  # (step asked, rounded, internal step)
@@ -264,42 +270,52 @@ class EngineModel:
         """The TransientState of a match buffer (:data:`.jit_step.BUF`): the object the Python step forms there."""
         fast = self._fast
         assert fast is not None
-        t, Wf, hb, it, N1, N2, alt, Mach, dT, cust, hp, lp = b[77:89].tolist()
-        res = _LazyResult(None, None, b[39:75].reshape(6, 6).copy(), int(it), int(it) + 1)
-        return self.tr._make_state(t, N1, N2, b[0:9].copy(), b[9:18].copy(), b[18:39].copy(), res, fast[4],
+        L = fast[8]
+        t, Wf, hb, it, N1, N2, alt, Mach, dT, cust, hp, lp = b[L["t_s"]:L["size"]].tolist()
+        res = _LazyResult(None, None, b[slice(*L["H"])].reshape(6, 6).copy(), int(it), int(it) + 1)
+        return self.tr._make_state(t, N1, N2, b[0:9].copy(), b[9:18].copy(), b[slice(*L["o"])].copy(), res, fast[4],
                                    (alt, Mach, dT), ("Wf_kg_s", Wf), (cust, hp, lp), (None, None), hb, _ROWS9, _FREE_L)
 
     def _cache_of_buf(self) -> tuple[Any, ...]:
         """The transient's Jacobian cache at the match the compiled step holds (as its compiled iteration forms it)."""
         b, fast = self._buf, self._fast
         assert b is not None and fast is not None
-        return (_KEY_CLEAN, b[39:75].reshape(6, 6).copy(), fast[1], fast[2], fast[3], b[75:77].copy())
+        L = fast[8]
+        return (_KEY_CLEAN, b[slice(*L["H"])].reshape(6, 6).copy(), fast[1], fast[2], fast[3],
+                b[slice(*L["sens"])].copy())
 
     def _hold(self) -> None:
         """After a Python step: hand its match to the compiled step if that applies there (no distortion, the
         compiled iteration's cache), else leave the compiled step off until it does."""
         s, tr, self._buf = self._state, self.tr, None
-        if not self.compiled_step or self.method != "euler" or s is None or s.fast is None or s._xa is None:
+        if not (self.compiled_step and AVAILABLE) or self.method != "euler" or s is None or s.fast is None or \
+                s._xa is None:
             return
         c, fc = tr._cache, self.od.fast
-        if c is None or len(c) != 6 or c[0] != _KEY_CLEAN or fc is None or not tr.compiled_iteration or \
+        if c is None or len(c) != 6 or c[0] != _KEY_CLEAN or not fc or not tr.compiled_iteration or \
                 s.distortion != (None, None):
             return
         fcb, f = tr.bundle(fc), self._fast
         if f is None or f[1] is not c[2] or f[2] is not c[3] or f[3] is not c[4] or f[4] is not s._jbase or \
                 f[5] is not fcb:
-            from .jit_step import resolved, step_data    # (needs numba: imported where the compiled path runs)
-            par = self._par() if f is None else f[0]
+            from .jit_step import buffer_layout, resolved, step_data  # (needs numba: imported where it runs)
+            L = buffer_layout(len(fc.o))
+            if self._bufs.shape[1] != L["size"]:
+                self._bufs = np.zeros((2, L["size"]))
+                self._rows = (self._bufs[0], self._bufs[1])
+            par = self._par(len(fc.o)) if f is None else f[0]
             data = step_data(fcb, par, self._st, self._uin, self._vals, c[2], c[3], c[4], self._bufs)
-            self._fast = (par, c[2], c[3], c[4], s._jbase, fcb, data, resolved(data))
+            self._fast = (par, c[2], c[3], c[4], s._jbase, fcb, data, resolved(data), L)
+        L = self._fast[8]
         b = self._rows[self._k]
         b[0:9] = s._xa
-        b[39:75] = c[1].ravel()
-        b[75:77] = c[5]
+        b[slice(*L["H"])] = c[1].ravel()
+        b[slice(*L["sens"])] = c[5]
         self._buf = b
 
-    def _par(self) -> np.ndarray:
-        """The constants of the compiled step (:data:`.jit_step.PAR`), from this model's."""
+    def _par(self, n_out: int) -> np.ndarray:
+        """The constants of the compiled step (:data:`.jit_step.PAR`), from this model's; `n_out` the length of
+        the compiled cycle's output array."""
         from .jit_step import PAR
         lim, v, p, od = self.limits, self.valve, self.p, self.od
         val = dict(Wf_min_kg_s=lim.Wf_min_frac * self.dp.Wf_kg_s, Wf_Pt3_min_kg_s_Pa=self.Wf_Pt3_min_kg_s_Pa,
@@ -311,7 +327,7 @@ class EngineModel:
                    threshold_N1c_pct=v.threshold_N1c_pct, band_pct=v.band_pct, stroke_s=v.stroke_s,
                    open_frac=v.open_frac, Nc1_design_rpm=self._Nc1_d, BPR_design=p.BPR, FAR_lean=lim.FAR_lean,
                    N1_max_pct=lim.N1_max_pct, N2_max_pct=lim.N2_max_pct, beta_floor=_BETA_FLOOR, T_std_K=T_STD_K,
-                   customer_bleed_max=_CUSTOMER_BLEED_MAX)
+                   customer_bleed_max=_CUSTOMER_BLEED_MAX, n_out=n_out)
         return np.array([float(val[n]) for n in PAR])
 
     # ------------------------------------------------------------------ inputs

@@ -24,15 +24,23 @@ from __future__ import annotations
 
 from .errors import OutOfRangeError
 from .flow import FlowStation
+from .jit_kernels import jit
 
-__all__ = ["ram_recovery_mil_e_5008b", "inlet"]
+__all__ = ["ram_recovery_mil_e_5008b", "ram_recovery", "inlet"]
+
+
+@jit
+def ram_recovery(Mach: float) -> float:
+    """eta_r [-] of MIL-E-5008B at Mach [-] (no range check): the one implementation, compiled into the free
+    stream (:mod:`.jit_freestream`) and called by :func:`ram_recovery_mil_e_5008b`."""
+    return 1.0 if Mach <= 1.0 else 1.0 - 0.075 * (Mach - 1.0) ** 1.35
 
 
 def ram_recovery_mil_e_5008b(Mach: float) -> float:
     """Shock total-pressure recovery eta_r [-] of MIL-E-5008B at flight Mach `Mach` [-], 0 to 5."""
     if not (0.0 <= Mach <= 5.0):
         raise OutOfRangeError(f"inlet.ram_recovery_mil_e_5008b: Mach={Mach!r} is outside the valid range 0 to 5")
-    return 1.0 if Mach <= 1.0 else 1.0 - 0.075 * (Mach - 1.0) ** 1.35
+    return float(ram_recovery(Mach))
 
 
 def inlet(fs0: FlowStation, Mach: float, pi_design: float = 1.0) -> FlowStation:

@@ -1,10 +1,10 @@
-"""The compiled free stream (station 0) of the fast gas path.
+"""The free stream (station 0): the standard atmosphere, the real-gas totals and the ram recovery.
 
-:func:`free_stream` is :func:`.atmosphere.free_stream` (the standard atmosphere and real-gas totals) and
-the MIL-E-5008B ram recovery of :mod:`.inlet`, on plain floats and arrays so that numba compiles it.
-The atmosphere is :func:`openemss.models.common.atmosphere.isa_T_p` itself, compiled (one source).
-Used by :class:`.jit_cycle.FastCycle` and :func:`.jit_solve.chord_solve`; kept in its own module
-so that both import it and neither imports the other.
+:func:`free_stream` is the one implementation, on plain floats and arrays so that numba compiles it:
+:func:`.atmosphere.free_stream` (the Python API, with its range checks and messages) calls it, as do
+:class:`.jit_cycle.FastCycle` and :func:`.jit_solve.chord_solve`. The atmosphere is
+:func:`openemss.models.common.atmosphere.isa_T_p` itself, compiled (one source), and the ram recovery
+:func:`.inlet.ram_recovery`.
 
 References
 ----------
@@ -19,6 +19,7 @@ import numpy as np
 
 from ..common import atmosphere as _atm
 from . import jit_kernels as K
+from .inlet import ram_recovery
 from .jit_kernels import jit
 
 __all__ = ["atm_array", "free_stream"]
@@ -55,5 +56,5 @@ def free_stream(gc: np.ndarray, gs: np.ndarray, atm: np.ndarray, alt: float, Mac
     if err[0]:
         return 1
     fs[0], fs[1], fs[2], fs[3], fs[4] = Tt, Pt, V0, P, Mach
-    fs[5] = 1.0 if Mach <= 1.0 else 1.0 - 0.075 * (Mach - 1.0) ** 1.35
+    fs[5] = ram_recovery(Mach)
     return 0

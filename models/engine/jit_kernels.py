@@ -61,13 +61,15 @@ def _cache_dir() -> str:
         os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "openemss", "numba")
     here = os.path.dirname(os.path.abspath(__file__))
     digest = hashlib.sha256(__name__.encode())            # compiled code refers to its module by name
-    kernels = ("jit_kernels.py", "jit_cycle.py", "jit_freestream.py", "jit_solve.py", "jit_step.py", "shaft.py",
-               "compressor.py",
-               "flow.py", "turbine.py", "nozzle.py", "combustion.py",
-               os.path.join("..", "common", "atmosphere.py"))
-    for name in kernels:                                   # a kernel embeds the ones it calls: hash all
-        with open(os.path.join(here, name), "rb") as fh:
-            digest.update(fh.read())
+    # a kernel embeds the ones it calls: hash every module of the package that holds one (found by its
+    # decorator, so that a new kernel module cannot be forgotten), and the common atmosphere compiled into them
+    paths = [os.path.join(here, n) for n in sorted(os.listdir(here)) if n.endswith(".py")]
+    paths.append(os.path.join(here, "..", "common", "atmosphere.py"))
+    for path in paths:
+        with open(path, "rb") as fh:
+            src = fh.read()
+        if b"@jit" in src or path.endswith("atmosphere.py"):
+            digest.update(os.path.basename(path).encode() + src)
     return os.path.join(root, digest.hexdigest()[:20])
 
 
@@ -366,40 +368,52 @@ def table(xg: np.ndarray, yg: np.ndarray, ihx: np.ndarray, ihy: np.ndarray, cell
 
 
 @jit
+def surge_speed_at_flow(xg: np.ndarray, yg: np.ndarray, ihx: np.ndarray, ihy: np.ndarray, cells: np.ndarray,
+                        lim: np.ndarray, sx: np.ndarray, sw: np.ndarray, w: float) -> float:
+    """Relative speed [-] where the surge line (beta = 0) passes corrected flow `w` (:meth:`.maps.CompressorMap.
+    surge_nc_rel_at_flow`): Newton on the surge line safeguarded by bisection, started by linear interpolation
+    between its nodes (sx, sw: speeds and flows, the flow rising with speed); NaN where `w` is not on it."""
+    n = sw.shape[0]
+    if not sw[0] <= w <= sw[n - 1]:
+        return math.nan
+    err = np.zeros(1, np.int64)
+    v, gx, gy = np.empty(3), np.empty(3), np.empty(3)
+    k = 0                                   # bisect_right(sw, w) - 1, clipped to [0, n - 2]
+    while k < n - 1 and sw[k] <= w:
+        k += 1
+    k = min(max(k - 1, 0), n - 2)
+    lo, hi, f_lo = sx[k], sx[k + 1], sw[k] - w
+    x = lo + (hi - lo) * (w - sw[k]) / (sw[k + 1] - sw[k])
+    for _ in range(60):
+        table(xg, yg, ihx, ihy, cells, lim, x, 0.0, v, gx, gy, err)
+        f = v[0] - w
+        if abs(f) <= 1e-12 * max(1.0, abs(w)):
+            break
+        if (f < 0.0) == (f_lo < 0.0):
+            lo, f_lo = x, f
+        else:
+            hi = x
+        x_new = x - f / gx[0] if gx[0] != 0.0 else 0.5 * (lo + hi)
+        x = x_new if lo < x_new < hi else 0.5 * (lo + hi)
+        if hi - lo <= 1e-14:
+            break
+    return x
+
+
+@jit
 def surge_margin(xg: np.ndarray, yg: np.ndarray, ihx: np.ndarray, ihy: np.ndarray, cells: np.ndarray,
                  lim: np.ndarray, sx: np.ndarray, sw: np.ndarray, nc: float, beta: float, s_PR: float) -> float:
-    """Flow-basis surge margin [-] (:meth:`.maps.CompressorMap.surge_margin`); NaN where the Python raises."""
+    """Flow-basis surge margin [-] (:meth:`.maps.CompressorMap.surge_margin`), PR_surge(Wc) / PR - 1 with the PR
+    scaled as (PR - 1) s_PR + 1; NaN where it cannot be formed (off the map, or no surge line at that flow)."""
     err = np.zeros(1, np.int64)
     v, gx, gy = np.empty(3), np.empty(3), np.empty(3)
     table(xg, yg, ihx, ihy, cells, lim, nc, beta, v, gx, gy, err)
     if err[0]:
         return math.nan
     w, pr = v[0], (v[1] - 1.0) * s_PR + 1.0
-    if beta == 0.0:
-        x = nc
-    else:
-        n = sw.shape[0]
-        if not sw[0] <= w <= sw[n - 1]:
-            return math.nan
-        k = 0                                   # bisect_right(sw, w) - 1, clipped to [0, n - 2]
-        while k < n - 1 and sw[k] <= w:
-            k += 1
-        k = min(max(k - 1, 0), n - 2)
-        lo, hi, f_lo = sx[k], sx[k + 1], sw[k] - w
-        x = lo + (hi - lo) * (w - sw[k]) / (sw[k + 1] - sw[k])
-        for _ in range(60):
-            table(xg, yg, ihx, ihy, cells, lim, x, 0.0, v, gx, gy, err)
-            f = v[0] - w
-            if abs(f) <= 1e-12 * max(1.0, abs(w)):
-                break
-            if (f < 0.0) == (f_lo < 0.0):
-                lo, f_lo = x, f
-            else:
-                hi = x
-            x_new = x - f / gx[0] if gx[0] != 0.0 else 0.5 * (lo + hi)
-            x = x_new if lo < x_new < hi else 0.5 * (lo + hi)
-            if hi - lo <= 1e-14:
-                break
+    x = nc if beta == 0.0 else surge_speed_at_flow(xg, yg, ihx, ihy, cells, lim, sx, sw, w)
+    if not x == x:
+        return math.nan
     table(xg, yg, ihx, ihy, cells, lim, x, 0.0, v, gx, gy, err)
     if err[0]:
         return math.nan

@@ -17,7 +17,7 @@ caller then runs the Python step from the same state, which handles it with its 
 
 Arrays (indices below): ``par`` the model's constants, ``st`` its state (read and, on success,
 written), ``prev`` and ``new`` the match of the last step and of this one (unknowns,
-residuals, kernel outputs, inverse Jacobian, fuel sensitivity, the match's inputs), ``vals``
+residuals, kernel outputs, inverse Jacobian, fuel sensitivity, the match's inputs: :func:`buffer_layout`), ``vals``
 the Real outputs in the order of :data:`.engine_signals.OUTPUTS`.
 
 References
@@ -40,8 +40,8 @@ from .jit_kernels import jit
 from .jit_solve import CONVERGED, chord_solve, free_stream_at
 from .shaft import spool_acceleration_of
 
-__all__ = ["REFUSED", "PAR", "ST", "BUF", "N_PAR", "N_ST", "N_BUF", "N_OUT", "StepData", "step_data", "euler_step",
-           "resolved"]
+__all__ = ["REFUSED", "PAR", "ST", "BUF_SCALARS", "N_PAR", "N_ST", "buffer_layout", "StepData", "step_data",
+           "euler_step", "resolved"]
 
 #: Status of :func:`euler_step` where the Python step must run instead (any other status is >= 0).
 REFUSED = -1
@@ -50,7 +50,7 @@ PAR = ("Wf_min_kg_s", "Wf_Pt3_min_kg_s_Pa", "Wf_decel_max_kg_s2", "assist_hp_max
        "assist_lp_max_W", "offtake_lp_max_W", "linear_input_frac", "N1_design_rpm", "N2_design_rpm", "Wf_ref_kg_s",
        "P_hp_ref_W", "P_lp_ref_W", "I_lp_kg_m2", "I_hp_kg_m2", "threshold_N1c_pct", "band_pct", "stroke_s",
        "open_frac", "Nc1_design_rpm", "BPR_design", "FAR_lean", "N1_max_pct", "N2_max_pct", "beta_floor",
-       "T_std_K", "customer_bleed_max")
+       "T_std_K", "customer_bleed_max", "n_out")
 #: Slots of ``st``, the model's state: speeds [rpm], valve position [-] and command (0/1), fuel burned [kg],
 #: time [s]; of the last match: spool accelerations [rpm/s], fuel flow [kg/s] and speeds [rpm] as the match
 #: holds them; the last published Pt3 [Pa]; whether a key is held (0/1), the key (14: N1, N2, valve, fuel
@@ -58,19 +58,27 @@ PAR = ("Wf_min_kg_s", "Wf_Pt3_min_kg_s_Pa", "Wf_decel_max_kg_s2", "assist_hp_max
 ST = ("N1_rpm", "N2_rpm", "valve_pos", "valve_open_cmd", "fuel_burned_kg", "t_s", "dN1_dt_rpm_s", "dN2_dt_rpm_s",
       "Wf_match_kg_s", "N1_match_rpm", "N2_match_rpm", "Pt3_Pa", "key_held") + tuple(f"key{i}" for i in range(14)) + \
      tuple(f"flag{i}" for i in range(6))
-#: Slices and slots of a match buffer.
-BUF = {"x": (0, 9), "r": (9, 18), "o": (18, 39), "H": (39, 75), "sens": (75, 77), "t_s": 77, "Wf_kg_s": 78,
-       "hb": 79, "iterations": 80, "N1_rpm": 81, "N2_rpm": 82, "alt_m": 83, "Mach": 84, "dT_isa_K": 85,
-       "customer_bleed_frac": 86, "offtake_hp_W": 87, "offtake_lp_W": 88}
-N_PAR, N_ST, N_BUF = len(PAR), len(ST), 89
-#: Number of kernel outputs a buffer holds (:data:`.jit_cycle.OUT`).
-N_OUT = 21
+#: A match buffer, in order: the unknowns (9), residuals (9), kernel outputs (``n_out`` of ``par``: the
+#: length of the compiled cycle's output array), inverse Jacobian (36, row by row), fuel sensitivity (2), then
+#: these scalars of the match's inputs and result.
+BUF_SCALARS = ("t_s", "Wf_kg_s", "hb", "iterations", "N1_rpm", "N2_rpm", "alt_m", "Mach", "dT_isa_K",
+               "customer_bleed_frac", "offtake_hp_W", "offtake_lp_W")
+N_PAR, N_ST = len(PAR), len(ST)
 _P = {n: i for i, n in enumerate(PAR)}
 (_WFMIN, _WFPT3, _DECEL, _AHP, _OHP, _ALP, _OLP, _LIN, _N1D, _N2D, _WFREF, _PHP, _PLP, _ILP, _IHP, _THR, _BAND,
- _STROKE, _OPEN, _NC1D, _BPRD, _FARL, _N1MAX, _N2MAX, _BETA, _TSTD, _CUSTMAX) = range(N_PAR)
+ _STROKE, _OPEN, _NC1D, _BPRD, _FARL, _N1MAX, _N2MAX, _BETA, _TSTD, _CUSTMAX, _NOUT) = range(N_PAR)
+
+
+def buffer_layout(n_out: int) -> dict[str, Any]:
+    """Slices (start, stop) and slots of a match buffer whose kernel outputs have `n_out` entries, and its size."""
+    o, h = 18, 18 + n_out
+    lay: dict[str, Any] = {"x": (0, 9), "r": (9, 18), "o": (o, h), "H": (h, h + 36), "sens": (h + 36, h + 38)}
+    lay.update({name: h + 38 + i for i, name in enumerate(BUF_SCALARS)})
+    lay["size"] = h + 38 + len(BUF_SCALARS)
+    return lay
 (_N1, _N2, _VPOS, _VCMD, _FUEL, _T, _A1, _A2, _WFS, _N1S, _N2S, _PT3, _KEYOK) = range(13)
 _KEY, _FLAG = 13, 27
-_X, _R, _O, _H, _S = 0, 9, 18, 39, 75
+_X, _R, _O = 0, 9, 18
 _NFLAG, _SOLVER_FAILED = 6, 3
 
 
@@ -149,6 +157,10 @@ def euler_step(dt_s: float, h: float, d: StepData, k_prev: int, tol: float) -> i
     """
     uin, st, par, vals, J_in, Js_free, Js_in, fcb = d.uin, d.state, d.par, d.vals, d.J_in, d.Js_free, d.Js_in, d.fcb
     prev, new = d.buf[k_prev], d.buf[1 - k_prev]
+    n_out = int(par[_NOUT])
+    _H = _O + n_out
+    _S = _H + 36
+    _C = _S + 2                                 # the scalars (BUF_SCALARS)
     for k in range(uin.shape[0]):
         if not math.isfinite(uin[k]):
             return REFUSED
@@ -179,8 +191,8 @@ def euler_step(dt_s: float, h: float, d: StepData, k_prev: int, tol: float) -> i
     xf = prev[_X:_X + 9].copy()
     Hm = prev[_H:_H + 36].copy().reshape((6, 6))
     sens = prev[_S:_S + 2].copy()
-    r, o = prev[_R:_R + 9].copy(), prev[_O:_O + N_OUT].copy()
-    t_m, Wf_m, hb_m, it_m, N1_m, N2_m = prev[77], prev[78], prev[79], prev[80], prev[81], prev[82]
+    r, o = prev[_R:_R + 9].copy(), prev[_O:_O + n_out].copy()
+    t_m, Wf_m, hb_m, it_m, N1_m, N2_m = prev[_C], prev[_C + 1], prev[_C + 2], prev[_C + 3], prev[_C + 4], prev[_C + 5]
     H = np.empty((6, 6))
     sens_new = np.empty(2)
     same = st[_KEYOK] != 0.0
@@ -271,14 +283,14 @@ def euler_step(dt_s: float, h: float, d: StepData, k_prev: int, tol: float) -> i
         st[_KEY + k] = key[k]
     for k in range(9):
         new[_X + k], new[_R + k] = xf[k], r[k]
-    for k in range(N_OUT):
+    for k in range(n_out):
         new[_O + k] = o[k]
     for i in range(6):
         for j in range(6):
             new[_H + 6 * i + j] = Hm[i, j]
     new[_S], new[_S + 1] = sens[0], sens[1]
-    new[77], new[78], new[79], new[80], new[81], new[82] = t_m, Wf_m, hb_m, it_m, N1_m, N2_m
-    new[83], new[84], new[85], new[86], new[87], new[88] = uin[1], uin[2], uin[3], cust, hp, lp
+    new[_C], new[_C + 1], new[_C + 2], new[_C + 3], new[_C + 4], new[_C + 5] = t_m, Wf_m, hb_m, it_m, N1_m, N2_m
+    new[_C + 6], new[_C + 7], new[_C + 8], new[_C + 9], new[_C + 10], new[_C + 11] = uin[1], uin[2], uin[3], cust, hp, lp
     return out
 
 

@@ -25,8 +25,9 @@ piecewise bicubic Hermite surface:
   across the boundary; further out :class:`OutOfRangeError` is raised.
 
 Each cell's 16 power-basis coefficients per output are computed once, at
-construction, and kept as Python tuples: a scalar evaluation then costs one
-bisection per axis and a few dozen float operations, without NumPy overhead.
+construction. Evaluation is one function, :func:`.jit_kernels.table` (compiled
+by numba where installed), which the compiled gas path calls directly and
+:meth:`BicubicTable.values` calls from Python: one implementation.
 
 References
 ----------
@@ -41,12 +42,12 @@ C. de Boor, *A Practical Guide to Splines*, rev. ed., Springer, 2001, ch. IV
 
 from __future__ import annotations
 
-from bisect import bisect_right
 from collections.abc import Sequence
 
 import numpy as np
 
 from .errors import ModelError, OutOfRangeError
+from .jit_kernels import table as _table
 
 __all__ = ["BicubicTable", "hyman_slopes", "pchip_slopes"]
 
@@ -161,33 +162,6 @@ def hyman_slopes(x: np.ndarray, f: np.ndarray, axis: int, limit: bool = True) ->
     return np.moveaxis(d, 0, axis)
 
 
-def _poly(c: tuple[float, ...], t: float, u: float) -> float:
-    """Value of one cell's bicubic polynomial at local coordinates (t, u)."""
-    (a00, a01, a02, a03, a10, a11, a12, a13, a20, a21, a22, a23, a30, a31, a32, a33) = c
-    r0 = a00 + u * (a01 + u * (a02 + u * a03))
-    r1 = a10 + u * (a11 + u * (a12 + u * a13))
-    r2 = a20 + u * (a21 + u * (a22 + u * a23))
-    r3 = a30 + u * (a31 + u * (a32 + u * a33))
-    return r0 + t * (r1 + t * (r2 + t * r3))
-
-
-def _poly_d(c: tuple[float, ...], t: float, u: float) -> tuple[float, float, float, float]:
-    """Value and derivatives d/dt, d/du, d2/dtdu of one cell's polynomial at (t, u)."""
-    (a00, a01, a02, a03, a10, a11, a12, a13, a20, a21, a22, a23, a30, a31, a32, a33) = c
-    r0 = a00 + u * (a01 + u * (a02 + u * a03))
-    r1 = a10 + u * (a11 + u * (a12 + u * a13))
-    r2 = a20 + u * (a21 + u * (a22 + u * a23))
-    r3 = a30 + u * (a31 + u * (a32 + u * a33))
-    s0 = a01 + u * (2.0 * a02 + 3.0 * u * a03)
-    s1 = a11 + u * (2.0 * a12 + 3.0 * u * a13)
-    s2 = a21 + u * (2.0 * a22 + 3.0 * u * a23)
-    s3 = a31 + u * (2.0 * a32 + 3.0 * u * a33)
-    return (r0 + t * (r1 + t * (r2 + t * r3)),
-            r1 + t * (2.0 * r2 + 3.0 * t * r3),
-            s0 + t * (s1 + t * (s2 + t * s3)),
-            s1 + t * (2.0 * s2 + 3.0 * t * s3))
-
-
 class BicubicTable:
     """C1 piecewise bicubic Hermite interpolation of several tables on one grid.
 
@@ -220,7 +194,7 @@ class BicubicTable:
     """
 
     __slots__ = ("x", "y", "n_out", "names", "where", "x_lo", "x_hi", "y_lo", "y_hi",
-                 "x_min", "x_max", "y_min", "y_max", "_xs", "_ys", "_cells", "_ihx", "_ihy", "_last_i", "_last_j")
+                 "x_min", "x_max", "y_min", "y_max", "_cells", "_ihx", "_ihy", "_k")
 
     def __init__(self, x: Sequence[float], y: Sequence[float], tables: Sequence[np.ndarray | Sequence[Sequence[float]]],
                  margin_x: float, margin_y: float, names: tuple[str, str] = ("x", "y"), where: str = "table",
@@ -246,7 +220,6 @@ class BicubicTable:
         self.x_lo, self.x_hi, self.y_lo, self.y_hi = self.x[0], self.x[-1], self.y[0], self.y[-1]
         self.x_min, self.x_max = self.x_lo - margin_x, self.x_hi + margin_x
         self.y_min, self.y_max = self.y_lo - margin_y, self.y_hi + margin_y
-        self._xs, self._ys = list(self.x[1:-1]), list(self.y[1:-1])  # interior breakpoints for bisection
         hx, hy = np.diff(xa), np.diff(ya)
         self._ihx = tuple(float(v) for v in 1.0 / hx)
         self._ihy = tuple(float(v) for v in 1.0 / hy)
@@ -257,6 +230,7 @@ class BicubicTable:
         coeffs = [self._cell_coefficients(f, xa, ya, hx, hy, slopes, b) for f, b in zip(fs, mono, strict=True)]
         self._cells = tuple(tuple(tuple(tuple(float(v) for v in c[i, j]) for c in coeffs)
                                   for j in range(ya.size - 1)) for i in range(xa.size - 1))
+        self._k = self.kernel_arrays()              # what the one evaluation (jit_kernels.table) reads
 
     @staticmethod
     def _cell_coefficients(f: np.ndarray, x: np.ndarray, y: np.ndarray, hx: np.ndarray, hy: np.ndarray,
@@ -281,6 +255,17 @@ class BicubicTable:
         a_kl = np.einsum("km,ijmn,ln->ijkl", _M, g, _M)
         return a_kl.reshape(nx - 1, ny - 1, 16)
 
+    def kernel_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The table as the compiled kernels read it (:func:`.jit_kernels.table`): grid x, grid y, inverse cell
+        widths in x and y, cell coefficients (nx-1, ny-1, outputs, 16) and the limits (x_lo, x_hi, y_lo, y_hi,
+        x_min, x_max, y_min, y_max)."""
+        if hasattr(self, "_k"):
+            return self._k
+        nx, ny = len(self.x), len(self.y)
+        cells = np.array([[list(self._cells[i][j]) for j in range(ny - 1)] for i in range(nx - 1)], dtype=float)
+        lim = np.array([self.x_lo, self.x_hi, self.y_lo, self.y_hi, self.x_min, self.x_max, self.y_min, self.y_max])
+        return np.array(self.x), np.array(self.y), np.array(self._ihx), np.array(self._ihy), cells, lim
+
     # ------------------------------------------------------------------ evaluation
     def _out_of_range(self, x: float, y: float) -> OutOfRangeError:
         if not (self.x_min <= x <= self.x_max):
@@ -291,6 +276,16 @@ class BicubicTable:
             f"{self.where}: {name} = {v!r} is outside the map's range [{lo:g}, {hi:g}] and its "
             f"linear extrapolation margin [{lo2:g}, {hi2:g}]")
 
+    def _eval(self, x: float, y: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Values and gradients at (x, y) by :func:`.jit_kernels.table` (the one implementation, also what the
+        compiled gas path calls), or :meth:`_out_of_range` raised beyond the margins (or for NaN)."""
+        n = self.n_out
+        v, gx, gy, err = np.empty(n), np.empty(n), np.empty(n), np.zeros(1, np.int64)
+        _table(*self._k, float(x), float(y), v, gx, gy, err)
+        if err[0]:
+            raise self._out_of_range(x, y)
+        return v, gx, gy
+
     def values(self, x: float, y: float) -> tuple[float, ...]:
         """Outputs at (x, y), interpolated or extrapolated.
 
@@ -299,13 +294,7 @@ class BicubicTable:
         OutOfRangeError
             If x or y lies beyond the extrapolation margin (or is NaN).
         """
-        if self.x_lo <= x <= self.x_hi and self.y_lo <= y <= self.y_hi:
-            i = bisect_right(self._xs, x)
-            j = bisect_right(self._ys, y)
-            t = (x - self.x[i]) * self._ihx[i]
-            u = (y - self.y[j]) * self._ihy[j]
-            return tuple([_poly(c, t, u) for c in self._cells[i][j]])
-        return self._extrapolate(x, y)[0]
+        return tuple(self._eval(x, y)[0].tolist())
 
     def values_and_gradients(self, x: float, y: float) -> _Triple:
         """Outputs and their partial derivatives with respect to x and to y at (x, y).
@@ -314,32 +303,5 @@ class BicubicTable:
         -------
         (values, d_dx, d_dy) : three tuples of float, one entry per output.
         """
-        if self.x_lo <= x <= self.x_hi and self.y_lo <= y <= self.y_hi:
-            i = bisect_right(self._xs, x)
-            j = bisect_right(self._ys, y)
-            ihx, ihy = self._ihx[i], self._ihy[j]
-            t = (x - self.x[i]) * ihx
-            u = (y - self.y[j]) * ihy
-            r = [_poly_d(c, t, u) for c in self._cells[i][j]]
-            return (tuple([q[0] for q in r]), tuple([q[1] * ihx for q in r]), tuple([q[2] * ihy for q in r]))
-        return self._extrapolate(x, y)
-
-    def _extrapolate(self, x: float, y: float) -> _Triple:
-        if not (self.x_min <= x <= self.x_max and self.y_min <= y <= self.y_max):  # also catches NaN
-            raise self._out_of_range(x, y)
-        xc = min(max(x, self.x_lo), self.x_hi)
-        yc = min(max(y, self.y_lo), self.y_hi)
-        dx, dy = x - xc, y - yc
-        i = bisect_right(self._xs, xc)
-        j = bisect_right(self._ys, yc)
-        ihx, ihy = self._ihx[i], self._ihy[j]
-        t = (xc - self.x[i]) * ihx
-        u = (yc - self.y[j]) * ihy
-        vals, gx, gy = [], [], []
-        for c in self._cells[i][j]:
-            p, pt, pu, ptu = _poly_d(c, t, u)
-            px, py, pxy = pt * ihx, pu * ihy, ptu * ihx * ihy
-            vals.append(p + px * dx + py * dy + pxy * dx * dy)
-            gx.append(px + pxy * dy)
-            gy.append(py + pxy * dx)
-        return tuple(vals), tuple(gx), tuple(gy)
+        v, gx, gy = self._eval(x, y)
+        return tuple(v.tolist()), tuple(gx.tolist()), tuple(gy.tolist())

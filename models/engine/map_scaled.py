@@ -26,14 +26,30 @@ Gas Turbine Engine Cycles", Aerospace 6(8), 87, 2019 (``MapScalars``,
 
 from __future__ import annotations
 
+import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Literal
+from typing import Any, Literal
+
+import numpy as np
 
 from .errors import ModelError
+from .map_interp import BicubicTable
 from .map_points import CompressorPoint, CompressorPointD, TurbinePoint, TurbinePointD
 from .maps import CompressorMap, TurbineMap
 
-__all__ = ["ScaledCompressorMap", "ScaledTurbineMap"]
+__all__ = ["ScaledCompressorMap", "ScaledTurbineMap", "TabulatedMap", "tabulate_map"]
+
+#: A scaled map as the compiled gas path reads it (:mod:`.gas_path`): the table's arrays (grid x, grid y, inverse
+#: widths, cell coefficients, limits), the scalars (s_Wc, s_PR, s_eff, s_Nc, corrected-speed clamp low and
+#: high), and the surge line's nodes (relative speed, corrected flow; NaN for a turbine).
+KernelMap = tuple[Any, ...]
+
+
+def _kernel_map(arrays: tuple[np.ndarray, ...], s_Wc: float, s_PR: float, s_eff: float, s_Nc: float,
+                Nc_lo: float = -math.inf, Nc_hi: float = math.inf) -> KernelMap:
+    """(xg, yg, ihx, ihy, cells, lim, scalars, surge x, surge w) of a map's arrays and its scalars."""
+    return (*arrays[:6], np.array([s_Wc, s_PR, s_eff, s_Nc, Nc_lo, Nc_hi]), *arrays[6:])
 
 
 def _check_design(where: str, Wc_design_kg_s: float, PR_design: float, eff_design: float, Nc_design: float) -> None:
@@ -111,6 +127,10 @@ class ScaledCompressorMap:
         return CompressorPointD(w * sw, (p - 1.0) * sp + 1.0, e * se, w_n * sw * s_n, w_b * sw,
                                 p_n * sp * s_n, p_b * sp, e_n * se * s_n, e_b * se)
 
+    def kernel_tuple(self) -> KernelMap:
+        """The scaled map as the compiled gas path reads it (:data:`KernelMap`)."""
+        return _kernel_map(self.map.kernel_arrays(), self.s_Wc, self.s_PR, self.s_eff, self.s_Nc)
+
     def surge_pr(self, Nc: float) -> float:
         """Scaled surge-line pressure ratio [-] at corrected speed Nc."""
         return (self.map.surge_pr(Nc / self.s_Nc) - 1.0) * self.s_PR + 1.0
@@ -167,6 +187,11 @@ class ScaledTurbineMap:
         w, e = tmap.evaluate(n, pm)
         return cls(tmap, Wc_design_kg_s / w, (PR_design - 1.0) / (pm - 1.0), eff_design / e, Nc_design / n, n, pm)
 
+    def kernel_tuple(self, Nc_lo: float = -math.inf, Nc_hi: float = math.inf) -> KernelMap:
+        """The scaled map as the compiled gas path reads it (:data:`KernelMap`), its corrected speed clamped to
+        [Nc_lo, Nc_hi] (default: not clamped)."""
+        return _kernel_map(self.map.kernel_arrays(), self.s_Wc, self.s_PR, self.s_eff, self.s_Nc, Nc_lo, Nc_hi)
+
     def map_pr(self, PR: float) -> float:
         """Map pressure ratio [-] of a scaled pressure ratio PR [-]."""
         return (PR - 1.0) / self.s_PR + 1.0
@@ -182,3 +207,48 @@ class ScaledTurbineMap:
         (w, e), (w_n, e_n), (w_p, e_p) = self.map._table.values_and_gradients(Nc * s_n, (PR - 1.0) * s_p + 1.0)
         sw, se = self.s_Wc, self.s_eff
         return TurbinePointD(w * sw, e * se, w_n * sw * s_n, w_p * sw * s_p, e_n * se * s_n, e_p * se * s_p)
+
+
+@dataclass(frozen=True)
+class TabulatedMap:
+    """A map given as a function, tabulated on a grid (C1 bicubic, :class:`.map_interp.BicubicTable`), in the
+    units it is called with: a compressor map ``(Nc, beta) -> (Wc, PR, eff)`` or a turbine map
+    ``(Nc, PR) -> (Wc, eff)``. Build it with :func:`tabulate_map`; the gas path reads maps only as tables.
+
+    Attributes
+    ----------
+    table : BicubicTable
+    kind : {"compressor", "turbine"}
+    """
+
+    table: BicubicTable
+    kind: str
+
+    def evaluate(self, Nc: float, y: float) -> tuple[float, ...]:
+        """The tabulated values at (Nc, beta) or (Nc, PR)."""
+        return self.table.values(Nc, y)
+
+    def surge_margin(self, Nc: float, beta: float) -> float:
+        """No surge line is known for a tabulated function: NaN."""
+        return math.nan
+
+    def kernel_tuple(self) -> KernelMap:
+        """The table as the compiled gas path reads it (:data:`KernelMap`; scalars 1, no surge line)."""
+        nan2 = np.full(2, np.nan)
+        return _kernel_map((*self.table.kernel_arrays(), nan2, nan2), 1.0, 1.0, 1.0, 1.0)
+
+
+def tabulate_map(fn: Callable[[float, float], Sequence[float]], Nc: Sequence[float], y: Sequence[float],
+                 kind: Literal["compressor", "turbine"], margin: float = 0.1) -> TabulatedMap:
+    """Tabulate a map function on the grid `Nc` x `y` (corrected speed; beta for a compressor, PR for a turbine).
+
+    The table passes through every node exactly (put the design point on a node) and is C1 between them;
+    it is continued linearly for `margin` of each axis' span beyond its ends, and refuses beyond.
+    """
+    n_out = 3 if kind == "compressor" else 2
+    vals = np.array([[list(fn(a, b))[:n_out] for b in y] for a in Nc], dtype=float)
+    xs, ys = np.asarray(Nc, dtype=float), np.asarray(y, dtype=float)
+    table = BicubicTable(xs, ys, [vals[:, :, k] for k in range(n_out)], margin * (xs[-1] - xs[0]),
+                         margin * (ys[-1] - ys[0]), ("Nc", "beta" if kind == "compressor" else "PR"),
+                         f"tabulated {kind} map", monotone=(True,) * (n_out - 1) + (False,))
+    return TabulatedMap(table, kind)

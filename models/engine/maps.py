@@ -47,13 +47,15 @@ from __future__ import annotations
 
 import json
 import math
-from bisect import bisect_right
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import MappingProxyType
 from typing import Any, Literal
 
+import numpy as np
+
+from . import jit_kernels as _K
 from .errors import ModelError, OutOfRangeError
 from .map_interp import BicubicTable
 from .map_points import CompressorPoint, CompressorPointD, TurbinePoint, TurbinePointD
@@ -260,6 +262,11 @@ class CompressorMap:
                            ("_surge_x", surge_x), ("_surge_w", surge_w)):
             object.__setattr__(self, key, value)
 
+    def kernel_arrays(self) -> tuple[np.ndarray, ...]:
+        """The table's arrays (:meth:`.map_interp.BicubicTable.kernel_arrays`), then the surge line's nodes:
+        relative speeds and corrected flows (what :func:`.jit_kernels.surge_margin` reads)."""
+        return (*self._table.kernel_arrays(), np.array(self._surge_x), np.array(self._surge_w))
+
     def beta_of_rline(self, rline: float) -> float:
         """Beta [-] of a source R-line value [-]."""
         r = self.data.line_values
@@ -321,23 +328,7 @@ class CompressorMap:
             raise OutOfRangeError(
                 f"compressor map {self.name!r}: corrected flow {Wc_kg_s!r} kg/s is not on the surge line "
                 f"between nc_rel = {xs[0]:g} and {xs[-1]:g} (surge flow {ws[0]:g} to {ws[-1]:g} kg/s)")
-        k = min(max(bisect_right(ws, Wc_kg_s) - 1, 0), len(ws) - 2)
-        lo, hi, f_lo = xs[k], xs[k + 1], ws[k] - Wc_kg_s
-        x = lo + (hi - lo) * (Wc_kg_s - ws[k]) / (ws[k + 1] - ws[k])
-        for _ in range(60):
-            (w, _p, _e), (w_n, _pn, _en), _ = self._table.values_and_gradients(x, 0.0)
-            f = w - Wc_kg_s
-            if abs(f) <= 1e-12 * max(1.0, abs(Wc_kg_s)):
-                return x
-            if (f < 0.0) == (f_lo < 0.0):
-                lo, f_lo = x, f
-            else:
-                hi = x
-            x_new = x - f / w_n if w_n != 0.0 else 0.5 * (lo + hi)
-            x = x_new if lo < x_new < hi else 0.5 * (lo + hi)
-            if hi - lo <= 1e-14:
-                return x
-        return x
+        return float(_K.surge_speed_at_flow(*self.kernel_arrays(), float(Wc_kg_s)))
 
     def surge_margin(self, nc_rel: float, beta: float, basis: Literal["flow", "speed"] = "flow",
                      s_PR: float = 1.0) -> float:
@@ -359,12 +350,12 @@ class CompressorMap:
             as ``(PR - 1) s_PR + 1`` before the ratio is formed. Flow scaling
             cancels.
         """
-        w, p, _e = self._table.values(nc_rel, beta)
+        w, p, _e = self._table.values(nc_rel, beta)          # raises with the map's message out of range
         pr = (p - 1.0) * s_PR + 1.0
-        if basis == "flow":
-            nc_s = nc_rel if beta == 0.0 else self.surge_nc_rel_at_flow(w)
-            pr_s = (self._table.values(nc_s, 0.0)[1] - 1.0) * s_PR + 1.0
-            return pr_s / pr - 1.0
+        if basis == "flow":                                 # the one implementation, also the gas path's
+            if beta != 0.0:
+                self.surge_nc_rel_at_flow(w)                # raises with its message where there is none
+            return float(_K.surge_margin(*self.kernel_arrays(), float(nc_rel), float(beta), float(s_PR)))
         if basis == "speed":
             w_s, p_s, _ = self._table.values(nc_rel, 0.0)
             return ((p_s - 1.0) * s_PR + 1.0) / pr * (w / w_s) - 1.0
@@ -416,6 +407,10 @@ class TurbineMap:
         for key, value in (("name", data.name), ("nc_rel", nc_rel), ("pr", data.line_values), ("nc_rel_design", 1.0),
                            ("pr_design", data.line_design), ("_table", table)):
             object.__setattr__(self, key, value)
+
+    def kernel_arrays(self) -> tuple[np.ndarray, ...]:
+        """The table's arrays (:meth:`.map_interp.BicubicTable.kernel_arrays`) and two empty surge nodes."""
+        return (*self._table.kernel_arrays(), np.full(2, np.nan), np.full(2, np.nan))
 
     @property
     def nc_rel_range(self) -> tuple[float, float]:

@@ -53,22 +53,16 @@ from typing import Any, Protocol
 import numpy as np
 
 from .atmosphere import free_stream
-from .bleed import BleedSpec, stage_fractions
-from .burner import burner_with_fuel
-from .compressor import CompressorResult, compressor
 from .cycle_design import DesignPoint, gas_of
 from .design_params import TurbofanParams
-from .distortion import Distortion, flow_residual, map_sectors, pressure_residual
-from .duct import duct
+from .distortion import Distortion
 from .errors import ConvergenceError, ModelError, OutOfRangeError
-from .flow import T_STD_K, FlowStation, mix
-from .inlet import inlet, ram_recovery_mil_e_5008b
+from .flow import FlowStation
+from .gas_path import SINK as _SINK_CODE
+from .inlet import ram_recovery_mil_e_5008b
 from .newton import newton_solve
-from .nozzle import convergent_nozzle
 from .offdesign_result import OffDesignPoint
-from .shaft import TURBOFAN_SHAFTS, spool_balance, term_arrays
-from .splitter import splitter
-from .turbine import Cooling, turbine
+from .shaft import TURBOFAN_SHAFTS
 
 __all__ = ["CompressorMapLike", "TurbineMapLike", "TurbofanMaps", "OffDesignPoint", "TurbofanOffDesign",
            "scaled_maps", "RESIDUALS"]
@@ -79,18 +73,27 @@ RESIDUALS: tuple[str, ...] = ("fan_flow", "hpc_flow", "hpt_flow", "lpt_flow", "c
 
 
 class CompressorMapLike(Protocol):
-    """A compressor map scaled to the design point."""
+    """A compressor map scaled to the design point, as a table the gas path reads
+    (:class:`.map_scaled.ScaledCompressorMap`, or a function tabulated by :func:`.map_scaled.tabulate_map`)."""
 
     def evaluate(self, Nc: float, beta: float) -> tuple[float, float, float]:
         """(corrected flow [kg/s], pressure ratio [-], isentropic efficiency [-]) at corrected speed [rpm], beta [-]."""
         ...
 
+    def kernel_tuple(self) -> tuple[Any, ...]:
+        """The table's arrays and scalars (:data:`.map_scaled.KernelMap`)."""
+        ...
+
 
 class TurbineMapLike(Protocol):
-    """A turbine map scaled to the design point."""
+    """A turbine map scaled to the design point, as a table the gas path reads."""
 
     def evaluate(self, Nc: float, PR: float) -> tuple[float, float]:
         """(inlet corrected flow [kg/s], isentropic efficiency [-]) at corrected speed [rpm], PR in/out [-]."""
+        ...
+
+    def kernel_tuple(self) -> tuple[Any, ...]:
+        """The table's arrays and scalars (:data:`.map_scaled.KernelMap`)."""
         ...
 
 
@@ -134,30 +137,6 @@ def scaled_maps(dp: DesignPoint, fan: str = "lpc_hbtf", hpc: str = "axi5", hpt: 
                                             cb.Nc_rpm)
         b_beta = b.beta_map
     return TurbofanMaps(f, h, t1, t2, f.beta_map, h.beta_map, b, b_beta)
-
-
-def _mixed(streams: list[FlowStation], gas: Any) -> FlowStation:
-    """One stream, or the mixture of sector streams at their flow-weighted total pressure."""
-    if len(streams) == 1:
-        return streams[0]
-    W = sum(f.W_kg_s for f in streams)
-    return mix(streams, sum(f.W_kg_s * f.Pt_Pa for f in streams) / W, gas)
-
-
-def _merge(results: list[CompressorResult], gas: Any) -> CompressorResult:
-    """Sectors of a compressor merged: exits and each bleed mixed, powers added."""
-    first = results[0]
-    bleeds = tuple(_mixed([r.bleeds[k] for r in results], gas) for k in range(len(first.bleeds)))
-    return CompressorResult(_mixed([r.out for r in results], gas), bleeds, sum(r.power_W for r in results),
-                            first.PR, first.eta_is, first.eta_poly, sum(r.Wc_in_kg_s for r in results))
-
-
-_TERM_SPOOL, _TERM_KIND = term_arrays()           # the declared shaft terms (shaft.TURBOFAN_SHAFTS)
-
-
-def _smoothstep(s: float) -> float:
-    s = 0.0 if s < 0.0 else (1.0 if s > 1.0 else s)
-    return s * s * (3.0 - 2.0 * s)
 
 
 class TurbofanOffDesign:
@@ -206,6 +185,15 @@ class TurbofanOffDesign:
         self.ref["Wc21"] = c["booster"].Wc_kg_s
         self.ref["Nc1"] = c["fan_outer"].Nc_rpm                     # design corrected N1 [rpm]
         self.eta_mech = np.array([p.eta_mech_hp, p.eta_mech_lp])     # per spool of shaft.SPOOLS
+        losses = dict(dPqP_21_24=p.dPqP_21_24, dPqP_24_25=p.dPqP_24_25, dPqP_burner=p.dPqP_burner,
+                      dPqP_44_45=p.dPqP_44_45, dPqP_5_7=p.dPqP_5_7, dPqP_13_17=p.dPqP_13_17)
+        for k, v in losses.items():
+            if not 0.0 <= v < 1.0:
+                raise OutOfRangeError(f"{p.name}: {k}={v!r} is outside [0, 1)")
+        for k, v in dict(inlet_pi=p.inlet_pi, Cv_core=p.Cv_core, Cd_core=p.Cd_core, Cv_bypass=p.Cv_bypass,
+                         Cd_bypass=p.Cd_bypass).items():
+            if not 0.0 < v <= 1.0:
+                raise OutOfRangeError(f"{p.name}: {k}={v!r} is outside (0, 1]")
         self._fast: Any = None                              # the compiled residuals, built on first use
         self.x_design = (1.0, maps.beta_fan_design, maps.beta_hpc_design, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0) + (
             (maps.beta_booster_design,) if self.nb else ())
@@ -218,145 +206,47 @@ class TurbofanOffDesign:
     # ------------------------------------------------------------------ cycle
     @property
     def fast(self) -> Any:
-        """The compiled residuals (:class:`.jit_cycle.FastCycle`), or None where they do not apply."""
+        """The gas path's packed arguments and output arrays (:class:`.jit_cycle.FastCycle`), built on first use."""
         if self._fast is None:
             from .jit_cycle import FastCycle
-            self._fast = FastCycle.build(self) or False
-        return self._fast or None
+            self._fast = FastCycle.build(self)
+        return self._fast
+
+    def n_unknowns(self, dist: tuple[Distortion | None, Distortion | None]) -> int:
+        """Number of unknowns (and residuals) for a distortion configuration."""
+        return 9 + self.nb + sum(d is not None for d in dist)
+
+    def _evaluate(self, x: np.ndarray, cond: tuple[float, float, float], demand: tuple[str, float],
+                  extras: tuple[float, float, float], dist: tuple[Distortion | None, Distortion | None],
+                  hb_frac: float | None, with_sm: bool = False) -> Any:
+        """The gas path (:func:`.gas_path.turbofan`) at unknowns `x`, into the arrays of :attr:`fast`; raises
+        :class:`~.errors.OutOfRangeError` with the component and the cause where it cannot be evaluated."""
+        from .gas_path import ERRORS, STAGES
+        from .jit_cycle import DEMAND
+        n = self.n_unknowns(dist)
+        if x.shape != (n,):
+            raise ModelError(f"offdesign of {self.p.name!r}: {x.shape} unknowns given, {n} expected")
+        fc = self.fast
+        code = fc.evaluate(x, cond, (DEMAND[demand[0]], demand[1]), extras, hb_frac, _dist_array(dist), with_sm)
+        if code:
+            raise OutOfRangeError(f"offdesign of {self.p.name!r}: {STAGES[int(fc.err[1])] or 'gas path'}: "
+                                  f"{ERRORS.get(code, f'error {code}')}")
+        return fc
 
     def _residuals(self, x: np.ndarray, cond: tuple[float, float, float], demand: tuple[str, float],
                    extras: tuple[float, float, float], dist: tuple[Distortion | None, Distortion | None] = (None, None),
                    hb_frac: float | None = None) -> np.ndarray:
-        """The residuals of :meth:`_cycle` (the same numbers), from the compiled kernel where it applies."""
-        fc = self.fast
-        if fc is not None and dist[0] is None and dist[1] is None and x.size == 9:
-            from .jit_cycle import DEMAND
-            if fc(x, cond, (DEMAND[demand[0]], demand[1]), extras, hb_frac):
-                return fc.r.copy()
-        return self._cycle(x, cond, demand, extras, dist, hb_frac)[0]
+        """The residuals (:func:`residual_names`) at unknowns `x`."""
+        return self._evaluate(x, cond, demand, extras, dist, hb_frac).r[:x.size].copy()
 
     def _cycle(self, x: np.ndarray, cond: tuple[float, float, float], demand: tuple[str, float],
                extras: tuple[float, float, float], dist: tuple[Distortion | None, Distortion | None] = (None, None),
                hb_frac: float | None = None) -> tuple[np.ndarray, dict[str, Any]]:
         """Residuals and every station at unknowns `x`; `hb_frac` [-] overrides the handling bleed's
-        corrected-N1 schedule (a valve position set from outside, e.g. with hysteresis by the transient model)."""
-        p, g, ref, m = self.p, self.gas, self.ref, self.maps
-        W2, b_fan, b_hpc = x[0] * ref["W2"], x[1], x[2]
-        N1, N2 = x[3] * p.N1_rpm, x[4] * p.N2_rpm
-        PRh, PRl, BPR, Wf = x[5] * ref["PRh"], x[6] * ref["PRl"], x[7] * p.BPR, x[8] * ref["Wf"]
-        cust, off_hp, off_lp = extras
-        if W2 <= 0.0 or N1 <= 0.0 or N2 <= 0.0 or BPR < 0.0 or Wf <= 0.0 or PRh < 1.0 or PRl < 1.0:
-            raise OutOfRangeError("offdesign: unknowns out of range")
-        betas_fan, betas_hpc, i = [b_fan], [b_hpc], 9 + self.nb
-        if dist[0] is not None:
-            betas_fan.append(x[i])
-            i += 1
-        if dist[1] is not None:
-            betas_hpc.append(x[i])
-        fr = free_stream(*cond, g)
-        st: dict[str, FlowStation] = {"0": fr.station(W2, g)}
-        st["2"] = inlet(st["0"], cond[1], p.inlet_pi)
-        sq = math.sqrt
-        N1c = N1 / sq(st["2"].Tt_K / T_STD_K)
-        fan = map_sectors(st["2"], dist[0], m.fan, N1, betas_fan, g)
-        scale = W2 / sum(sp.inlet.W_kg_s for sp in fan)           # streams carry exactly W2
-        outer, inner, P_fo, P_fi = [], [], 0.0, 0.0
-        for sp in fan:
-            core_s, byp_s = splitter(sp.inlet.with_W(sp.inlet.W_kg_s * scale), BPR)
-            fo = compressor(byp_s, sp.PR, sp.eff, (), g)
-            fi = compressor(core_s, 1.0 + self.k_inner * (sp.PR - 1.0), sp.eff * self.eff_ratio_inner, (), g)
-            outer.append(fo.out)
-            inner.append(fi.out)
-            P_fo += fo.power_W
-            P_fi += fi.power_W
-        st["13"], st["21"] = _mixed(outer, g), _mixed(inner, g)
-        d21 = duct(st["21"], p.dPqP_21_24)
-        r_booster: list[float] = []
-        P_bo = 0.0
-        if self.nb:
-            assert m.booster is not None
-            Wc_b, PR_b, eff_b = m.booster.evaluate(N1 / sq(d21.Tt_K / T_STD_K), x[9])
-            r_booster.append((Wc_b - d21.Wc_kg_s) / ref["Wc21"])
-            bo = compressor(d21, PR_b, eff_b, (), g)
-            st["24"], P_bo = bo.out, bo.power_W
-        else:
-            st["24"] = d21
-        st["25"] = duct(st["24"], p.dPqP_24_25)
-        N2c = N2 / sq(st["25"].Tt_K / T_STD_K)
-        hpc = map_sectors(st["25"], dist[1], m.hpc, N2, betas_hpc, g)
-        PR_h = hpc[0].PR
-        specs = list(p.bleeds)
-        if hb_frac is None:
-            hb = max(p.handling_bleed_frac,
-                     self.hb_open * _smoothstep((self.hb_N1c + 0.5 * self.hb_ramp - N1c / ref["Nc1"]) / self.hb_ramp))
-        else:
-            hb = max(p.handling_bleed_frac, hb_frac)
-        if hb > 0.0:
-            fP, fw = stage_fractions(p.handling_bleed_stage, p.hpc_stages, PR_h)
-            specs.append(BleedSpec("handling", hb, fP, fw, "bypass"))
-        if cust > 0.0:
-            specs.append(BleedSpec("customer", cust, 1.0, 1.0, "overboard"))
-        scale = st["25"].W_kg_s / sum(sp.inlet.W_kg_s for sp in hpc)
-        hcs = [compressor(sp.inlet.with_W(sp.inlet.W_kg_s * scale), sp.PR, sp.eff, specs, g) for sp in hpc]
-        hc = hcs[0] if len(hcs) == 1 else _merge(hcs, g)
-        bl = {b.name: s for b, s in zip(specs, hc.bleeds, strict=True)}
-        st["3"] = hc.out
-        st["31"] = hc.out.with_W(hc.out.W_kg_s - sum(bl[b.name].W_kg_s for b in specs if b.at_exit))
-        bu = burner_with_fuel(st["31"], Wf, p.eta_burner, p.dPqP_burner, p.T_fuel_K, g, self.dp.Tt4_K)
-        st["4"] = bu.out
-        Tt4 = bu.out.Tt_K
-        Wc_t1, eff_t1 = m.hpt.evaluate(N2 / sq(Tt4 / T_STD_K), PRh)
-        cool = [Cooling(bl[b.name], b.sink_frac_P) for b in specs if b.sink == "hpt"]
-        ht = turbine(st["4"], PRh, eff_t1, cool, g)
-        st["41"], st["44"] = ht.rotor_in, ht.out
-        st["45"] = duct(ht.out, p.dPqP_44_45)
-        Wc_t2, eff_t2 = m.lpt.evaluate(N1 / sq(st["45"].Tt_K / T_STD_K), PRl)
-        cool = [Cooling(bl[b.name], b.sink_frac_P) for b in specs if b.sink == "lpt"]
-        lt = turbine(st["45"], PRl, eff_t2, cool, g)
-        st["5"] = lt.out
-        st["7"] = st["8"] = duct(lt.out, p.dPqP_5_7)
-        b13 = st["13"].with_W(st["13"].W_kg_s * (1.0 - p.bypass_bleed_frac))
-        back = [bl[b.name] for b in specs if b.sink == "bypass"]
-        st["16"] = mix([b13, *back], b13.Pt_Pa, g) if back else b13
-        st["17"] = st["18"] = duct(st["16"], p.dPqP_13_17)
-        nc = convergent_nozzle(st["7"], fr.amb.P_Pa, p.Cv_core, p.Cd_core, g, with_ideal=False)
-        nb = convergent_nozzle(st["17"], fr.amb.P_Pa, p.Cv_bypass, p.Cd_bypass, g, with_ideal=False)
-        ram = W2 * fr.V0_m_s
-        Fg = nc.Fg_N + nb.Fg_N
-        Fn = Fg - ram
-        kind, value = demand
-        if kind == "Wf_kg_s":
-            r9 = (Wf - value) / ref["Wf"]
-        elif kind == "N1_rpm":
-            r9 = (N1 - value) / p.N1_rpm
-        elif kind == "N1c_rpm":
-            r9 = (N1c - value) / p.N1_rpm
-        elif kind == "Tt4_K":
-            r9 = (Tt4 - value) / ref["Tt4"]
-        else:
-            r9 = (Fn - value) / ref["Fn"]
-        powers = {"fan_outer": P_fo, "fan_inner": P_fi, "booster": P_bo, "hpc": hc.power_W, "hpt": ht.power_W,
-                  "lpt": lt.power_W, "port_hp": off_hp, "port_lp": off_lp}
-        net, loss = np.empty(2), np.empty(2)
-        spool_balance(np.array([powers[t.name] for t in TURBOFAN_SHAFTS]), _TERM_SPOOL, _TERM_KIND, self.eta_mech,
-                      net, loss)
-        powers["mech_hp"], powers["mech_lp"] = float(loss[0]), float(loss[1])
-        r = np.array([
-            flow_residual(fan, W2),
-            flow_residual(hpc, st["25"].W_kg_s),
-            (Wc_t1 - st["4"].Wc_kg_s) / ref["Wc4"],
-            (Wc_t2 - st["45"].Wc_kg_s) / ref["Wc45"],
-            nc.A_eff_m2 / ref["A8"] - 1.0,
-            nb.A_eff_m2 / ref["A18"] - 1.0,
-            net[0] / ref["P_hp"],
-            net[1] / ref["P_lp"],
-            r9] + r_booster + [pressure_residual(sec) for sec in (fan, hpc) if len(sec) > 1])
-        info = dict(st=st, Fn=Fn, Fg=Fg, ram=ram, Wf=Wf, N1=N1, N2=N2, N1c=N1c, BPR=BPR, hb=hb,
-                    b_fan=b_fan, b_hpc=b_hpc, N2c=N2c, PRh=PRh, PRl=PRl,
-                    fan_sectors=[(sp.Nc, sp.beta) for sp in fan], hpc_sectors=[(sp.Nc, sp.beta) for sp in hpc],
-                    powers=powers,
-                    bleeds={b.name: (b.sink, bl[b.name]) for b in specs})
-        return r, info
+        corrected-N1 schedule (a valve position set from outside, e.g. with hysteresis by the transient model).
+        The stations are views of the gas path's arrays (:func:`.gas_path.turbofan`)."""
+        fc = self._evaluate(x, cond, demand, extras, dist, hb_frac, with_sm=True)
+        return fc.r[:x.size].copy(), _info(fc, self.p, extras[0])
 
     # ------------------------------------------------------------------ solve
     def solve(self, alt_m: float = 0.0, Mach: float = 0.0, dT_isa_K: float = 0.0, *,
@@ -477,27 +367,43 @@ class TurbofanOffDesign:
 
     def _result(self, res: Any, info: dict[str, Any], cond: tuple[float, float, float],
                 dist: tuple[Distortion | None, Distortion | None] = (None, None)) -> OffDesignPoint:
-        p, st, m = self.p, info["st"], self.maps
-        sm = []
-        for cmap, sectors in ((m.fan, info["fan_sectors"]), (m.hpc, info["hpc_sectors"])):
-            f = getattr(cmap, "surge_margin", None)
-            per = []
-            for Nc, beta in sectors:
-                try:
-                    per.append(float(f(Nc, beta)) if f is not None else math.nan)
-                except ModelError:
-                    per.append(math.nan)
-            sm.append((min(per), per[0]))
-        Nc1_d = self.dp.components["fan_outer"].Nc_rpm
+        p, st, o = self.p, info["st"], info["o"]
         over = [f for sink, f in info["bleeds"].values() if sink == "overboard"]
         if p.bypass_bleed_frac > 0.0:
             over.append(st["13"].with_W(st["13"].W_kg_s * p.bypass_bleed_frac))
-        Fn = info["Fn"]
+        Fn = o["Fn"]
+        N1, N2, Wf = o["N1"], o["N2"], o["Wf"]
         return OffDesignPoint(
-            *cond, MappingProxyType(st), Fn, info["Fg"], info["ram"], info["Wf"],
-            info["Wf"] / Fn if Fn > 0.0 else math.inf, info["N1"], info["N2"], 100.0 * info["N1"] / p.N1_rpm,
-            100.0 * info["N2"] / p.N2_rpm, info["N1c"], 100.0 * info["N1c"] / Nc1_d, st["4"].Tt_K, st["41"].Tt_K,
-            st["21"].Tt_K, st["17"].Tt_K, st["7"].Tt_K, st["3"].Pt_Pa, st["3"].Pt_Pa / st["2"].Pt_Pa, info["BPR"],
-            sm[0][0], sm[1][0], sm[0][1], sm[1][1], info["b_fan"], info["b_hpc"], info["PRh"], info["PRl"], info["hb"],
-            MappingProxyType(info["powers"]), sum(f.W_kg_s for f in over), sum(f.H_W for f in over), res.iterations,
-            res.evaluations, float(np.max(np.abs(res.r))), tuple(float(v) for v in res.x), res.jacobian, dist)
+            *cond, MappingProxyType(st), Fn, o["Fg"], o["ram"], Wf, Wf / Fn if Fn > 0.0 else math.inf, N1, N2,
+            100.0 * N1 / p.N1_rpm, 100.0 * N2 / p.N2_rpm, o["N1c"], 100.0 * o["N1c"] / self.ref["Nc1"], st["4"].Tt_K,
+            st["41"].Tt_K, st["21"].Tt_K, st["17"].Tt_K, st["7"].Tt_K, st["3"].Pt_Pa, st["3"].Pt_Pa / st["2"].Pt_Pa,
+            o["BPR"], o["SM_fan"], o["SM_hpc"], o["SM_fan_clean"], o["SM_hpc_clean"], o["beta_fan_1"],
+            o["beta_hpc_1"], o["PRh"], o["PRl"], o["hb"], MappingProxyType(info["powers"]),
+            sum(f.W_kg_s for f in over), sum(f.H_W for f in over), res.iterations, res.evaluations,
+            float(np.max(np.abs(res.r))), tuple(float(v) for v in res.x), res.jacobian, dist)
+
+
+def _dist_array(dist: tuple[Distortion | None, Distortion | None]) -> np.ndarray:
+    """The (fan, HPC) distortions as the gas path reads them: on, sector share, attenuated Pt deficit [-] and
+    Tt excess [K] (:attr:`.distortion.Distortion.attenuation`)."""
+    a = np.zeros((2, 4))
+    for k, d in enumerate(dist):
+        if d is not None:
+            a[k] = (1.0, d.sector_frac, d.attenuation * d.dPt_frac, d.attenuation * d.dTt_K)
+    return a
+
+
+def _info(fc: Any, p: TurbofanParams, customer_bleed_frac: float) -> dict[str, Any]:
+    """Stations, bleeds, powers and outputs of the gas path's last evaluation, as Python objects (views)."""
+    from .gas_path import OUT, STATIONS
+    S, B, PW = fc.S, fc.B, fc.PW
+    st = {k: FlowStation(*(float(v) for v in S[i])) for i, k in enumerate(STATIONS)}
+    st["8"], st["18"] = st["7"], st["17"]
+    o = dict(zip(OUT, fc.o.tolist(), strict=True))
+    names = [b.name for b in p.bleeds] + (["handling"] if o["hb"] > 0.0 else []) + (
+        ["customer"] if customer_bleed_frac > 0.0 else [])
+    sinks = {v: k for k, v in _SINK_CODE.items()}
+    bleeds = {n: (sinks[int(B[i, 5])], FlowStation(*(float(v) for v in B[i, :5]))) for i, n in enumerate(names)}
+    powers = {t.name: float(PW[i]) for i, t in enumerate(TURBOFAN_SHAFTS)}
+    powers["mech_hp"], powers["mech_lp"] = float(PW[len(TURBOFAN_SHAFTS)]), float(PW[len(TURBOFAN_SHAFTS) + 1])
+    return dict(st=st, o=o, bleeds=bleeds, powers=powers)

@@ -4,7 +4,8 @@ Unknowns (scaled by their design values): inlet flow W2, compressor map
 coordinate beta, spool speed N, turbine pressure ratio PR_t, fuel flow Wf.
 Residuals: compressor map flow = W2 corrected; turbine map flow = W4
 corrected; nozzle effective throat area = design; spool power balance; the
-power setting (Wf, N, Tt4 or Fn). Solved by :func:`.newton.newton_solve`.
+power setting (Wf, N, Tt4 or Fn). Solved by :func:`.newton.newton_solve`. The
+gas path is the design's (:func:`.turbojet_path.turbojet_path`), with the maps.
 This is the turbojet of pyCycle's ``simple_turbojet`` example, used to verify
 the matching against pyCycle's published off-design numbers.
 
@@ -25,19 +26,14 @@ from typing import Any
 import numpy as np
 
 from .atmosphere import free_stream
-from .burner import burner_with_fuel
-from .compressor import compressor
 from .cycle_design import DesignPoint, gas_of
 from .design_params import TurbojetParams
-from .duct import duct
 from .errors import ModelError, OutOfRangeError
 from .flow import T_STD_K, FlowStation
-from .inlet import inlet
 from .newton import newton_solve
-from .nozzle import convergent_nozzle, ideal_nozzle
 from .offdesign import CompressorMapLike, TurbineMapLike
 from .shaft import net_power
-from .turbine import Cooling, turbine
+from .turbojet_path import turbojet_path
 
 __all__ = ["TurbojetOffDesignPoint", "TurbojetOffDesign", "scaled_turbojet_maps", "RESIDUALS_TURBOJET"]
 
@@ -117,34 +113,27 @@ class TurbojetOffDesign:
         if W2 <= 0.0 or N <= 0.0 or PRt < 1.0 or Wf <= 0.0:
             raise OutOfRangeError("offdesign_turbojet: unknowns out of range")
         fr = free_stream(*cond, g)
-        st: dict[str, FlowStation] = {"0": fr.station(W2, g)}
-        st["2"] = inlet(st["0"], cond[1], p.inlet_pi)
-        Nc = N / math.sqrt(st["2"].Tt_K / T_STD_K)
-        Wc_c, PR_c, eff_c = self.cm.evaluate(Nc, beta)
-        c = compressor(st["2"], PR_c, eff_c, p.bleeds, g)
-        bl = {b.name: s for b, s in zip(p.bleeds, c.bleeds, strict=True)}
-        st["3"] = c.out
-        st["31"] = c.out.with_W(c.out.W_kg_s - sum(bl[b.name].W_kg_s for b in p.bleeds if b.at_exit))
-        bu = burner_with_fuel(st["31"], Wf, p.eta_burner, p.dPqP_burner, p.T_fuel_K, g, ref["Tt4"])
-        st["4"] = bu.out
-        Wc_t, eff_t = self.tm.evaluate(N / math.sqrt(st["4"].Tt_K / T_STD_K), PRt)
-        cool = [Cooling(bl[b.name], b.sink_frac_P) for b in p.bleeds if b.sink in ("hpt", "lpt")]
-        t = turbine(st["4"], PRt, eff_t, cool, g)
-        st["41"], st["5"] = t.rotor_in, t.out
-        st["7"] = st["8"] = duct(t.out, p.dPqP_jetpipe)
-        if p.nozzle_type == "ideal":
-            n = ideal_nozzle(st["7"], fr.amb.P_Pa, p.Cv, g)
-        else:
-            n = convergent_nozzle(st["7"], fr.amb.P_Pa, p.Cv, p.Cd, g)
-        ram = W2 * fr.V0_m_s
-        Fn = n.Fg_N - ram
+        Nc = N / math.sqrt(fr.Tt0_K / T_STD_K)          # the inlet is adiabatic: Tt2 = Tt0
+
+        def comp_point(st2: FlowStation) -> tuple[float, float, float]:
+            Wc, PR, eff = self.cm.evaluate(Nc, beta)
+            return PR, eff, Wc
+
+        def turb_point(st4: FlowStation) -> tuple[float, float]:
+            Wc, eff = self.tm.evaluate(N / math.sqrt(st4.Tt_K / T_STD_K), PRt)
+            return eff, Wc
+
+        gp = turbojet_path(p, g, fr, W2, comp_point, Wf, PRt, turb_point)
+        st, Fn = gp.stations, gp.Fn_N
+        Wc_c, Wc_t = gp.Wc_map_compressor_kg_s, gp.Wc_map_turbine_kg_s
         kind, value = demand
         r5 = {"Wf_kg_s": lambda: (Wf - value) / ref["Wf"], "N_rpm": lambda: (N - value) / p.N_rpm,
               "Tt4_K": lambda: (st["4"].Tt_K - value) / ref["Tt4"], "Fn_N": lambda: (Fn - value) / ref["Fn"]}[kind]()
         r = np.array([(Wc_c - st["2"].Wc_kg_s) / ref["Wc2"], (Wc_t - st["4"].Wc_kg_s) / ref["Wc4"],
-                      n.A_eff_m2 / ref["A8"] - 1.0,
-                      net_power(t.power_W, [c.power_W], p.offtake_W, p.eta_mech) / ref["P"], r5])
-        return r, dict(st=st, Fn=Fn, Fg=n.Fg_N, ram=ram, Wf=Wf, N=N, Nc=Nc, beta=beta, PRt=PRt)
+                      gp.nozzle.A_eff_m2 / ref["A8"] - 1.0,
+                      net_power(gp.turbine.power_W, [gp.compressor.power_W], p.offtake_W, p.eta_mech) / ref["P"],
+                      r5])
+        return r, dict(st=st, Fn=Fn, Fg=gp.nozzle.Fg_N, ram=gp.ram_drag_N, Wf=Wf, N=N, Nc=Nc, beta=beta, PRt=PRt)
 
     def solve(self, alt_m: float = 0.0, Mach: float = 0.0, dT_isa_K: float = 0.0, *,
               Wf_kg_s: float | None = None, N_rpm: float | None = None, Tt4_K: float | None = None,

@@ -65,9 +65,8 @@ class TransientState:
         The matched unknowns (scaled, as :attr:`.offdesign_result.OffDesignPoint.x`).
     distortion : (Distortion or None, Distortion or None)
         Distortion at the fan and HPC faces.
-    fast : numpy.ndarray or None
-        The outputs of the compiled kernel (:data:`.jit_cycle.OUT`) at the match, surge margins
-        included; None where the kernel does not apply (then read :attr:`point`).
+    fast : numpy.ndarray
+        The outputs of the gas path (:data:`.gas_path.OUT`) at the match, surge margins included.
     N1_rpm, N2_rpm, Wf_kg_s, beta_fan, beta_hpc : float
         Speeds [rpm], fuel flow [kg/s] and map coordinates [-] of the match.
     """
@@ -176,8 +175,9 @@ class TurbofanTransient:
               offtake_lp_W: float | None = None, handling_bleed_frac: float | None = None) -> TransientState:
         """Matched gas path and spool accelerations at speeds [rpm] and fuel flow [kg/s].
 
-        The residuals come from the compiled kernel (:mod:`.jit_cycle`) where it applies
-        (no distortion): the same equations as :meth:`.offdesign.TurbofanOffDesign._cycle`.
+        The residuals are those of the one gas path (:func:`.gas_path.turbofan`, through
+        :meth:`.offdesign.TurbofanOffDesign._residuals`); without distortion or booster the whole
+        iteration runs compiled (:func:`.jit_solve.chord_solve`).
 
         `distortion` is the (fan, HPC) sector distortion of :mod:`.distortion`, switchable
         from one call to the next. `customer_bleed_frac` (W/W25 [-]), `offtake_hp_W` and
@@ -255,9 +255,7 @@ class TurbofanTransient:
             resid(res.x)
         r = last["r"]
         x_full[free] = res.x
-        fc, fast = od.fast, None
-        if fc is not None and n == 9 and fc(x_full, cond, (0, Wf_kg_s), extras, hb, True):
-            fast = fc.o.copy()                                  # outputs and surge margins, compiled
+        fast = od._evaluate(x_full, cond, demand, extras, distortion, hb, with_sm=True).o.copy()  # and SMs
 
         if isinstance(J_full, np.ndarray):              # a Newton solve here: its Jacobian is the new base
             J_base = J_full

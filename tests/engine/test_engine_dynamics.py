@@ -21,7 +21,7 @@ import math
 import numpy as np
 import pytest
 
-from openemss.models.engine.distortion import Distortion, map_sectors
+from openemss.models.engine.distortion import Distortion
 from openemss.models.engine.engine_model import BleedValve, EngineInputs, EngineModel
 from openemss.models.engine.transient import TurbofanTransient
 
@@ -183,10 +183,11 @@ def test_critical_sector_angle() -> None:
     critical angle of about 60 deg and stays constant beyond. Parallel compressor with the spoiled
     sector on its surge line, both sectors discharging to the same pressure: the compressor's surge
     pressure ratio (exit over clean-face total pressure) against the clean compressor's."""
+    from scipy.optimize import brentq
+
     from openemss.models.engine.cycle_design import design
     from openemss.models.engine.design_params import load_params, preset_path
     from openemss.models.engine.offdesign import scaled_maps
-    from scipy.optimize import brentq
 
     dp = design(load_params(preset_path("larzac04_sls")))
     fan = scaled_maps(dp).fan
@@ -196,17 +197,22 @@ def test_critical_sector_angle() -> None:
     beta_s = brentq(lambda b: fan.surge_margin(Nc, b), 0.0, 1.0)      # the clean surge point
     PR_surge = fan.evaluate(Nc, beta_s)[1]
     loss = {}
+
+    def exits(d: Distortion, b_clean: float, b_spoiled: float) -> tuple[float, float]:
+        """Exit total pressures [Pa] of the clean and the spoiled sector (the parallel compressor model by hand:
+        the spoiled sector's inlet Pt lower by the attenuated deficit, the same Tt and corrected speed)."""
+        pe_c = face.Pt_Pa * fan.evaluate(Nc, b_clean)[1]
+        pe_s = face.Pt_Pa * (1.0 - d.attenuation * d.dPt_frac) * fan.evaluate(Nc, b_spoiled)[1]
+        return pe_c, pe_s
+
     for deg in (15.0, 30.0, 45.0, 60.0, 90.0, 120.0, 180.0):
         d = Distortion(deg / 360.0, 0.10)
         # spoiled sector at surge; the clean sector at the beta giving the same exit pressure
-        spoiled_exit = map_sectors(face, d, fan, N, [beta_s, beta_s])[1].Pt_exit_Pa
-
-        def dp_exit(b: float, d: Distortion = d, pe: float = spoiled_exit) -> float:
-            return map_sectors(face, d, fan, N, [b, beta_s])[0].Pt_exit_Pa - pe
-        b_clean = brentq(dp_exit, 0.0, 1.09)
-        sec = map_sectors(face, d, fan, N, [b_clean, beta_s])
-        assert sec[0].Pt_exit_Pa == pytest.approx(sec[1].Pt_exit_Pa, rel=1e-9)
-        loss[deg] = 1.0 - sec[1].Pt_exit_Pa / face.Pt_Pa / PR_surge
+        spoiled_exit = exits(d, beta_s, beta_s)[1]
+        b_clean = brentq(lambda b, d=d, pe=spoiled_exit: exits(d, b, beta_s)[0] - pe, 0.0, 1.09)
+        pe_c, pe_s = exits(d, b_clean, beta_s)
+        assert pe_c == pytest.approx(pe_s, rel=1e-9)
+        loss[deg] = 1.0 - pe_s / face.Pt_Pa / PR_surge
     crit = loss[60.0]
     assert loss[15.0] < loss[30.0] < loss[45.0] < crit                  # grows below the critical angle
     for deg in (90.0, 120.0, 180.0):

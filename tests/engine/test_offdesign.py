@@ -19,6 +19,7 @@ from openemss.models.engine.combustion import h_fuel_liquid
 from openemss.models.engine.cycle_design import DesignPoint, design, gas_of
 from openemss.models.engine.design_params import load_params, preset_path
 from openemss.models.engine.errors import ConvergenceError, ModelError
+from openemss.models.engine.map_scaled import TabulatedMap, tabulate_map
 from openemss.models.engine.offdesign import OffDesignPoint, TurbofanMaps, TurbofanOffDesign, scaled_maps
 
 
@@ -54,14 +55,31 @@ def dp() -> DesignPoint:
     return design(load_params(preset_path("larzac04_sls")))
 
 
+def _grid(design_value: float, lo: float, hi: float, n: int) -> np.ndarray:
+    """n nodes from lo to hi times the design value, the design value itself one of them (the tables pass
+    through their nodes exactly, so the design point is recovered exactly)."""
+    g = np.unique(np.append(np.linspace(lo, hi, n), 1.0)) * design_value
+    return g
+
+
+def tab_compressor(m: AnalyticCompressor) -> TabulatedMap:
+    return tabulate_map(m.evaluate, _grid(m.Nc, 0.3, 1.2, 28), np.linspace(0.0, 1.0, 21), "compressor")
+
+
+def tab_turbine(m: AnalyticTurbine) -> TabulatedMap:
+    prs = np.unique(np.append(np.linspace(1.0, 1.0 + 2.5 * (m.PR - 1.0), 41), m.PR))
+    return tabulate_map(m.evaluate, _grid(m.Nc, 0.3, 1.3, 31), prs, "turbine")
+
+
 def analytic_maps(dp: DesignPoint) -> TurbofanMaps:
+    """Analytic maps about the design point, tabulated (the gas path reads maps as tables)."""
     c = dp.components
     fo = c["fan_outer"]
     return TurbofanMaps(
-        AnalyticCompressor(dp.stations["2"].Wc_kg_s, fo.PR, fo.eta_is, fo.Nc_rpm),
-        AnalyticCompressor(c["hpc"].Wc_kg_s, c["hpc"].PR, c["hpc"].eta_is, c["hpc"].Nc_rpm),
-        AnalyticTurbine(c["hpt"].Wc_kg_s, c["hpt"].PR, c["hpt"].eta_is, c["hpt"].Nc_rpm),
-        AnalyticTurbine(c["lpt"].Wc_kg_s, c["lpt"].PR, c["lpt"].eta_is, c["lpt"].Nc_rpm))
+        tab_compressor(AnalyticCompressor(dp.stations["2"].Wc_kg_s, fo.PR, fo.eta_is, fo.Nc_rpm)),
+        tab_compressor(AnalyticCompressor(c["hpc"].Wc_kg_s, c["hpc"].PR, c["hpc"].eta_is, c["hpc"].Nc_rpm)),
+        tab_turbine(AnalyticTurbine(c["hpt"].Wc_kg_s, c["hpt"].PR, c["hpt"].eta_is, c["hpt"].Nc_rpm)),
+        tab_turbine(AnalyticTurbine(c["lpt"].Wc_kg_s, c["lpt"].PR, c["lpt"].eta_is, c["lpt"].Nc_rpm)))
 
 
 def closure(od: OffDesignPoint, dp: DesignPoint, offtake_W: float = 0.0) -> tuple[float, float]:
@@ -179,7 +197,7 @@ def test_engine_with_booster_and_cooling_flows() -> None:
     base = analytic_maps(dp)
     b = c["booster"]
     maps = TurbofanMaps(base.fan, base.hpc, base.hpt, base.lpt,
-                        booster=AnalyticCompressor(b.Wc_kg_s, b.PR, b.eta_is, b.Nc_rpm))
+                        booster=tab_compressor(AnalyticCompressor(b.Wc_kg_s, b.PR, b.eta_is, b.Nc_rpm)))
     od = TurbofanOffDesign(dp, maps)
     cond = (dp.params.alt_m, 0.8, 0.0)
     part = od.solve(*cond, N1_pct=90.0)

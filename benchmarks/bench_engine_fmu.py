@@ -6,14 +6,14 @@ cProfile summary of where the time of a step goes; asserts nothing (DESIGN.md, r
 
 Cases (Larzac 04 preset, explicit Euler, one internal step):
 
-* ``mission, Python cycle`` / ``mission, compiled cycle`` / ``mission, compiled iteration`` /
-  ``mission, compiled step``: the mission-like profile of :func:`_mission_inputs` (take-off, climb
-  to 7500 m and Mach 0.75, cruise, idle descent, slam and chop) with a rate-limited fuel
-  controller, on the Python gas path (the baseline, measured in the same run), on the compiled
-  residuals (:mod:`.jit_cycle`) driven by the Python chord iteration, with the iteration compiled
-  as well (:mod:`.jit_solve`) in the Python step, and with the whole step compiled
-  (:mod:`.jit_step`, the default); the last three give the same outputs (printed); the compiled
-  cases run in turn, repeat by repeat, so that they see the same load;
+* ``mission, compiled cycle`` / ``mission, compiled iteration`` / ``mission, compiled step``: the
+  mission-like profile of :func:`_mission_inputs` (take-off, climb to 7500 m and Mach 0.75,
+  cruise, idle descent, slam and chop) with a rate-limited fuel controller, on the compiled gas
+  path driven by the Python chord iteration, with the iteration compiled as well
+  (:mod:`.jit_solve`) in the Python step, and with the whole step compiled (:mod:`.jit_step`, the
+  default); all three give the same outputs (printed); they run in turn, repeat by repeat, so
+  that they see the same load (the plain-Python gas path runs without numba only,
+  ``OPENEMSS_NO_JIT=1``, in a process of its own);
 
 * ``model, inputs held``: at 5000 m, Mach 0.6, N1 90 %, constant inputs (steady cruise): one
   gas-path match per step (at the new spool speeds);
@@ -83,18 +83,16 @@ def _mission_inputs(t: float) -> tuple[float, float, float]:
     return (100.0 if t < 275.0 else 62.0), 1500.0, 0.5
 
 
-def _mission_runner(fast: bool, steps: int, compiled_iteration: bool = True,
+def _mission_runner(steps: int, compiled_iteration: bool = True,
                     compiled_step: bool = True) -> tuple[EngineModel, object]:
     """The engine flown through :func:`_mission_inputs` by a fuel controller as the FCS's: the fuel flow moves
     toward the N1 demand by at most 2 % (up) and 1 % (down) of design fuel flow per 50 ms step, not below
-    15 %; `fast` False: Python cycle only; `compiled_iteration` False: the compiled cycle driven by the Python
-    chord iteration (as before the iteration was compiled); `compiled_step` False: the Python step around the
-    compiled iteration (as before the step was compiled, :mod:`.jit_step`)."""
+    15 %; `compiled_iteration` False: the compiled cycle driven by the Python chord iteration (as before the
+    iteration was compiled); `compiled_step` False: the Python step around the compiled iteration (as before
+    the step was compiled, :mod:`.jit_step`)."""
     m = EngineModel("larzac04_sls")
-    if not fast:
-        m.od._fast = False
     m.tr.compiled_iteration = compiled_iteration
-    m.compiled_step = compiled_step and fast and compiled_iteration
+    m.compiled_step = compiled_step and compiled_iteration
     N1d, Wf_d = m.p.N1_rpm, m.dp.Wf_kg_s
     pt = m.od.solve(0.0, 0.0, N1_pct=60.0)
     m.start(EngineInputs(pt.Wf_kg_s, 0.0, 0.0))
@@ -161,18 +159,16 @@ def main() -> None:
     rows = []
     n_mis = int(round(300.0 / H))
     t0 = time.perf_counter()
-    m, run = _mission_runner(True, 2)
+    m, run = _mission_runner(2)
     run()                                                       # type: ignore[operator]
     t_first = time.perf_counter() - t0
     finals = []
-    cases = (("mission, Python cycle", False, False, False), ("mission, compiled cycle", True, False, False),
-             ("mission, compiled iteration", True, True, False), ("mission, compiled step", True, True, True))
+    cases = (("mission, compiled cycle", False, False), ("mission, compiled iteration", True, False),
+             ("mission, compiled step", True, True))
     meds: dict[str, list[float]] = {c[0]: [] for c in cases}
     for k in range(max(1, a.repeat // 2)):
-        for name, fast, it, step in cases:         # in turn: the compiled ones see the same load
-            if name == "mission, Python cycle" and k > 0:
-                continue                            # (30 x slower: once is enough for its figure)
-            m, run = _mission_runner(fast, n_mis, it, step)
+        for name, it, step in cases:               # in turn: they see the same load
+            m, run = _mission_runner(n_mis, it, step)
             meds[name].append(_time(run, n_mis, 1)[0])
             if k == 0:
                 finals.append(list(m.values))
@@ -189,14 +185,12 @@ def main() -> None:
     print(f"{'case':<28} {'median us':>10} {'best us':>10} {'x real time':>12}")
     for name, med, best in rows:
         print(f"{name:<28} {med * 1e6:10.0f} {best * 1e6:10.0f} {H / med:12.0f}")
-    print(f"compiled / Python on the mission: {rows[3][1] / rows[0][1]:.4f} "
-          f"(speed-up {rows[0][1] / rows[3][1]:.1f} x); "
-          f"compiled iteration / Python iteration on the compiled cycle: {rows[2][1] / rows[1][1]:.3f} "
-          f"(speed-up {rows[1][1] / rows[2][1]:.1f} x); "
-          f"compiled step / Python step around the compiled iteration: {rows[3][1] / rows[2][1]:.3f} "
-          f"(speed-up {rows[2][1] / rows[3][1]:.1f} x; best {rows[3][2] / rows[2][2]:.3f})")
-    same = max(abs(x - y) for x, y in zip(finals[1], finals[2], strict=True))
-    same_step = max(abs(x - y) for x, y in zip(finals[2], finals[3], strict=True))
+    print(f"compiled iteration / Python iteration on the compiled cycle: {rows[1][1] / rows[0][1]:.3f} "
+          f"(speed-up {rows[0][1] / rows[1][1]:.1f} x); "
+          f"compiled step / Python step around the compiled iteration: {rows[2][1] / rows[1][1]:.3f} "
+          f"(speed-up {rows[1][1] / rows[2][1]:.1f} x; best {rows[2][2] / rows[1][2]:.3f})")
+    same = max(abs(x - y) for x, y in zip(finals[0], finals[1], strict=True))
+    same_step = max(abs(x - y) for x, y in zip(finals[1], finals[2], strict=True))
     print(f"outputs at the end of the mission-like profile, largest difference: compiled iteration vs Python "
           f"iteration {same:.3g}, compiled step vs Python step {same_step:.3g}")
     if isinstance(fmu, tuple):

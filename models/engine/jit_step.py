@@ -199,6 +199,7 @@ def euler_step(dt_s: float, h: float, d: StepData, k_prev: int, tol: float) -> i
     for k in range(14):
         if key[k] != st[_KEY + k]:
             same = False
+    small = False
     if not same:                                # inputs changed: the derivative at the step start
         small = st[_KEYOK] != 0.0 and par[_LIN] != 0.0               # EngineModel._small_change
         if small:
@@ -213,50 +214,50 @@ def euler_step(dt_s: float, h: float, d: StepData, k_prev: int, tol: float) -> i
             s1 = spool_acceleration_of(sens[1] * par[_PLP] * per, N1_s, par[_ILP])
             s2 = spool_acceleration_of(sens[0] * par[_PHP] * per, N2_s, par[_IHP])
             a1, a2 = a1 + s1 * (Wf - Wf_s), a2 + s2 * (Wf - Wf_s)
+    # the matches: at the step start if the inputs changed and were not linearised, then at the end of each
+    # internal step (one call site: the kernel is compiled once into this function)
+    start = not same and not small
+    t, t_end, t1 = t0, t0 + dt_s, t0
+    while True:
+        if start:
+            Nm1, Nm2, tm = N1, N2, t0
         else:
-            hb = vpos * par[_OPEN]
-            it = _match(N1, N2, Wf, hb, uin, extras, par, xf, Hm, J_in, Js_free, Js_in, fcb, tol, H, r, o,
-                        sens_new)
-            if it < 0:
+            if not t < t_end - 1e-9 * dt_s:
+                break
+            hh = t_end - t if t_end - t < h else h
+            t1 = t + hh
+            Nm1, Nm2, tm = N1 + hh * a1, N2 + hh * a2, t1
+            if not (Nm1 > 0.0 and Nm2 > 0.0):
+                return REFUSED                  # (the Python step halves the step)
+            # EngineModel._valve at the new speeds
+            if free_stream_at(fcb, uin[1], uin[2], uin[3]) != 0:
                 return REFUSED
-            Hm, H, sens, sens_new = H, Hm, sens_new, sens
-            t_m, Wf_m, hb_m, it_m, N1_m, N2_m = t0, Wf, hb, it, N1, N2
-            Wf_s, N1_s, N2_s = xf[8] * par[_WFREF], xf[3] * par[_N1D], xf[4] * par[_N2D]
-            a1 = spool_acceleration_of(r[7] * par[_PLP], N1, par[_ILP])
-            a2 = spool_acceleration_of(r[6] * par[_PHP], N2, par[_IHP])
-    t, t_end = t0, t0 + dt_s
-    while t < t_end - 1e-9 * dt_s:
-        hh = t_end - t if t_end - t < h else h
-        t1 = t + hh
-        N1n, N2n = N1 + hh * a1, N2 + hh * a2
-        if not (N1n > 0.0 and N2n > 0.0):
-            return REFUSED                      # (the Python step halves the step)
-        # EngineModel._valve at the new speeds
-        if free_stream_at(fcb, uin[1], uin[2], uin[3]) != 0:
-            return REFUSED
-        sq = math.sqrt(fcb[0][3] / par[_TSTD])
-        N1c_pct = 100.0 * N1n / sq / par[_NC1D]
-        if vcmd and N1c_pct > par[_THR] + 0.5 * par[_BAND]:
-            vcmd = False
-        elif not vcmd and N1c_pct < par[_THR] - 0.5 * par[_BAND]:
-            vcmd = True
-        target = 1.0 if vcmd else 0.0
-        rate = hh / par[_STROKE]
-        if target > vpos:
-            vpos = min(target, vpos + rate)
-        else:
-            vpos = max(target, vpos - rate)
+            sq = math.sqrt(fcb[0][3] / par[_TSTD])
+            N1c_pct = 100.0 * Nm1 / sq / par[_NC1D]
+            if vcmd and N1c_pct > par[_THR] + 0.5 * par[_BAND]:
+                vcmd = False
+            elif not vcmd and N1c_pct < par[_THR] - 0.5 * par[_BAND]:
+                vcmd = True
+            target = 1.0 if vcmd else 0.0
+            rate = hh / par[_STROKE]
+            if target > vpos:
+                vpos = min(target, vpos + rate)
+            else:
+                vpos = max(target, vpos - rate)
         hb = vpos * par[_OPEN]
-        it = _match(N1n, N2n, Wf, hb, uin, extras, par, xf, Hm, J_in, Js_free, Js_in, fcb, tol, H, r, o, sens_new)
+        it = _match(Nm1, Nm2, Wf, hb, uin, extras, par, xf, Hm, J_in, Js_free, Js_in, fcb, tol, H, r, o, sens_new)
         if it < 0:
             return REFUSED                      # (the Python step limits the fuel or halves the step)
         Hm, H, sens, sens_new = H, Hm, sens_new, sens
-        N1, N2 = N1n, N2n
-        t_m, Wf_m, hb_m, it_m, N1_m, N2_m = t1, Wf, hb, it, N1, N2
+        N1, N2 = Nm1, Nm2
+        t_m, Wf_m, hb_m, it_m, N1_m, N2_m = tm, Wf, hb, it, N1, N2
         Wf_s, N1_s, N2_s = xf[8] * par[_WFREF], xf[3] * par[_N1D], xf[4] * par[_N2D]
         a1 = spool_acceleration_of(r[7] * par[_PLP], N1, par[_ILP])
         a2 = spool_acceleration_of(r[6] * par[_PHP], N2, par[_IHP])
-        t = t1
+        if start:
+            start = False
+        else:
+            t = t1
     # success: commit (EngineModel.step's end and _publish)
     fuel = st[_FUEL] + Wf_s * dt_s
     Fn, Pt3, hb_o, FAR4, sm_f, sm_h = o[0], o[10], o[12], o[13], o[15], o[16]

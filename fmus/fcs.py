@@ -111,6 +111,8 @@ class Fcs(InitialOutputs, SignalIO, Fmi2Slave):
     description = ("Flight control system: airframe state and engine N1/N1c/Tt41 in; surface, gear, brake, "
                    "steering, thrust lever and fuel-flow commands and guidance targets out")
 
+    START_INPUTS = ()  # the start (mission, gains, initial commands) reads parameters only
+
     def __init__(self, **kwargs) -> None:  # type: ignore[no-untyped-def]
         super().__init__(**kwargs)
         rwy = departure_runway(load_mission(data_file(DEFAULT_MISSION)))  # the inputs start on it

@@ -1,7 +1,7 @@
 """Initial outputs that are valid in Initialization Mode, for any master's initial exchange.
 
-FMI 2.0 (section 3.2.3, "Initialization Mode") lets a master read a slave's outputs in
-Initialization Mode and expects them computed from the parameters and inputs set so far: that is
+FMI 2.0 (sections 2.1.6 and 4.2.4: the calls allowed in Initialization Mode) lets a master read a
+slave's outputs in Initialization Mode, computed from the parameters and inputs set so far: that is
 how a master solves the initial exchange of coupled slaves. pythonfmu offers only
 ``exit_initialization_mode`` to compute a start, so a slave that computes its initial state there
 shows placeholder outputs (zeros) throughout Initialization Mode. A master that exchanges once
@@ -15,9 +15,10 @@ airframe's (the runway's elevation).
 
 :class:`InitialOutputs` (mixed in before :class:`openemss.fmus.signal_io.SignalIO`) computes the
 slave's start (its :meth:`InitialOutputs.compute_start`) when an output is read in Initialization
-Mode and something was set since the last computation, and again when Initialization Mode ends if
-anything was set after it. A value set equal to the one held does not count, so an iterating master
-that has settled causes no recomputation. The checks are instance attributes installed on entering
+Mode and something it depends on was set since the last computation (a parameter, or an input its
+``START_INPUTS`` names; by default every input), and again when Initialization Mode ends if that
+happened after it. A value set equal to the one held does not count, so an iterating master that has
+settled causes no recomputation. The checks are instance attributes installed on entering
 Initialization Mode and removed on leaving it: the per-step calls of a run go straight to
 SignalIO's batched methods, with no check in between.
 
@@ -30,6 +31,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+from pythonfmu import Fmi2Causality
+
 _KINDS = ("real", "integer", "boolean", "string")
 
 
@@ -41,7 +44,10 @@ class InitialOutputs:
     first step; each call replaces what the previous one built).
     """
 
+    #: Names of the inputs the start reads (None: every input); a parameter always counts.
+    START_INPUTS: tuple[str, ...] | None = None
     _out_vr: dict[int, Any]  # SignalIO's output value references
+    vars: dict[int, Any]  # pythonfmu's variables by value reference
 
     def compute_start(self) -> None:
         """Build the initial state from the parameters and inputs set so far; publish the outputs."""
@@ -50,6 +56,9 @@ class InitialOutputs:
     def enter_initialization_mode(self) -> None:
         super().enter_initialization_mode()  # type: ignore[misc]
         self._start_stale = True
+        read = self.START_INPUTS
+        self._start_vrs = frozenset(vr for vr, v in self.vars.items() if v.causality == Fmi2Causality.parameter
+                                    or v.causality == Fmi2Causality.input and (read is None or v.name in read))
         for kind in _KINDS:
             self.__dict__[f"get_{kind}"] = self._checked_get(getattr(type(self), f"get_{kind}"))
             self.__dict__[f"set_{kind}"] = self._checked_set(getattr(type(self), f"get_{kind}"),
@@ -79,11 +88,14 @@ class InitialOutputs:
 
     def _checked_set(self, get: Callable[[Any, list[int]], list[Any]],
                      put: Callable[[Any, list[int], list[Any]], None]) -> Callable[[list[int], list[Any]], None]:
+        read = self._start_vrs
+
         def checked(vrs: list[int], values: list[Any]) -> None:
-            if not self._start_stale:
-                held = get(self, vrs)
+            if self._start_stale:
                 put(self, vrs, values)
-                self._start_stale = list(held) != list(values)
-            else:
-                put(self, vrs, values)
+                return
+            mine = [(vr, x) for vr, x in zip(vrs, values, strict=True) if vr in read]
+            held = get(self, [vr for vr, _ in mine]) if mine else []
+            put(self, vrs, values)
+            self._start_stale = held != [x for _, x in mine]
         return checked

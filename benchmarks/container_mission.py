@@ -5,8 +5,9 @@ mission completed, then exports the same system as one FMU on fmpy's container r
 with ``fmpy.simulate_fmu`` (the container applies no stop condition: it runs to the same time), and
 prints the burned fuel of both at the end (the engine's ``fuel_burned_kg``), the altitude at 30 s, the
 time each reports the mission completed, the end position and their differences, with the wall time of
-each. Issue 16 point 7 asks for the fuel within 0.1 %, point 2 for the altitude at 30 s within 1 m. The container runs in a child process, which leaves with ``os._exit`` (fmpy unloads the
-FMUs' libraries, see tests/thirdparty.py). Nothing is asserted (DESIGN.md rule 12).
+each. Issue 16 point 7 asks for the fuel within 0.1 %, point 2 for the altitude at 30 s within 1 m. The
+container runs in a child process, which leaves with ``os._exit`` (fmpy unloads the FMUs' libraries, see
+tests/thirdparty.py). Nothing is asserted (DESIGN.md rule 12).
 
 Run: ``python benchmarks/container_mission.py [SYSTEM] [--params X.ssv ...]`` (3 to 6 minutes).
 """

@@ -1,10 +1,12 @@
 """Engine FMU: the two-spool turbofan in time (fuel flow and flight condition in, thrust and cycle out).
 
 A thin pythonfmu slave over :class:`openemss.models.engine.engine_model.EngineModel`.
-At the end of initialisation the engine is put in a steady state at the initial
+In initialisation the engine is put in a steady state at the initial
 flight condition (inputs ``alt_msl_m``, ``mach``, ``isa_dev_K``, or with
 ``use_ambient`` the ambient static ``p_amb_Pa`` and ``T_amb_K``, e.g. from the airframe): at the fuel flow
-``start_fuel_flow_kg_s`` if it is > 0, else at ``start_N1_pct``. If the fuel flow
+``start_fuel_flow_kg_s`` if it is > 0, else at ``start_N1_pct``; computed when a master reads its outputs
+in Initialization Mode and again for inputs set after that (``fmus/initial_outputs.py``), so that the
+start is at the airframe's flight condition whatever the master's exchange. If the fuel flow
 input is not set (<= 0) at that moment it takes the start point's fuel flow.
 
 The engine is a preset (String parameter ``preset``: ``larzac04_sls``,

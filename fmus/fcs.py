@@ -36,6 +36,7 @@ from operator import attrgetter
 from pythonfmu import Fmi2Slave
 
 from openemss.fmus.data import data_file
+from openemss.fmus.initial_outputs import InitialOutputs
 from openemss.fmus.signal_io import SignalIO
 from openemss.models.common import safe_yaml
 from openemss.models.common.signals import Signal
@@ -103,12 +104,14 @@ def _defaults() -> FlightControlSystem:
     return FlightControlSystem(Mission("defaults", "", (), (), (), "<defaults>"))
 
 
-class Fcs(SignalIO, Fmi2Slave):
+class Fcs(InitialOutputs, SignalIO, Fmi2Slave):
     """UPERA flight and propulsion control: a mission of stacked sections flown by TECS and L1 guidance."""
 
     author = "openEMSS"
     description = ("Flight control system: airframe state and engine N1/N1c/Tt41 in; surface, gear, brake, "
                    "steering, thrust lever and fuel-flow commands and guidance targets out")
+
+    START_INPUTS = ()  # the start (mission, gains, initial commands) reads parameters only
 
     def __init__(self, **kwargs) -> None:  # type: ignore[no-untyped-def]
         super().__init__(**kwargs)
@@ -121,7 +124,8 @@ class Fcs(SignalIO, Fmi2Slave):
         #    names in pythonfmu's structured naming convention; nested=False: no attribute lookup by parts)
         ref = _defaults()
         docs = _parameter_docs(FlightControlSystem.__module__.rpartition(".")[0])
-        self._pending: dict[str, float | bool] = dict(GAIN_DEFAULTS)  # the shipped system's, set at the start
+        # every gain set so far (from the shipped system's defaults on), applied at each start
+        self._pending: dict[str, float | bool] = dict(GAIN_DEFAULTS)
         self._fcs: FlightControlSystem | None = None
         self.gain_names: tuple[str, ...] = ref.parameter_names()
         for pname in self.gain_names:
@@ -154,8 +158,7 @@ class Fcs(SignalIO, Fmi2Slave):
     def _set_gain(self, name: str, value: float | bool) -> None:
         if self._fcs is not None:
             self._fcs.set_parameter(name, value)  # checked against its range; raises a clear ParameterError
-        else:
-            self._pending[name] = value
+        self._pending[name] = value  # a start computed again (in Initialization Mode) keeps it
 
     # -- life cycle -------------------------------------------------------------------------
     def _mission_path(self):  # type: ignore[no-untyped-def]
@@ -169,13 +172,12 @@ class Fcs(SignalIO, Fmi2Slave):
                            f"absolute or relative to the FMU's resources folder (shipped: {DEFAULT_MISSION})")
         return p
 
-    def exit_initialization_mode(self) -> None:
+    def compute_start(self) -> None:
         mission = load_mission(self._mission_path())
         fcs = FlightControlSystem(mission, Wf0_kg_s=self.Wf0_kg_s if self.Wf0_kg_s >= 0.0 else None,
                                   elevator0=self.elevator0_norm)
         for name, value in self._pending.items():
             fcs.set_parameter(name, value)
-        self._pending.clear()
         self._fcs = fcs
         self._start_outputs(elevator_norm=self.elevator0_norm, flaps_norm=self.flaps_cmd_norm,
                             fuel_flow_cmd_kg_s=fcs.fuel.Wf_cmd_kg_s, section_index=fcs.runner.active_index,

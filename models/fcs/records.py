@@ -1,16 +1,24 @@
 """Frozen records built fast: the per-step signals of the FCS (states, targets, commands).
 
 A frozen dataclass's generated ``__init__`` sets each field through ``object.__setattr__`` (its own
-``__setattr__`` refuses), a generic attribute lookup per field: for the 21 fields of
-:class:`~.state.Targets` 3.2 us, a tenth of an FCS step's cost summed over the records of a step.
-:func:`fast_init` gives a frozen, slotted dataclass an ``__init__`` with the same signature (fields in
-order, defaults) that stores each field through its slot's descriptor directly (half the time); the
-record stays frozen (assignment raises ``FrozenInstanceError``), equal, hashable and a dataclass.
+``__setattr__`` refuses), a generic attribute lookup per field; calling each slot's descriptor
+(``__set__``) instead costs about as much again per field (a method-wrapper call). A step of the FCS
+builds four to five such records (the aircraft and engine states, the position, the output, the targets
+of the sections stepped every step: some 60 fields), which took an eighth of its time.
+
+:func:`fast_init` builds the record as an instance of a *builder*, a plain class with the same slots
+(same layout, no ``__setattr__`` of its own, so each field is one plain slot store), then makes it an
+instance of the record by assigning ``__class__`` (allowed between classes of the same layout, Python's
+data model, "__class__ assignment"): about a fifth of the descriptor calls' time for 18 fields. The
+record keeps the dataclass's signature (fields in order, defaults) through a ``__new__`` of that
+signature; it stays frozen (assignment raises ``FrozenInstanceError``), equal, hashable, a dataclass,
+and copies and pickles by its fields. A subclass of a record is built by the dataclass's own
+``__init__`` (its layout may differ).
 """
 from __future__ import annotations
 
 import dataclasses
-from typing import TypeVar
+from typing import Any, TypeVar
 
 __all__ = ["fast_init"]
 
@@ -18,7 +26,7 @@ C = TypeVar("C", bound=type)
 
 
 def fast_init(cls: C) -> C:
-    """Replace the ``__init__`` of the frozen, slotted dataclass ``cls`` by one that sets the slots directly.
+    """Give the frozen, slotted dataclass ``cls`` a construction that stores the slots directly.
 
     Raises
     ------
@@ -28,22 +36,44 @@ def fast_init(cls: C) -> C:
     params = getattr(cls, "__dataclass_params__", None)
     if params is None or not params.frozen or "__slots__" not in cls.__dict__ or hasattr(cls, "__post_init__"):
         raise TypeError(f"fast_init: {cls.__name__} must be a frozen dataclass with slots=True and no __post_init__")
-    ns: dict[str, object] = {}
+    fields = dataclasses.fields(cls)
+    builder = type(f"_{cls.__name__}Builder", (), {"__slots__": cls.__dict__["__slots__"],
+                                                   "__module__": cls.__module__})
+    init = cls.__dict__["__init__"]  # the dataclass's own (object.__setattr__ per field): for subclasses
+    ns: dict[str, Any] = {"_new": object.__new__, "_Builder": builder, "_Record": cls, "_init": init}
     args, body = [], []
-    for f in dataclasses.fields(cls):
+    for f in fields:
         if f.default_factory is not dataclasses.MISSING:
             raise TypeError(f"fast_init: {cls.__name__}.{f.name} has a default factory")
-        ns[f"_set_{f.name}"] = cls.__dict__[f.name].__set__
         if f.default is dataclasses.MISSING:
             args.append(f.name)
         else:
             ns[f"_dflt_{f.name}"] = f.default
             args.append(f"{f.name}=_dflt_{f.name}")
-        body.append(f"    _set_{f.name}(self, {f.name})")
-    src = f"def __init__(self, {', '.join(args)}):\n" + "\n".join(body or ["    pass"]) + "\n"
+        body.append(f"        self.{f.name} = {f.name}")
+    names = ", ".join(f.name for f in fields)
+    src = (f"def __new__(cls, {', '.join(args)}):\n"
+           "    if cls is _Record:\n"
+           "        self = _new(_Builder)\n"
+           + "\n".join(body) + "\n"
+           "        self.__class__ = _Record\n"
+           "    else:\n"
+           "        self = _new(cls)\n"
+           f"        _init(self, {names})\n"
+           "    return self\n")
     exec(src, ns)  # noqa: S102 - the source is built from the dataclass's own field names
-    init = ns["__init__"]
-    init.__qualname__ = f"{cls.__qualname__}.__init__"  # type: ignore[attr-defined]
-    init.__doc__ = cls.__init__.__doc__
-    cls.__init__ = init  # type: ignore[misc]
+    new = ns["__new__"]
+    new.__qualname__ = f"{cls.__qualname__}.__new__"
+    new.__doc__ = init.__doc__
+    cls.__new__ = new  # type: ignore[assignment]
+    # object.__init__ then takes the arguments (a type with its own __new__ and object's __init__)
+    del cls.__init__  # type: ignore[misc]
+    names_t = tuple(f.name for f in fields)
+
+    def __reduce__(self: Any) -> tuple[type, tuple[Any, ...]]:
+        """Copied and pickled by its fields (``cls(*fields)``)."""
+        return type(self), tuple(getattr(self, n) for n in names_t)
+
+    __reduce__.__qualname__ = f"{cls.__qualname__}.__reduce__"
+    cls.__reduce__ = __reduce__  # type: ignore[method-assign]
     return cls

@@ -6,8 +6,10 @@ batched methods must match for any order or subset of value references.
 """
 from __future__ import annotations
 
+import copy
 import dataclasses
 import math
+import pickle
 import random
 from pathlib import Path
 
@@ -49,6 +51,17 @@ def test_fast_init_builds_the_same_frozen_dataclass() -> None:
         _Fast()  # type: ignore[call-arg]
     with pytest.raises(TypeError):
         _Fast(1.0, "x", 2.0, 3.0)  # type: ignore[call-arg]
+    assert type(x) is _Fast and isinstance(x, _Fast) and dataclasses.is_dataclass(x)
+    for twin in (copy.copy(x), copy.deepcopy(x), pickle.loads(pickle.dumps(x))):
+        assert type(twin) is _Fast and twin == x
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        copy.copy(x).b = "z"  # type: ignore[misc]
+
+    class Sub(_Fast):  # a subclass (its own layout: a __dict__) is built by the dataclass's __init__
+        pass
+
+    s = Sub(1.0, c=2.0)
+    assert type(s) is Sub and dataclasses.astuple(s) == dataclasses.astuple(_Plain(1.0, c=2.0))
 
 
 def test_fast_init_keeps_the_defaults_of_targets() -> None:

@@ -52,9 +52,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ..common.records import fast_init
 from .clip import clip
 from .errors import ParameterError
-from .records import fast_init
 from .tunable import Tunable, load_params
 
 __all__ = ["FuelControlParams", "FuelControlOutput", "FuelController"]

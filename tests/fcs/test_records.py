@@ -1,4 +1,4 @@
-"""The fast frozen records (models/fcs/records.py) and the FCS FMU's batched get/set fast paths.
+"""The fast frozen records (models/common/records.py) and the FCS FMU's batched get/set fast paths.
 
 References: a plain frozen dataclass with the same fields (the construction ``fast_init`` replaces), and
 pythonfmu's own ``Fmi2Slave.get_*``/``set_*`` (one getter or setter per variable), which the FCS slave's
@@ -17,7 +17,7 @@ import pytest
 from pythonfmu import Fmi2Slave
 
 from openemss.fmus.fcs import INPUTS, OUTPUTS, Fcs
-from openemss.models.fcs.records import fast_init
+from openemss.models.common.records import fast_init
 from openemss.models.fcs.state import Targets
 
 ROOT = Path(__file__).resolve().parents[2]

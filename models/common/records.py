@@ -1,15 +1,16 @@
-"""Frozen records built fast: the per-step signals of the FCS (states, targets, commands).
+"""Frozen records built fast: per-step signals (the FCS's states, targets and commands, the atmosphere).
 
 A frozen dataclass's generated ``__init__`` sets each field through ``object.__setattr__`` (its own
 ``__setattr__`` refuses), a generic attribute lookup per field; calling each slot's descriptor
 (``__set__``) instead costs about as much again per field (a method-wrapper call). A step of the FCS
-builds four to five such records (the aircraft and engine states, the position, the output, the targets
-of the sections stepped every step: some 60 fields), which took an eighth of its time.
+builds five such records (the aircraft and engine states, the position, the output, the atmosphere at
+the aircraft, and the targets of the sections stepped every step: some 60 fields), which took an eighth
+of its time.
 
 :func:`fast_init` builds the record as an instance of a *builder*, a plain class with the same slots
 (same layout, no ``__setattr__`` of its own, so each field is one plain slot store), then makes it an
 instance of the record by assigning ``__class__`` (allowed between classes of the same layout, Python's
-data model, "__class__ assignment"): about a fifth of the descriptor calls' time for 18 fields. The
+data model, "__class__ assignment"): about a third of the descriptor calls' time for 18 fields. The
 record keeps the dataclass's signature (fields in order, defaults) through a ``__new__`` of that
 signature; it stays frozen (assignment raises ``FrozenInstanceError``), equal, hashable, a dataclass,
 and copies and pickles by its fields. A subclass of a record is built by the dataclass's own

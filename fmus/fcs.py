@@ -222,10 +222,10 @@ class Fcs(SignalIO, Fmi2Slave):
         sg = vs / (1.0 if 1.0 > tas else tas)  # max(-1, min(1, vs / max(tas, 1))), NaN as 1
         sg = sg if sg < 1.0 else 1.0
         gamma = math.asin(sg if sg > -1.0 else -1.0)
-        x = AircraftState(pos, alt, tas, math.nan, gamma, vn, ve, psi, phi, theta, p, q, r, beta,
-                          0.5 * rho * tas * tas, mass, bool(self.on_ground), dev)
+        x = AircraftState.make(pos, alt, tas, math.nan, gamma, vn, ve, psi, phi, theta, p, q, r, beta,
+                               0.5 * rho * tas * tas, mass, bool(self.on_ground), dev)
         fcs = self._fcs
-        o = fcs.step(current_time, step_size, x, EngineState(N1, N1c, Tt41))  # type: ignore[union-attr]
+        o = fcs.step(current_time, step_size, x, EngineState.make(N1, N1c, Tt41))  # type: ignore[union-attr]
         tg, c = o.targets, self.cmd
         a = tg.alt_cmd_m
         c.alt_m = alt if a is None or a != a else a  # (a != a: NaN)

@@ -120,7 +120,7 @@ def isa(alt_m: float, dT_isa_K: float = 0.0) -> Atmosphere:
     T, p = isa_T_p(alt_m, dT_isa_K)
     if not (T_MIN_K <= T <= T_MAX_K):           # also a NaN deviation
         raise AtmosphereRangeError(f"isa: {check(alt_m, dT_isa_K)}")
-    return Atmosphere(T, p, p / (R_AIR_J_KG_K * T), math.sqrt(GAMMA_AIR * R_AIR_J_KG_K * T))
+    return Atmosphere.make(T, p, p / (R_AIR_J_KG_K * T), math.sqrt(GAMMA_AIR * R_AIR_J_KG_K * T))
 
 
 def sutherland_viscosity(T_K: float) -> float:

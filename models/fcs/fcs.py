@@ -283,10 +283,10 @@ class FlightControlSystem:
             ap = runner.approach_params
             rudder = clip(-ap.k_psi_steer_1_rad * wrap_pi(x.psi_rad - tg.align_heading_rad), -1.0, 1.0)
         f = self.fuel.step_values(dt_s, lever, eng.N1c_pct, eng.N1_pct, eng.Tt41_K)
-        return FcsOutput(elevator, aileron, rudder, tg.steer, tg.brake, tg.gear_down, lever, f[0],
-                         theta_c, phi_cmd, tg, tas_cmd, _LIMITER_CODE[f[4]], airbrake,
-                         _MODE_CODE.get(tg.vnav_mode, 0),
-                         _PHASE_CODE.get(tg.phase, 0) if tg.section_type == "Landing" else 0)
+        return FcsOutput.make(elevator, aileron, rudder, tg.steer, tg.brake, tg.gear_down, lever, f[0],
+                              theta_c, phi_cmd, tg, tas_cmd, _LIMITER_CODE[f[4]], airbrake,
+                              _MODE_CODE.get(tg.vnav_mode, 0),
+                              _PHASE_CODE.get(tg.phase, 0) if tg.section_type == "Landing" else 0)
 
     def _energy_rates(self, t_s: float, x: AircraftState, tg: Targets) -> tuple[float, float, float]:
         """(E_rate_min, E_rate_max, airbrake drag available [N]) from the performance model

@@ -57,6 +57,15 @@ def test_fast_init_builds_the_same_frozen_dataclass() -> None:
     with pytest.raises(dataclasses.FrozenInstanceError):
         copy.copy(x).b = "z"  # type: ignore[misc]
 
+    for args, kw in (((1.0,), {}), ((2.0, "y"), {"c": 3.0})):  # make: the class call without its overhead
+        made = _Fast.make(*args, **kw)
+        assert type(made) is _Fast and made == _Fast(*args, **kw)
+        assert dataclasses.astuple(made) == dataclasses.astuple(_Plain(*args, **kw))
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        _Fast.make(1.0).a = 2.0  # type: ignore[misc]
+    with pytest.raises(TypeError):
+        _Fast.make()  # type: ignore[call-arg]
+
     class Sub(_Fast):  # a subclass (its own layout: a __dict__) is built by the dataclass's __init__
         pass
 

@@ -26,6 +26,7 @@ from pathlib import Path
 from pythonfmu import Fmi2Slave
 
 from openemss.fmus.data import data_file
+from openemss.fmus.initial_outputs import InitialOutputs
 from openemss.fmus.signal_io import SignalIO
 from openemss.models.airframe.adapter import FT
 from openemss.models.airframe.adapter import Airframe as AirframeModel
@@ -42,7 +43,7 @@ _ON_GROUND = STATE_FIELDS.index("on_ground")
 _TRIM = ("trim_elevator_norm", "trim_thrust_N")
 
 
-class Airframe(SignalIO, Fmi2Slave):
+class Airframe(InitialOutputs, SignalIO, Fmi2Slave):
     """UPERA six-degree-of-freedom airframe (JSBSim) with external thrust and fuel burn."""
 
     author = "openEMSS"
@@ -77,7 +78,7 @@ class Airframe(SignalIO, Fmi2Slave):
                                f"path, absolute or relative to the FMU's resources folder (shipped: {DATA_FILES[0]})")
         return load_weather(p)
 
-    def exit_initialization_mode(self) -> None:
+    def compute_start(self) -> None:
         w = self._weather()
         turb = w.turbulence if w is not None else None
         sev, w20, seed = (self.turbulence_severity, self.turbulence_wind_20ft_m_s, self.turbulence_seed)
@@ -88,6 +89,7 @@ class Airframe(SignalIO, Fmi2Slave):
                           turbulence_severity=sev, turbulence_wind_20ft_m_s=w20, seed=seed,
                           wind_profile=w.wind.ned_m_s if w is not None and w.wind is not None else None)
         m.set_added_mass(self.added_mass_kg)
+        self._trim = [0.0, 0.0]
         if self.start_on_runway:
             m.start_runway(self.lat0_deg, self.lon0_deg, self.heading0_deg, self.alt0_m, fuel_kg=self.fuel0_kg,
                            flaps=self.flaps0_norm)

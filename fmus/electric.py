@@ -21,6 +21,7 @@ import math
 from pythonfmu import Fmi2Slave
 from pythonfmu.enums import Fmi2Status
 
+from openemss.fmus.initial_outputs import InitialOutputs
 from openemss.fmus.signal_io import SignalIO
 from openemss.models.electric.electric_signals import PARAMETERS, SIGNALS
 from openemss.models.electric.errors import ElectricError
@@ -30,12 +31,13 @@ REQUIREMENTS = ["pyyaml>=6.0"]
 _INPUT_NAMES = tuple(name for name, _, _ in INPUTS)
 
 
-class Electric(SignalIO, Fmi2Slave):
+class Electric(InitialOutputs, SignalIO, Fmi2Slave):
     """Hybrid-electric power system on the two spools of a turbofan."""
 
     author = "openEMSS"
     description = ("Electrical power system: spool speeds [rpm], lever and pulse load [W] in; signed shaft "
                    "offtakes [W], battery state and energy ledger out")
+    START_INPUTS = ()  # the start (battery layout, state of charge) reads parameters only
 
     def __init__(self, **kwargs) -> None:  # type: ignore[no-untyped-def]
         super().__init__(**kwargs)
@@ -56,7 +58,7 @@ class Electric(SignalIO, Fmi2Slave):
             self.log(str(exc), Fmi2Status.error, "logStatusError")
             raise
 
-    def exit_initialization_mode(self) -> None:
+    def compute_start(self) -> None:
         self._sys.reset()
         self._outputs()
 

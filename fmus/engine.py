@@ -1,10 +1,12 @@
 """Engine FMU: the two-spool turbofan in time (fuel flow and flight condition in, thrust and cycle out).
 
 A thin pythonfmu slave over :class:`openemss.models.engine.engine_model.EngineModel`.
-At the end of initialisation the engine is put in a steady state at the initial
+In initialisation the engine is put in a steady state at the initial
 flight condition (inputs ``alt_msl_m``, ``mach``, ``isa_dev_K``, or with
 ``use_ambient`` the ambient static ``p_amb_Pa`` and ``T_amb_K``, e.g. from the airframe): at the fuel flow
-``start_fuel_flow_kg_s`` if it is > 0, else at ``start_N1_pct``. If the fuel flow
+``start_fuel_flow_kg_s`` if it is > 0, else at ``start_N1_pct``; computed when a master reads its outputs
+in Initialization Mode and again for inputs set after that (``fmus/initial_outputs.py``), so that the
+start is at the airframe's flight condition whatever the master's exchange. If the fuel flow
 input is not set (<= 0) at that moment it takes the start point's fuel flow.
 
 The engine is a preset (String parameter ``preset``: ``larzac04_sls``,
@@ -23,6 +25,7 @@ from operator import itemgetter
 from pythonfmu import Fmi2Slave
 from pythonfmu.enums import Fmi2Status
 
+from openemss.fmus.initial_outputs import InitialOutputs
 from openemss.fmus.signal_io import SignalIO
 from openemss.models.engine.design_params import TurbofanParams, load_params, preset_path, replace
 from openemss.models.engine.engine_model import (
@@ -53,7 +56,7 @@ _BOOLS = tuple((i, _FIELD_INPUT[f]) for i, f in enumerate(INPUT_FIELDS) if _SLOT
 _ALT, _DT = INPUT_FIELDS.index("alt_m"), INPUT_FIELDS.index("dT_isa_K")
 
 
-class Engine(SignalIO, Fmi2Slave):
+class Engine(InitialOutputs, SignalIO, Fmi2Slave):
     """Two-spool separate-flow turbofan with spool dynamics, bleeds, offtakes and inlet distortion."""
 
     author = "openEMSS"
@@ -65,6 +68,7 @@ class Engine(SignalIO, Fmi2Slave):
         for f, _, _ in DESIGN_FIELDS:  # the design parameters start at the preset's values
             setattr(self, f"design_{f}", float(getattr(base, f)))
         self._model: EngineModel | None = None
+        self._filled_Wf_kg_s = math.nan  # the fuel flow input's value as compute_start filled it in [kg/s]
         self.register_signals(SIGNALS)
         # the model's input array from the Real inputs (a Boolean's slot filled after): one itemgetter
         self._take = itemgetter(*(j if j is not None else 0 for j in _SLOTS))
@@ -87,7 +91,7 @@ class Engine(SignalIO, Fmi2Slave):
             p = replace(p, Fn_target_N=None, **{n: float(getattr(self, f"design_{n}")) for n, _ in DESIGN})
         return p
 
-    def exit_initialization_mode(self) -> None:
+    def compute_start(self) -> None:
         m = EngineModel(self._params(), I_lp_kg_m2=self.I_lp_kg_m2 or None, I_hp_kg_m2=self.I_hp_kg_m2 or None,
                         dt_internal_s=self.dt_internal_s, method="heun" if self.integrator == 1 else "euler",
                         tol=self.tol, limits=EngineLimits(self.N1_max_pct, self.N2_max_pct, self.FAR_lean,
@@ -108,8 +112,10 @@ class Engine(SignalIO, Fmi2Slave):
             m.start(u)
         else:
             m.start(u, N1_pct=self.start_N1_pct)
-        if self.fuel_flow_cmd_kg_s <= 0.0:
-            self.fuel_flow_cmd_kg_s = m.state.point.Wf_kg_s if m.state is not None else 0.0
+        # the fuel flow input takes the start point's unless a master set it (a start computed again keeps
+        # no fill-in of an earlier one: that was at the flight condition of then)
+        if self.fuel_flow_cmd_kg_s <= 0.0 or self.fuel_flow_cmd_kg_s == self._filled_Wf_kg_s:
+            self.fuel_flow_cmd_kg_s = self._filled_Wf_kg_s = m.state.point.Wf_kg_s if m.state is not None else 0.0
         self._model = m
         self._y, self._yb, self._yi = m.values, m.flags, [m.events]
 

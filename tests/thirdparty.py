@@ -150,3 +150,31 @@ def fmpy_bare_system(ssd: str, stop_time: float, step_size: float, variables: li
             out[v].append(float(value(*v.split(".", 1))))
     shutil.rmtree(tmp, ignore_errors=True)
     return out
+
+
+def fmpy_initialization_outputs(fmu: str, outputs: list[str], inputs: dict[str, float]) -> dict[str, list]:
+    """One FMU on fmpy's FMU2Slave through Initialization Mode: the Real ``outputs`` read right after
+    fmi2EnterInitializationMode, again after setting the Real ``inputs``, and after
+    fmi2ExitInitializationMode (keys ``entered``, ``after_set``, ``exited``, in the order of ``outputs``)."""
+    import shutil
+    import tempfile
+
+    from fmpy import extract, read_model_description
+    from fmpy.fmi2 import FMU2Slave
+
+    md = read_model_description(fmu)
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    tmp = tempfile.mkdtemp(prefix="fmpy_init_")
+    s = FMU2Slave(guid=md.guid, unzipDirectory=extract(fmu, unzipdir=tmp),
+                  modelIdentifier=md.coSimulation.modelIdentifier, instanceName="probe")
+    s.instantiate()
+    s.setupExperiment(startTime=0.0)
+    s.enterInitializationMode()
+    refs = [vr[n] for n in outputs]
+    out = {"entered": list(s.getReal(refs))}
+    s.setReal([vr[n] for n in inputs], list(inputs.values()))
+    out["after_set"] = list(s.getReal(refs))
+    s.exitInitializationMode()
+    out["exited"] = list(s.getReal(refs))
+    shutil.rmtree(tmp, ignore_errors=True)
+    return out

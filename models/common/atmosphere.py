@@ -24,6 +24,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from .records import fast_init
+
 __all__ = ["G0_M_S2", "R_AIR_J_KG_K", "GAMMA_AIR", "T0_K", "P0_PA", "RHO0_KG_M3", "A0_M_S", "ALT_MIN_M",
            "ALT_MAX_M", "T_MIN_K", "T_MAX_K", "Atmosphere", "AtmosphereRangeError", "isa_T_p", "check", "isa",
            "sutherland_viscosity"]
@@ -93,6 +95,7 @@ def check(alt_m: float, dT_isa_K: float = 0.0) -> str | None:
     return None
 
 
+@fast_init  # built once per step by the FCS: see records.py
 @dataclass(frozen=True, slots=True)
 class Atmosphere:
     """Static ambient state: temperature [K], pressure [Pa], density [kg/m^3] (ideal gas, R of dry
@@ -117,7 +120,7 @@ def isa(alt_m: float, dT_isa_K: float = 0.0) -> Atmosphere:
     T, p = isa_T_p(alt_m, dT_isa_K)
     if not (T_MIN_K <= T <= T_MAX_K):           # also a NaN deviation
         raise AtmosphereRangeError(f"isa: {check(alt_m, dT_isa_K)}")
-    return Atmosphere(T, p, p / (R_AIR_J_KG_K * T), math.sqrt(GAMMA_AIR * R_AIR_J_KG_K * T))
+    return Atmosphere.make(T, p, p / (R_AIR_J_KG_K * T), math.sqrt(GAMMA_AIR * R_AIR_J_KG_K * T))
 
 
 def sutherland_viscosity(T_K: float) -> float:

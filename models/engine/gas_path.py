@@ -189,6 +189,16 @@ def _map_t(m: Any, Nc: float, PR: float, v: np.ndarray, gx: np.ndarray, gy: np.n
 
 
 @jit
+def _turbine_point(m: Any, design: bool, eta_d: float, W: float, T: float, P: float, N: float, PR: float,
+                   v: np.ndarray, gx: np.ndarray, gy: np.ndarray, err: np.ndarray) -> tuple[float, float]:
+    """(corrected flow [kg/s], efficiency [-]) of a turbine with inlet (W, Tt, Pt) at speed N [rpm] and pressure
+    ratio PR: its map's, or by design its inlet's corrected flow and the design efficiency eta_d."""
+    if design:
+        return W * math.sqrt(T / T_STD_K) / (P / P_STD_PA), eta_d
+    return _map_t(m, N / math.sqrt(T / T_STD_K), PR, v, gx, gy, err)
+
+
+@jit
 def _mix_T(gc: np.ndarray, gs: np.ndarray, W: np.ndarray, T: np.ndarray, f: np.ndarray, ht: np.ndarray, n: int,
            err: np.ndarray) -> tuple[float, float, float, float]:
     """(W, Tt, FAR, ht) of the adiabatic mixture of the first n streams (:func:`.flow.mix_state`)."""
@@ -207,6 +217,27 @@ def _faces(gc: np.ndarray, gs: np.ndarray, T: float, P: float, f: float, h: floa
     sT[1], sP[1] = T + d[3], P * (1.0 - d[2])
     sh[1] = K.h(gc, gs, sT[1], f, err) if sT[1] != T else h
     return 2
+
+
+@jit
+def _on_map(m: Any, design: bool, PR_d: float, eta_d: float, W_face: float, N: float, b_clean: float, b_dist: float,
+            n: int, sT: np.ndarray, sP: np.ndarray, sfr: np.ndarray, PR: np.ndarray, eff: np.ndarray, Nc: np.ndarray,
+            beta: np.ndarray, sW: np.ndarray, v: np.ndarray, gx: np.ndarray, gy: np.ndarray, err: np.ndarray) -> float:
+    """The n sectors of a compressor face on map `m` at mechanical speed N [rpm] (or, by design, at PR_d and eta_d
+    with the face passing W_face [kg/s]): each sector's corrected speed, beta, PR, efficiency and the flow it
+    passes [kg/s] (its share of the annulus at the map's corrected flow); returns their sum [kg/s]."""
+    Wsum = 0.0
+    for k in range(n):
+        sqk = math.sqrt(sT[k] / T_STD_K)
+        Nc[k] = N / sqk
+        beta[k] = b_clean if k == 0 else b_dist
+        if design:
+            PR[k], eff[k], Wck = PR_d, eta_d, W_face * sqk / (sP[k] / P_STD_PA)
+        else:
+            Wck, PR[k], eff[k] = _map_c(m, Nc[k], beta[k], v, gx, gy, err)
+        sW[k] = sfr[k] * Wck * (sP[k] / P_STD_PA) / sqk
+        Wsum += sW[k]
+    return Wsum
 
 
 @jit
@@ -362,17 +393,8 @@ def turbofan(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: 
     sT, sP, sh, sfr, sW = np.empty(2), np.empty(2), np.empty(2), np.empty(2), np.empty(2)
     nsf = _faces(gc, gs, T2, P2, 0.0, h0, dist[0], sT, sP, sh, sfr, err)
     PRs, effs, Ncs, bets = np.empty(2), np.empty(2), np.empty(2), np.empty(2)
-    Wfan = 0.0
-    for k in range(nsf):
-        sqk = math.sqrt(sT[k] / T_STD_K)
-        Ncs[k] = N1 / sqk
-        if design:
-            PRs[k], effs[k], Wck = e[EP.PR_fan_outer], e[EP.eta_fan_outer], W2 * sqk / (sP[k] / P_STD_PA)
-        else:
-            bets[k] = bfan if k == 0 else b_fan_d
-            Wck, PRs[k], effs[k] = _map_c(fan, Ncs[k], bets[k], v, gx, gy, err)
-        sW[k] = sfr[k] * Wck * (sP[k] / P_STD_PA) / sqk
-        Wfan += sW[k]
+    Wfan = _on_map(fan, design, e[EP.PR_fan_outer], e[EP.eta_fan_outer], W2, N1, bfan, b_fan_d, nsf, sT, sP, sfr,
+                   PRs, effs, Ncs, bets, sW, v, gx, gy, err)
     if not (BPR >= 0.0):
         _mark(err, 2, _ST_FAN)
         return err[0]
@@ -419,17 +441,8 @@ def turbofan(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: 
     # HPC: sectors on the map
     nsh = _faces(gc, gs, T25, P25, 0.0, h25, dist[1], sT, sP, sh, sfr, err)
     hPR, heff, hNc, hbet = np.empty(2), np.empty(2), np.empty(2), np.empty(2)
-    Whpc = 0.0
-    for k in range(nsh):
-        sqk = math.sqrt(sT[k] / T_STD_K)
-        hNc[k] = N2 / sqk
-        if design:
-            hPR[k], heff[k], Wck = e[EP.PR_hpc], e[EP.eta_hpc], W25 * sqk / (sP[k] / P_STD_PA)
-        else:
-            hbet[k] = bhpc if k == 0 else b_hpc_d
-            Wck, hPR[k], heff[k] = _map_c(hpc, hNc[k], hbet[k], v, gx, gy, err)
-        sW[k] = sfr[k] * Wck * (sP[k] / P_STD_PA) / sqk
-        Whpc += sW[k]
+    Whpc = _on_map(hpc, design, e[EP.PR_hpc], e[EP.eta_hpc], W25, N2, bhpc, b_hpc_d, nsh, sT, sP, sfr, hPR, heff, hNc,
+                   hbet, sW, v, gx, gy, err)
     PRc = hPR[0]
     r_hpc_p = sP[1] * hPR[1] / (sP[0] * hPR[0]) - 1.0 if nsh == 2 else 0.0
     # the bleeds: the design's, then handling (to the bypass) and customer (overboard)
@@ -530,10 +543,7 @@ def turbofan(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: 
     _put(S, _S4, W4, Tt4, P4, f4, h4)
     _stage(err, _ST_BURN)
     # HPT with its cooling
-    if design:
-        Wc_t1, eff_t1 = W4 * math.sqrt(Tt4 / T_STD_K) / (P4 / P_STD_PA), e[EP.eta_hpt]
-    else:
-        Wc_t1, eff_t1 = _map_t(hpt, N2 / math.sqrt(Tt4 / T_STD_K), PRh, v, gx, gy, err)
+    Wc_t1, eff_t1 = _turbine_point(hpt, design, e[EP.eta_hpt], W4, Tt4, P4, N2, PRh, v, gx, gy, err)
     cw, cT, cP, cf, ch, cfp = np.empty(nb), np.empty(nb), np.empty(nb), np.empty(nb), np.empty(nb), np.empty(nb)
     nc = _cooling(B, nb, bfp, 2.0, cw, cT, cP, cf, ch, cfp)
     P_hpt, W44, T44, P44, f44, h44, W41, T41, f41, h41 = _turbine(gc, gs, W4, Tt4, P4, f4, h4, PRh, eff_t1, cw, cT,
@@ -543,10 +553,7 @@ def turbofan(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: 
     P45 = P44 * (1.0 - e[EP.dPqP_44_45])
     _put(S, _S45, W44, T44, P45, f44, h44)
     _stage(err, _ST_HPT)
-    if design:
-        Wc_t2, eff_t2 = W44 * math.sqrt(T44 / T_STD_K) / (P45 / P_STD_PA), e[EP.eta_lpt]
-    else:
-        Wc_t2, eff_t2 = _map_t(lpt, N1 / math.sqrt(T44 / T_STD_K), PRl, v, gx, gy, err)
+    Wc_t2, eff_t2 = _turbine_point(lpt, design, e[EP.eta_lpt], W44, T44, P45, N1, PRl, v, gx, gy, err)
     nc = _cooling(B, nb, bfp, 3.0, cw, cT, cP, cf, ch, cfp)
     P_lpt, W5, T5, P5, f5, h5, _, _, _, _ = _turbine(gc, gs, W44, T44, P45, f44, h44, PRl, eff_t2, cw, cT, cP, cf, ch,
                                             cfp, nc, err)

@@ -25,7 +25,8 @@ Phases of :class:`AutoLand` (each reported as a string):
                below decrab_height the rudder aligns the heading with the runway (de-crab;
                late, so the aircraft has little time to drift). -> ``DEROTATION`` on touchdown.
 ``DEROTATION`` pitch command lowered at theta_derot_rate to theta_ground, idle.
-               -> ``ROLLOUT`` when the pitch is within nose_down_tol of theta_ground.
+               -> ``ROLLOUT`` when the pitch is within nose_down_tol of theta_ground, or derot_settle
+               after the command reached theta_ground.
 ``ROLLOUT``    nose-wheel steering and rudder on the centre line, brakes.
                -> ``STOPPED`` below v_stop.
 
@@ -113,6 +114,7 @@ class ApproachParams:
     brake: float
     v_stop_m_s: float
     nose_down_tol_rad: float
+    derot_settle_s: float
     decrab_height_m: float
     flare_gamma_max_rad: float
     gear_up_agl_m: float
@@ -244,6 +246,7 @@ class AutoLand(Tunable[ApproachParams]):
         self.phase = ""  # decided at the first step: HOLD or LOC_ARMED
         self._tau_flare = 1.0
         self._theta_cmd = 0.0
+        self._t_nose_down_s = 0.0       # time the de-rotation command has been at theta_ground [s]
 
     @property
     def done(self) -> bool:
@@ -309,8 +312,15 @@ class AutoLand(Tunable[ApproachParams]):
         if self.phase in ("GS", "FLARE") and on_ground:
             self.phase = "DEROTATION"
             self._theta_cmd = theta_rad
-        if self.phase == "DEROTATION" and theta_rad <= p.theta_ground_rad + p.nose_down_tol_rad:
-            self.phase = "ROLLOUT"
+            self._t_nose_down_s = 0.0
+        if self.phase == "DEROTATION":
+            # ends with the nose down: the pitch within tolerance of theta_ground, or the command at theta_ground
+            # for derot_settle_s (the pitch on three wheels is the gear's and the struts', not exactly
+            # theta_ground: after a bounce it can settle a little above the tolerance and stay there)
+            if self._theta_cmd <= p.theta_ground_rad:
+                self._t_nose_down_s += dt_s
+            if theta_rad <= p.theta_ground_rad + p.nose_down_tol_rad or self._t_nose_down_s >= p.derot_settle_s:
+                self.phase = "ROLLOUT"
         if self.phase == "ROLLOUT" and vg < p.v_stop_m_s:
             self.phase = "STOPPED"
 

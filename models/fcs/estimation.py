@@ -73,9 +73,14 @@ def air_path_direction(phi_rad: float, theta_rad: float, psi_rad: float, beta_ra
     sb, cb = math.sin(beta_rad), math.cos(beta_rad)
     # B sin(alpha) - A cos(alpha) = K  <=>  R sin(alpha - delta) = K
     A, B = st, cf * ct
-    K = (-math.sin(gamma_rad) - sb * sf * ct) / max(cb, 1e-6)
+    K = (-math.sin(gamma_rad) - sb * sf * ct) / (1e-6 if 1e-6 > cb else cb)  # max(cb, 1e-6)
     R = math.hypot(A, B)
-    alpha = math.atan2(A, B) + math.asin(max(-1.0, min(1.0, K / R))) if R > 1e-9 else 0.0
+    if R > 1e-9:
+        s = K / R  # max(-1, min(1, K / R)), written out (NaN gives 1, as there)
+        s = s if s < 1.0 else 1.0
+        alpha = math.atan2(A, B) + math.asin(s if s > -1.0 else -1.0)
+    else:
+        alpha = 0.0
     ca, sa = math.cos(alpha) * cb, math.sin(alpha) * cb
     # ca x_b + sb y_b + sa z_b, component by component (north, east, down)
     n = ca * (ct * cp) + sb * (sf * st * cp - cf * sp) + sa * (cf * st * cp + sf * sp)

@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..common.records import fast_init
 from .approach import APPROACH_PHASES, ApproachParams
 from .atmosphere import G0_M_S2
 from .clip import clip
@@ -26,7 +27,6 @@ from .lateral import LateralController
 from .mission import Mission
 from .performance import Performance
 from .pitch import PitchController, turn_pitch_rate
-from .records import fast_init
 from .state import AircraftState, EngineState, Targets
 from .state_machine import MissionRunner
 from .tecs import Tecs
@@ -230,12 +230,15 @@ class FlightControlSystem:
         """
         vdot, tas = x.Vdot_m_s2, x.tas_m_s
         if vdot != vdot:  # NaN (not a dataclasses.replace of the state: a third of this step's cost)
-            raw = self._estimator.step(dt_s, tas, x.vn_m_s, x.ve_m_s, tas * math.sin(x.gamma_rad),
-                                       x.phi_rad, x.theta_rad, x.psi_rad, x.beta_rad, x.gamma_rad)
+            est, gamma = self._estimator, x.gamma_rad
+            raw = est.step(dt_s, tas, x.vn_m_s, x.ve_m_s, tas * math.sin(gamma), x.phi_rad, x.theta_rad, x.psi_rad,
+                           x.beta_rad, gamma)
             tau = self.tecs.parameters.tau_Vdot_s   # first-order low-pass of the estimate
-            self._vdot_f = raw if self._vdot_f is None else self._vdot_f + (raw - self._vdot_f) * dt_s / (tau + dt_s)
-            vdot = self._vdot_f
-            tas = self._estimator.tas_m_s if self._estimator.tas_m_s is not None else tas
+            vf = self._vdot_f
+            vdot = self._vdot_f = raw if vf is None else vf + (raw - vf) * dt_s / (tau + dt_s)
+            v_e = est.tas_m_s
+            if v_e is not None:
+                tas = v_e
         runner = self.runner
         tg = runner.step(t_s, dt_s, x)
         tas_cmd = math.nan
@@ -280,10 +283,10 @@ class FlightControlSystem:
             ap = runner.approach_params
             rudder = clip(-ap.k_psi_steer_1_rad * wrap_pi(x.psi_rad - tg.align_heading_rad), -1.0, 1.0)
         f = self.fuel.step_values(dt_s, lever, eng.N1c_pct, eng.N1_pct, eng.Tt41_K)
-        return FcsOutput(elevator, aileron, rudder, tg.steer, tg.brake, tg.gear_down, lever, f[0],
-                         theta_c, phi_cmd, tg, tas_cmd, _LIMITER_CODE[f[4]], airbrake,
-                         _MODE_CODE.get(tg.vnav_mode, 0),
-                         _PHASE_CODE.get(tg.phase, 0) if tg.section_type == "Landing" else 0)
+        return FcsOutput.make(elevator, aileron, rudder, tg.steer, tg.brake, tg.gear_down, lever, f[0],
+                              theta_c, phi_cmd, tg, tas_cmd, _LIMITER_CODE[f[4]], airbrake,
+                              _MODE_CODE.get(tg.vnav_mode, 0),
+                              _PHASE_CODE.get(tg.phase, 0) if tg.section_type == "Landing" else 0)
 
     def _energy_rates(self, t_s: float, x: AircraftState, tg: Targets) -> tuple[float, float, float]:
         """(E_rate_min, E_rate_max, airbrake drag available [N]) from the performance model

@@ -52,9 +52,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ..common.records import fast_init
 from .clip import clip
 from .errors import ParameterError
-from .records import fast_init
 from .tunable import Tunable, load_params
 
 __all__ = ["FuelControlParams", "FuelControlOutput", "FuelController"]
@@ -200,7 +200,9 @@ class FuelController(Tunable[FuelControlParams]):
         FCS's per-step path, which builds no records). The one implementation of the controller."""
         p = self._params
         d = clip(delta, 0.0, 1.0)
-        N1c_dem = max(p.k_delta_pct * d, p.N1c_idle_pct)
+        N1c_dem = p.k_delta_pct * d
+        if p.N1c_idle_pct > N1c_dem:  # max(k_delta d, N1c_idle)
+            N1c_dem = p.N1c_idle_pct
         e0_, e1_, e2_ = e = (N1c_dem - N1c_pct, p.Tt41_max_K - Tt41_K, p.N1_max_pct - N1_pct)
         p0, p1, p2 = e if self._e_prev is None else self._e_prev
         dWf, limiter = p.kp_kg_s_pct * (e0_ - p0) + p.ki_kg_s2_pct * dt_s * e0_, "demand"

@@ -29,8 +29,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..common.records import fast_init
 from .errors import GeometryError
-from .records import fast_init
 
 __all__ = [
     "R_EARTH_M", "WGS84_A_M", "WGS84_F", "LatLon",

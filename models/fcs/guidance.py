@@ -32,6 +32,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..common.records import fast_init
 from .atmosphere import G0_M_S2
 from .clip import clip
 from .errors import FcsError
@@ -45,7 +46,6 @@ from .geo import (
     track_position_m,
     wrap_pi,
 )
-from .records import fast_init
 from .tunable import Tunable, load_params
 
 __all__ = ["GuidanceParams", "PathCommand", "L1Guidance", "WaypointSequencer", "OrbitTracker"]

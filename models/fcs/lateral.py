@@ -23,10 +23,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..common.records import fast_init
 from .atmosphere import G0_M_S2
 from .clip import clip
 from .geo import wrap_pi
-from .records import fast_init
 from .tunable import Tunable, load_params
 
 __all__ = ["LateralParams", "LateralState", "LateralOutput", "LateralController"]

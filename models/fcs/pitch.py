@@ -86,7 +86,7 @@ class PitchController(Tunable[PitchParams]):
             (gain switching on weight on wheels).
         """
         p = self._params
-        s = clip(p.qbar_ref_Pa / max(qbar_Pa, 1.0), p.gain_sched_min, p.gain_sched_max)
+        s = clip(p.qbar_ref_Pa / (1.0 if 1.0 > qbar_Pa else qbar_Pa), p.gain_sched_min, p.gain_sched_max)
         e = theta_cmd_rad - theta_rad
         if on_ground:
             k_th, k_q, k_i = p.k_theta_ground_1_rad, p.k_q_ground_s_rad, p.k_theta_i_ground_1_rad_s

@@ -100,7 +100,7 @@ class SectionType:
         return None
 
     def targets(self, **kw: Any) -> Targets:
-        return Targets(self.sec.index, self.sec.name, self.sec.type, **kw)
+        return Targets.make(self.sec.index, self.sec.name, self.sec.type, **kw)
 
     def step(self, t_s: float, dt_s: float, x: AircraftState) -> Targets:  # pragma: no cover - abstract
         raise NotImplementedError

@@ -10,8 +10,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..common.records import fast_init
 from .geo import LatLon
-from .records import fast_init
 from .tecs import SpeedCommand
 
 __all__ = ["AircraftState", "EngineState", "Targets"]

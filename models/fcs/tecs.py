@@ -79,10 +79,10 @@ import math
 from dataclasses import dataclass
 from enum import StrEnum
 
+from ..common.records import fast_init
 from .atmosphere import G0_M_S2, Atmosphere, cas_from_tas, isa, tas_from_cas, tas_from_mach
 from .clip import clip
 from .errors import FcsError
-from .records import fast_init
 from .tunable import Tunable, load_params
 
 __all__ = ["TecsParams", "SpeedKind", "SpeedCommand", "TecsInput", "TecsOutput", "Tecs",
@@ -99,6 +99,9 @@ class SpeedKind(StrEnum):
     TAS = "tas"
 
 
+_MACH, _CAS = SpeedKind.MACH, SpeedKind.CAS
+
+
 @dataclass(frozen=True, slots=True)
 class SpeedCommand:
     """A speed target: ``value`` is a Mach number [-] or an airspeed [m/s] per ``kind``."""
@@ -110,9 +113,10 @@ class SpeedCommand:
         """The target as true airspeed at altitude ``alt_m`` [m/s] (``atm``: that altitude's atmosphere, when the
         caller has it)."""
         atm = atm if atm is not None else isa(alt_m, dT_isa_K)
-        if self.kind is SpeedKind.MACH:
+        kind = self.kind
+        if kind is _MACH:  # (a module constant: SpeedKind.MACH, an enum class's attribute, costs ~0.2 us a look-up)
             return tas_from_mach(self.value, atm)
-        if self.kind is SpeedKind.CAS:
+        if kind is _CAS:
             return tas_from_cas(self.value, atm)
         return self.value
 
@@ -349,8 +353,13 @@ class Tecs(Tunable[TecsParams]):
             demand = s_gc + a_c / G0_M_S2
             lim = math.nan
             margin = p.energy_margin
-            hi = E_rate_max - min(margin, 0.25 * max(E_rate_max - s_gc, 0.0))
-            lo = E_rate_min + min(margin, 0.25 * max(s_gc - E_rate_min, 0.0))
+            # min(margin, 0.25 max(room, 0)) written out (the builtins cost ~0.1 us a call; the same values)
+            room = E_rate_max - s_gc
+            room = 0.25 * (0.0 if 0.0 > room else room)
+            hi = E_rate_max - (room if room < margin else margin)
+            room = s_gc - E_rate_min
+            room = 0.25 * (0.0 if 0.0 > room else room)
+            lo = E_rate_min + (room if room < margin else margin)
             if demand > hi:
                 lim = hi
             elif demand < lo:
@@ -384,7 +393,7 @@ class Tecs(Tunable[TecsParams]):
             self._sigma = 1.0
         else:
             T_c = W * (p.k_TP * E_err + self._iT)
-            T_lo = T_idle - max(airbrake_max_N, 0.0)
+            T_lo = T_idle - (0.0 if 0.0 > airbrake_max_N else airbrake_max_N)  # max(airbrake_max_N, 0)
             T_hi = p.lever_max * T_avail
             sat_hi = T_c >= T_hi or underspeed
             sat_lo = T_c <= T_lo
@@ -405,7 +414,8 @@ class Tecs(Tunable[TecsParams]):
             if underspeed:
                 self._sigma = 1.0
             elif p.tau_priority_s > 0.0:
-                self._sigma += (sigma_target - self._sigma) * min(dt_s / p.tau_priority_s, 1.0)
+                f = dt_s / p.tau_priority_s
+                self._sigma += (sigma_target - self._sigma) * (1.0 if 1.0 < f else f)  # min(f, 1)
             else:
                 self._sigma = sigma_target
         sg = self._sigma

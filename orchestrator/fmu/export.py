@@ -5,7 +5,11 @@ The exported FMU holds every component FMU under ``resources/``, a
 ``container_fmu`` library as its binary. The container steps all components
 from the same inputs over its fixed internal step, then copies outputs to inputs
 (a Jacobi master that exchanges after the step); in initialization mode it copies
-every connection once, in the configuration's order, before leaving initialization mode.
+every connection once, in the configuration's order, before leaving initialization mode,
+and not again before the first step. So the first step runs on the outputs the components
+show in Initialization Mode: they must be their initial values there (FMI 2.0 allows a
+master to read them), not placeholders filled in on leaving it (ours are:
+``fmus/initial_outputs.py``).
 
 The runtime's exchange is one connection at a time (get, then set), in the
 configuration's order, so the order matters when an output depends directly on

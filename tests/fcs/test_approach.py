@@ -105,3 +105,32 @@ def test_ils_approach_to_full_stop(xwind_kt: float, above_m: float) -> None:
     assert td_sink < 2.0
     end_along, end_cross = RWY.local(ac.pos)
     assert end_along < RWY.length_m and abs(end_cross) < RWY.width_m / 2
+
+
+def test_derotation_ends_when_the_pitch_settles_above_its_tolerance() -> None:
+    """On three wheels the pitch is the gear's: after a bounce it may settle a little above theta_ground +
+    nose_down_tol and stay there. De-rotation then ends derot_settle_s after its command reached theta_ground
+    (and not before), so the brakes come on; with the pitch inside the tolerance it ends at once."""
+    p = ApproachParams.from_file()
+    for theta_stuck, expect_settle in ((p.theta_ground_rad + 1.2 * p.nose_down_tol_rad, True),
+                                       (p.theta_ground_rad + 0.5 * p.nose_down_tol_rad, False)):
+        land = AutoLand(RWY, approach_alt_m=RWY.elevation_m + 760.0)
+        land.phase = "FLARE"
+        pos = RWY.point(500.0)
+        theta0 = 0.06
+        cmd = land.step(DT, pos, RWY.elevation_m, 0.0, -40.0, RWY.heading_rad, 40.0, theta0, True)
+        assert cmd.phase == "DEROTATION" or not expect_settle
+        t_cmd_down = theta0 / p.theta_derot_rad_s       # when the lowered command reaches theta_ground
+        t, t_end = DT, None
+        while t < t_cmd_down + p.derot_settle_s + 2.0:
+            cmd = land.step(DT, pos, RWY.elevation_m, 0.0, -40.0, RWY.heading_rad, 40.0, theta_stuck, True)
+            t += DT
+            if cmd.phase == "ROLLOUT":
+                t_end = t
+                assert cmd.brake > 0.0
+                break
+        assert t_end is not None
+        if expect_settle:
+            assert t_cmd_down + p.derot_settle_s - 2 * DT <= t_end <= t_cmd_down + p.derot_settle_s + 2 * DT
+        else:
+            assert t_end <= 2 * DT

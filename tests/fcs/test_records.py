@@ -1,4 +1,4 @@
-"""The fast frozen records (models/fcs/records.py) and the FCS FMU's batched get/set fast paths.
+"""The fast frozen records (models/common/records.py) and the FCS FMU's batched get/set fast paths.
 
 References: a plain frozen dataclass with the same fields (the construction ``fast_init`` replaces), and
 pythonfmu's own ``Fmi2Slave.get_*``/``set_*`` (one getter or setter per variable), which the FCS slave's
@@ -6,8 +6,10 @@ batched methods must match for any order or subset of value references.
 """
 from __future__ import annotations
 
+import copy
 import dataclasses
 import math
+import pickle
 import random
 from pathlib import Path
 
@@ -15,7 +17,7 @@ import pytest
 from pythonfmu import Fmi2Slave
 
 from openemss.fmus.fcs import INPUTS, OUTPUTS, Fcs
-from openemss.models.fcs.records import fast_init
+from openemss.models.common.records import fast_init
 from openemss.models.fcs.state import Targets
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -49,6 +51,26 @@ def test_fast_init_builds_the_same_frozen_dataclass() -> None:
         _Fast()  # type: ignore[call-arg]
     with pytest.raises(TypeError):
         _Fast(1.0, "x", 2.0, 3.0)  # type: ignore[call-arg]
+    assert type(x) is _Fast and isinstance(x, _Fast) and dataclasses.is_dataclass(x)
+    for twin in (copy.copy(x), copy.deepcopy(x), pickle.loads(pickle.dumps(x))):
+        assert type(twin) is _Fast and twin == x
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        copy.copy(x).b = "z"  # type: ignore[misc]
+
+    for args, kw in (((1.0,), {}), ((2.0, "y"), {"c": 3.0})):  # make: the class call without its overhead
+        made = _Fast.make(*args, **kw)
+        assert type(made) is _Fast and made == _Fast(*args, **kw)
+        assert dataclasses.astuple(made) == dataclasses.astuple(_Plain(*args, **kw))
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        _Fast.make(1.0).a = 2.0  # type: ignore[misc]
+    with pytest.raises(TypeError):
+        _Fast.make()  # type: ignore[call-arg]
+
+    class Sub(_Fast):  # a subclass (its own layout: a __dict__) is built by the dataclass's __init__
+        pass
+
+    s = Sub(1.0, c=2.0)
+    assert type(s) is Sub and dataclasses.astuple(s) == dataclasses.astuple(_Plain(1.0, c=2.0))
 
 
 def test_fast_init_keeps_the_defaults_of_targets() -> None:

@@ -194,14 +194,17 @@ class EngineModel:
         # the scalars of the state, in one array the compiled step reads and writes (jit_step.ST)
         self._st = np.zeros(_N_ST)
         #: Step with the compiled step (:mod:`.jit_step`) where it applies; False: the Python step around the
-        #: compiled match (the same numbers, slower; for benchmarks and tests).
+        #: compiled match (the same numbers, slower; for benchmarks and tests). The compiled step reads the
+        #: limits, the valve and ``linear_input_frac`` when it takes over from a Python step (after
+        #: :meth:`start`, and after any step it leaves to Python): set them before :meth:`start`.
         self.compiled_step = True
         self._fast: tuple[Any, ...] | None = None   # (par, J_in, Js_free, Js_in, J_base, bundle) of the compiled step
         self._buf: np.ndarray | None = None         # the last match as jit_step.BUF, when the compiled step holds it
         self._bufs = np.zeros((2, 0))               # the compiled step's two match buffers: the last, the next
         self._k = 0                                 # the row of _bufs holding the last match
         self._rows = (self._bufs[0], self._bufs[1])
-        self._dt: tuple[float | None, float, float] = (None, 0.0, 0.0)  # (step asked, rounded, internal step)
+        # (step asked, rounded, internal step, dt_internal_s it was formed with)
+        self._dt: tuple[float | None, float, float, float] = (None, 0.0, 0.0, dt_internal_s)
         self._cache_of_current = self._cache_of_buf
         self._lazy = False                          # the state is to be formed from _buf when read
         self._state: TransientState | None = None
@@ -306,6 +309,8 @@ class EngineModel:
             par = self._par(len(fc.o)) if f is None else f[0]
             data = step_data(fcb, par, self._st, self._uin, self._vals, c[2], c[3], c[4], self._bufs)
             self._fast = (par, c[2], c[3], c[4], s._jbase, fcb, data, resolved(data), L)
+        else:                                   # the constants as they are now (shared with the StepData)
+            f[0][:] = self._par(len(fc.o))
         L = self._fast[8]
         b = self._rows[self._k]
         b[0:9] = s._xa
@@ -514,11 +519,11 @@ class EngineModel:
     def step_array(self, dt_s: float, u: np.ndarray, inputs: EngineInputs | None = None) -> list[float]:
         """:meth:`step` with the inputs as a float array in the order of :data:`INPUT_FIELDS` (the engine FMU's
         way: no object per step); `inputs`, if given, the same inputs as an :class:`EngineInputs`."""
-        if self._buf is not None:               # the compiled step (jit_step.euler_step), if it takes this one
+        if self._buf is not None and self.method == "euler":  # the compiled step (jit_step.euler_step), if it takes it
             d = self._dt
-            if d[0] != dt_s:                    # the step and its internal step as _step forms them
+            if d[0] != dt_s or d[3] != self.dt_internal_s:  # the step and its internal step as _step forms them
                 r = round(dt_s, 12)
-                d = self._dt = (dt_s, r, r / max(1, math.ceil(r / self.dt_internal_s - 1e-9)))
+                d = self._dt = (dt_s, r, r / max(1, math.ceil(r / self.dt_internal_s - 1e-9)), self.dt_internal_s)
             if u is not self._uin:
                 self._uin[:] = u
             fast = self._fast

@@ -57,6 +57,7 @@ from .distortion import Distortion
 from .engine_signals import FLAGS, OUTPUTS, BleedValve, EngineInputs, EngineLimits, condition_from_ambient
 from .errors import ModelError, OutOfRangeError
 from .flow import T_STD_K
+from .gas_path import OX
 from .jit_kernels import AVAILABLE
 from .offdesign import OffDesignPoint, TurbofanMaps, TurbofanOffDesign, scaled_maps
 from .transient import _FREE_L, _KEY_CLEAN, _ROWS9, TransientState, TurbofanTransient, _LazyResult
@@ -646,10 +647,11 @@ class EngineModel:
         if o is not None:                       # the compiled kernel's outputs, as OffDesignPoint forms them
             p = self.p                          # (Python floats: the same operations as on numpy's)
             Fn, Fg, ram, N1c, _, Tt4, T41, T21, T17, T7, Pt3, Pt2, hb, FAR4, W2, sm_f, sm_h = o.tolist()[:17]
+            sm_fc, sm_hc = float(o[OX.SM_fan_clean]), float(o[OX.SM_hpc_clean])   # the clean sectors' (distortion)
             N1, N2 = s.N1_rpm, s.N2_rpm
             v[:] = (Fn, Fg, ram, Wf, N1, N2, 100.0 * N1 / p.N1_rpm, 100.0 * N2 / p.N2_rpm,
                     100.0 * N1c / self._Nc1_d, Tt4, T41, T21, T17, T7, Pt3, Pt3 / Pt2, float(s.x[7] * p.BPR),
-                    sm_f, sm_h, sm_f, sm_h, Wf / Fn if Fn > 0.0 else math.inf, float(self.fuel_burned_kg),
+                    sm_f, sm_h, sm_fc, sm_hc, Wf / Fn if Fn > 0.0 else math.inf, float(self.fuel_burned_kg),
                     float(s.dN1_dt_rpm_s), float(s.dN2_dt_rpm_s), hb, FAR4, W2, *self.port_W)
         else:
             pt = s.point

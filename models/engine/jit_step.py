@@ -36,6 +36,7 @@ import numpy as np
 from numba.core import types
 from numba.experimental import structref
 
+from .gas_path import OX
 from .jit_kernels import jit
 from .jit_solve import CONVERGED, chord_solve, free_stream_at
 from .shaft import spool_acceleration_of
@@ -260,10 +261,11 @@ def euler_step(dt_s: float, h: float, d: StepData, k_prev: int, tol: float) -> i
             t = t1
     # success: commit (EngineModel.step's end and _publish)
     fuel = st[_FUEL] + Wf_s * dt_s
-    Fn, Pt3, hb_o, FAR4, sm_f, sm_h = o[0], o[10], o[12], o[13], o[15], o[16]
+    Fn, Pt3, hb_o, FAR4, sm_f, sm_h = o[OX.Fn], o[OX.Pt3], o[OX.hb], o[OX.FAR4], o[OX.SM_fan], o[OX.SM_hpc]
+    sm_fc, sm_hc = o[OX.SM_fan_clean], o[OX.SM_hpc_clean]
     N1_pct, N2_pct = 100.0 * N1_s / par[_N1D], 100.0 * N2_s / par[_N2D]
     v = (Fn, o[1], o[2], Wf_s, N1_s, N2_s, N1_pct, N2_pct, 100.0 * o[3] / par[_NC1D], o[5], o[6], o[7], o[8], o[9],
-         Pt3, Pt3 / o[11], xf[7] * par[_BPRD], sm_f, sm_h, sm_f, sm_h, Wf_s / Fn if Fn > 0.0 else math.inf, fuel,
+         Pt3, Pt3 / o[11], xf[7] * par[_BPRD], sm_f, sm_h, sm_fc, sm_hc, Wf_s / Fn if Fn > 0.0 else math.inf, fuel,
          a1, a2, hb_o, FAR4, o[14], hp, lp)
     for k in range(len(v)):
         vals[k] = v[k]

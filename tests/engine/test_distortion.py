@@ -172,3 +172,20 @@ def test_distortion_ranges() -> None:
         Distortion(1.0, 0.1)
     with pytest.raises(OutOfRangeError, match="dPt_frac"):
         Distortion(0.25, 0.6)
+
+
+def test_engine_in_time_reports_the_clean_and_the_worst_sector_apart() -> None:
+    """With fan distortion on, the engine in time publishes the worst sector's surge margin (SM_fan) and the clean
+    sector's (SM_fan_clean) apart, each equal to the steady gas path's at the same state (the OffDesignPoint view of
+    the same match); without distortion they are the same number."""
+    from openemss.models.engine.engine_model import EngineInputs, EngineModel
+    m = EngineModel("larzac04_sls")
+    u = EngineInputs(0.2, 3000.0, 0.5, distortion_on=True, sector_deg=90.0, dPt_frac=0.1)
+    m.start(EngineInputs(0.2, 3000.0, 0.5), N1_pct=85.0)
+    assert m.value("SM_fan") == m.value("SM_fan_clean")
+    for _ in range(10):
+        m.step(0.05, u)
+    worst, clean = m.value("SM_fan"), m.value("SM_fan_clean")
+    assert worst < clean - 0.02                             # the spoiled sector runs closer to surge
+    pt = m.state.point                                      # type: ignore[union-attr]
+    assert pt.SM_fan == pytest.approx(worst, rel=1e-12) and pt.SM_fan_clean == pytest.approx(clean, rel=1e-12)

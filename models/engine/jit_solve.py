@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 
 from . import jit_kernels as K
+from .gas_path import OX
 from .jit_cycle import cycle
 from .jit_freestream import free_stream
 from .jit_kernels import jit
@@ -150,10 +151,11 @@ def chord_solve(xf: np.ndarray, u: np.ndarray, H0: np.ndarray, J_in: np.ndarray,
         if norm < tol:
             for k in range(6):
                 xf[FREE[k]] = x[k]
-            o[15] = K.surge_margin(fan[0], fan[1], fan[2], fan[3], fan[4], fan[5], fan[7], fan[8],
-                                   o[3] / fan[6][3], x[1], fan[6][1])
-            o[16] = K.surge_margin(hpc[0], hpc[1], hpc[2], hpc[3], hpc[4], hpc[5], hpc[7], hpc[8],
-                                   o[4] / hpc[6][3], x[2], hpc[6][1])
+            o[OX.SM_fan] = K.surge_margin(fan[0], fan[1], fan[2], fan[3], fan[4], fan[5], fan[7], fan[8],
+                                          o[OX.N1c] / fan[6][3], x[1], fan[6][1])
+            o[OX.SM_hpc] = K.surge_margin(hpc[0], hpc[1], hpc[2], hpc[3], hpc[4], hpc[5], hpc[7], hpc[8],
+                                          o[OX.N2c] / hpc[6][3], x[2], hpc[6][1])
+            o[OX.SM_fan_clean], o[OX.SM_hpc_clean] = o[OX.SM_fan], o[OX.SM_hpc]     # one sector: the same
             H[:, :] = Hc
             dxw = np.dot(-Hc, np.ascontiguousarray(J_in[:, 2]))  # as TurbofanTransient.fuel_sensitivity
             sens[:] = np.dot(Js_free, dxw) + Js_in[:, 2]

@@ -30,13 +30,18 @@ P. P. Walsh, P. Fletcher, "Gas Turbine Performance", 2nd ed., 2004, sec. 5.13 (b
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
-from .errors import OutOfRangeError
-from .flow import FlowStation, flow_hP
-from .gas import DEFAULT_GAS, GasModel
+import numpy as np
 
-__all__ = ["SINKS", "BleedSpec", "stage_fractions", "bleed_station"]
+from . import jit_kernels as K
+from .errors import OutOfRangeError
+from .flow import FlowStation, check_flow
+from .gas import DEFAULT_GAS, GasModel
+from .jit_kernels import jit
+
+__all__ = ["SINKS", "BleedSpec", "stage_fractions", "bleed_state", "bleed_station"]
 
 #: Allowed destinations of a bleed.
 SINKS: tuple[str, ...] = ("overboard", "bypass", "hpt", "lpt")
@@ -99,6 +104,23 @@ def stage_fractions(stage: int, n_stages: int, PR: float) -> tuple[float, float]
     return (PR ** x - 1.0) / (PR - 1.0), x
 
 
+@jit
+def bleed_state(gc: np.ndarray, gs: np.ndarray, T_in: float, P_in: float, FAR: float, h_in: float, T_out: float,
+                P_out: float, h_out: float, frac_P: float, frac_work: float,
+                err: np.ndarray) -> tuple[float, float, float]:
+    """(Tt [K], Pt [Pa], ht [J/kg]) of a bleed from a compressor with inlet (T_in, P_in, h_in) and unbled exit
+    (T_out, P_out, h_out): the exit state for an exit bleed, else ht = h_in + frac_work (h_out - h_in),
+    Pt = P_in + frac_P (P_out - P_in) and Tt from ht. The one implementation (:func:`bleed_station` and the gas
+    path, :mod:`.gas_path`); ``err[0]`` 8 for a pressure not finite or not positive, 1 where the gas tables end."""
+    if frac_P == 1.0 and frac_work == 1.0:
+        return T_out, P_out, h_out
+    h = h_in + frac_work * (h_out - h_in)
+    P = P_in + frac_P * (P_out - P_in)
+    if not (P > 0.0 and math.isfinite(P)):
+        err[0] = err[0] or 8
+    return K.T_from_h(gc, gs, h, FAR, T_in, err), P, h
+
+
 def bleed_station(spec: BleedSpec, fs_in: FlowStation, fs_out: FlowStation,
                   gas: GasModel = DEFAULT_GAS) -> FlowStation:
     """The bleed stream of a compressor with inlet `fs_in` and (unbled) exit state `fs_out`.
@@ -106,8 +128,14 @@ def bleed_station(spec: BleedSpec, fs_in: FlowStation, fs_out: FlowStation,
     W = frac_W W_in, ht = ht_in + frac_work (ht_out - ht_in),
     Pt = Pt_in + frac_P (Pt_out - Pt_in), FAR of the inlet.
     """
-    ht = fs_in.ht_J_kg + spec.frac_work * (fs_out.ht_J_kg - fs_in.ht_J_kg)
-    Pt = fs_in.Pt_Pa + spec.frac_P * (fs_out.Pt_Pa - fs_in.Pt_Pa)
+    W = spec.frac_W * fs_in.W_kg_s
     if spec.at_exit:
-        return FlowStation(spec.frac_W * fs_in.W_kg_s, fs_out.Tt_K, fs_out.Pt_Pa, fs_out.FAR, fs_out.ht_J_kg)
-    return flow_hP(spec.frac_W * fs_in.W_kg_s, ht, Pt, fs_in.FAR, gas, fs_in.Tt_K)
+        return FlowStation(W, fs_out.Tt_K, fs_out.Pt_Pa, fs_out.FAR, fs_out.ht_J_kg)
+    err = np.zeros(1, np.int64)
+    gc, gs = gas.kernel_arrays()
+    T, P, h = bleed_state(gc, gs, fs_in.Tt_K, fs_in.Pt_Pa, fs_in.FAR, fs_in.ht_J_kg, fs_out.Tt_K, fs_out.Pt_Pa,
+                          fs_out.ht_J_kg, spec.frac_P, spec.frac_work, err)
+    check_flow(f"bleed {spec.name!r}", W, float(P))
+    if err[0]:
+        raise OutOfRangeError(f"bleed {spec.name!r}: its enthalpy {float(h)!r} J/kg is outside the gas tables")
+    return FlowStation(W, float(T), float(P), fs_in.FAR, float(h))

@@ -50,13 +50,14 @@ from typing import Any
 import numpy as np
 
 from . import jit_kernels as K
+from .bleed import bleed_state
 from .combustion import burner_exit_T, burner_far
 from .compressor import compress_exit
 from .flow import P_STD_PA, T_STD_K, mix_state
 from .jit_kernels import jit
 from .nozzle import convergent_throat
 from .shaft import TERM_INDEX, TURBOFAN_SHAFTS, spool_balance, term_arrays
-from .turbine import expand_h
+from .turbine import turbine_stream as _turbine
 
 __all__ = ["EP", "PARAMS", "STATIONS", "ROW", "OUT", "OX", "SINK", "ERRORS", "STAGES", "MAX_BLEEDS", "turbofan",
            "pack_params"]
@@ -255,56 +256,6 @@ def _mix_sectors(gc: np.ndarray, gs: np.ndarray, n: int, W: np.ndarray, T: np.nd
 
 
 @jit
-def _turbine(gc: np.ndarray, gs: np.ndarray, W: float, T: float, P: float, f: float, ht: float, PR: float,
-             eta: float, cw: np.ndarray, cT: np.ndarray, cP: np.ndarray, cf: np.ndarray, ch: np.ndarray,
-             cfp: np.ndarray, nc: int, err: np.ndarray) -> tuple[float, float, float, float, float, float, float,
-                                                                 float, float, float]:
-    """A turbine (:mod:`.turbine`) with nc cooling streams: (power, exit W, Tt, Pt, FAR, ht, rotor inlet W, Tt,
-    FAR, ht).
-
-    The primary flow expands from Pt to Pt/PR; each cooling stream enters at Pt_out + frac_P (Pt_in - Pt_out),
-    expands to Pt_out with the same efficiency, and all mix at the exit; station 41 is the inlet mixed with
-    the cooling air that enters at the inlet (frac_P = 1)."""
-    if not (PR >= 1.0) or not (0.0 < eta <= 1.0):
-        err[0] = err[0] or 2
-        return 0.0, W, T, P, f, ht, W, T, f, ht
-    Pin, Pout = P, P / PR
-    ho = expand_h(gc, gs, T, f, ht, Pin, Pout, eta, err) if PR > 1.0 else ht
-    power = W * (ht - ho)
-    Tg = T - (ht - ho) / K.cp(gc, gs, T, f, err)
-    if not (W >= 0.0 and math.isfinite(W)) or not (Pout > 0.0 and math.isfinite(Pout)):
-        err[0] = err[0] or 8
-    To = K.T_from_h(gc, gs, ho, f, Tg, err)
-    eW, eT, ef, eh = np.empty(nc + 1), np.empty(nc + 1), np.empty(nc + 1), np.empty(nc + 1)
-    eW[0], eT[0], ef[0], eh[0] = W, To, f, ho
-    for i in range(nc):
-        Pc = Pout + cfp[i] * (Pin - Pout)
-        if cP[i] < Pc * (1.0 - 1e-12):
-            err[0] = err[0] or 7
-        hc = expand_h(gc, gs, cT[i], cf[i], ch[i], Pc, Pout, eta, err) if Pc > Pout else ch[i]
-        power += cw[i] * (ch[i] - hc)
-        eW[i + 1], eT[i + 1], ef[i + 1], eh[i + 1] = cw[i], cT[i], cf[i], hc
-    if nc > 0:
-        Wo, To, fo, ho = _mix_T(gc, gs, eW, eT, ef, eh, nc + 1, err)
-    else:
-        Wo, fo = W, f
-    W41, T41, f41, h41 = W, T, f, ht
-    m = 0
-    for i in range(nc):
-        if cfp[i] == 1.0:
-            m += 1
-    if m > 0:
-        eW[0], eT[0], ef[0], eh[0] = W, T, f, ht
-        m = 1
-        for i in range(nc):
-            if cfp[i] == 1.0:
-                eW[m], eT[m], ef[m], eh[m] = cw[i], cT[i], cf[i], ch[i]
-                m += 1
-        W41, T41, f41, h41 = _mix_T(gc, gs, eW, eT, ef, eh, m, err)
-    return power, Wo, To, Pout, fo, ho, W41, T41, f41, h41
-
-
-@jit
 def _cooling(B: np.ndarray, nb: int, bfp: np.ndarray, sink: float, cw: np.ndarray, cT: np.ndarray, cP: np.ndarray,
              cf: np.ndarray, ch: np.ndarray, cfp: np.ndarray) -> int:
     """Copy the bleeds that go to turbine ``sink`` (2 HPT, 3 LPT) into the cooling arrays; returns how many."""
@@ -481,14 +432,9 @@ def turbofan(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: 
         W_inter = W_all = P_b = 0.0
         for i in range(nb):
             bW = bfw[i] * Win
-            if bfP[i] == 1.0 and bwk[i] == 1.0:
-                sbT[i, k], sbP[i, k], sbh[i, k] = T3, P3, h3
-            else:
-                sbh[i, k] = sh[k] + bwk[i] * (h3 - sh[k])
-                sbP[i, k] = sP[k] + bfP[i] * (P3 - sP[k])
-                if not (sbP[i, k] > 0.0 and math.isfinite(sbP[i, k])):
-                    err[0] = err[0] or 8
-                sbT[i, k] = K.T_from_h(gc, gs, sbh[i, k], 0.0, sT[k], err)
+            sbT[i, k], sbP[i, k], sbh[i, k] = bleed_state(gc, gs, sT[k], sP[k], 0.0, sh[k], T3, P3, h3, bfP[i],
+                                                          bwk[i], err)
+            if not (bfP[i] == 1.0 and bwk[i] == 1.0):
                 W_inter += bW
             sbW[i, k] = bW
             W_all += bW

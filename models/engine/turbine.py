@@ -35,7 +35,7 @@ import numpy as np
 
 from . import jit_kernels as K
 from .errors import ConvergenceError, OutOfRangeError
-from .flow import FlowStation, flow_hP, mix
+from .flow import FlowStation, mix_state
 from .gas import DEFAULT_GAS, T_MIN_K, GasModel
 from .jit_kernels import jit
 
@@ -96,6 +96,59 @@ def expand_h(gc: np.ndarray, gs: np.ndarray, Tt_K: float, FAR: float, ht_J_kg: f
     return ht_J_kg - eta * (ht_J_kg - K.h(gc, gs, T_is, FAR, err))
 
 
+@jit
+def turbine_stream(gc: np.ndarray, gs: np.ndarray, W: float, T: float, P: float, f: float, ht: float, PR: float,
+             eta: float, cw: np.ndarray, cT: np.ndarray, cP: np.ndarray, cf: np.ndarray, ch: np.ndarray,
+             cfp: np.ndarray, nc: int, err: np.ndarray) -> tuple[float, float, float, float, float, float, float,
+                                                                 float, float, float]:
+    """The turbine on floats, the one implementation (:func:`turbine` and the gas path, :mod:`.gas_path`, call it):
+    the primary flow (W [kg/s], Tt [K], Pt [Pa], FAR [-], ht [J/kg]) expands by PR [-] at efficiency eta [-]; nc
+    cooling streams (cw, cT, cP, cf, ch: W, Tt, Pt, FAR, ht; cfp: where they enter, frac_P) each enter at
+    Pt_out + frac_P (Pt_in - Pt_out), expand to Pt_out with the same efficiency, and all mix at the exit.
+
+    Returns (power [W], exit W, Tt, Pt, FAR, ht, rotor inlet W, Tt, FAR, ht): the rotor inlet (station 41) is the
+    inlet mixed with the cooling air entering at the inlet (frac_P = 1). ``err[0]``: 2 for PR < 1 or eta outside
+    (0, 1], 7 for a cooling stream below its entry pressure, 8 for a flow or pressure not finite or not positive,
+    1 where the gas tables end (:mod:`.jit_kernels`)."""
+    if not (PR >= 1.0) or not (0.0 < eta <= 1.0):
+        err[0] = err[0] or 2
+        return 0.0, W, T, P, f, ht, W, T, f, ht
+    Pin, Pout = P, P / PR
+    ho = expand_h(gc, gs, T, f, ht, Pin, Pout, eta, err) if PR > 1.0 else ht
+    power = W * (ht - ho)
+    Tg = T - (ht - ho) / K.cp(gc, gs, T, f, err)
+    if not (W >= 0.0 and math.isfinite(W)) or not (Pout > 0.0 and math.isfinite(Pout)):
+        err[0] = err[0] or 8
+    To = K.T_from_h(gc, gs, ho, f, Tg, err)
+    eW, eT, ef, eh = np.empty(nc + 1), np.empty(nc + 1), np.empty(nc + 1), np.empty(nc + 1)
+    eW[0], eT[0], ef[0], eh[0] = W, To, f, ho
+    for i in range(nc):
+        Pc = Pout + cfp[i] * (Pin - Pout)
+        if cP[i] < Pc * (1.0 - 1e-12):
+            err[0] = err[0] or 7
+        hc = expand_h(gc, gs, cT[i], cf[i], ch[i], Pc, Pout, eta, err) if Pc > Pout else ch[i]
+        power += cw[i] * (ch[i] - hc)
+        eW[i + 1], eT[i + 1], ef[i + 1], eh[i + 1] = cw[i], cT[i], cf[i], hc
+    if nc > 0:
+        Wo, To, fo, ho = mix_state(gc, gs, eW, eT, ef, eh, nc + 1, err)
+    else:
+        Wo, fo = W, f
+    W41, T41, f41, h41 = W, T, f, ht
+    m = 0
+    for i in range(nc):
+        if cfp[i] == 1.0:
+            m += 1
+    if m > 0:
+        eW[0], eT[0], ef[0], eh[0] = W, T, f, ht
+        m = 1
+        for i in range(nc):
+            if cfp[i] == 1.0:
+                eW[m], eT[m], ef[m], eh[m] = cw[i], cT[i], cf[i], ch[i]
+                m += 1
+        W41, T41, f41, h41 = mix_state(gc, gs, eW, eT, ef, eh, m, err)
+    return power, Wo, To, Pout, fo, ho, W41, T41, f41, h41
+
+
 def _expand(fs: FlowStation, Pt_from: float, Pt_to: float, eta: float, gas: GasModel) -> float:
     """Exit enthalpy [J/kg] of `fs` expanded from Pt_from to Pt_to with efficiency eta (:func:`expand_h`)."""
     err = np.zeros(1, np.int64)
@@ -116,7 +169,8 @@ def _check(PR: float, eta_is: float) -> None:
 
 def turbine(fs_in: FlowStation, PR: float, eta_is: float, cooling: Sequence[Cooling] = (),
             gas: GasModel = DEFAULT_GAS) -> TurbineResult:
-    """Expand `fs_in` by `PR` [-] with isentropic efficiency `eta_is` [-], mixing in `cooling`.
+    """Expand `fs_in` by `PR` [-] with isentropic efficiency `eta_is` [-], mixing in `cooling`
+    (:func:`turbine_stream`, with its checks raised as messages).
 
     Raises
     ------
@@ -125,34 +179,35 @@ def turbine(fs_in: FlowStation, PR: float, eta_is: float, cooling: Sequence[Cool
         is below that of its entry point (it could not flow in).
     """
     _check(PR, eta_is)
-    Pt_in, Pt_out = fs_in.Pt_Pa, fs_in.Pt_Pa / PR
-    ht_out = _expand(fs_in, Pt_in, Pt_out, eta_is, gas) if PR > 1.0 else fs_in.ht_J_kg
-    power = fs_in.W_kg_s * (fs_in.ht_J_kg - ht_out)
-    T_guess = fs_in.Tt_K - (fs_in.ht_J_kg - ht_out) / gas.cp(fs_in.Tt_K, fs_in.FAR)
-    exits = [flow_hP(fs_in.W_kg_s, ht_out, Pt_out, fs_in.FAR, gas, T_guess)]
-    for c in cooling:
-        Pt_c = Pt_out + c.frac_P * (Pt_in - Pt_out)
-        if c.flow.Pt_Pa < Pt_c * (1.0 - 1e-12):
-            raise OutOfRangeError(f"turbine: cooling air at Pt={c.flow.Pt_Pa:.6g} Pa cannot enter at "
-                                  f"{Pt_c:.6g} Pa (frac_P={c.frac_P})")
-        h_c = _expand(c.flow, Pt_c, Pt_out, eta_is, gas) if Pt_c > Pt_out else c.flow.ht_J_kg
-        power += c.flow.W_kg_s * (c.flow.ht_J_kg - h_c)
-        exits.append(FlowStation(c.flow.W_kg_s, c.flow.Tt_K, Pt_out, c.flow.FAR, h_c))
-    out = mix(exits, Pt_out, gas) if len(exits) > 1 else exits[0]
-    front = [c.flow.with_Pt(Pt_in) for c in cooling if c.frac_P == 1.0]
-    rotor_in = mix([fs_in, *front], Pt_in, gas) if front else fs_in
-    return TurbineResult(rotor_in, out, power, PR, eta_is, fs_in.W_kg_s * math.sqrt(fs_in.Tt_K) / Pt_in)
+    n = len(cooling)
+    c = np.array([(k.flow.W_kg_s, k.flow.Tt_K, k.flow.Pt_Pa, k.flow.FAR, k.flow.ht_J_kg, k.frac_P) for k in cooling],
+                 dtype=float).reshape(n, 6).T.copy()
+    err = np.zeros(1, np.int64)
+    gc, gs = gas.kernel_arrays()
+    P, Wo, To, Po, fo, ho, W41, T41, f41, h41 = turbine_stream(
+        gc, gs, fs_in.W_kg_s, fs_in.Tt_K, fs_in.Pt_Pa, fs_in.FAR, fs_in.ht_J_kg, float(PR), float(eta_is), c[0], c[1],
+        c[2], c[3], c[4], c[5], n, err)
+    if err[0] == 7:
+        Pt_out = fs_in.Pt_Pa / PR
+        bad = [(k.flow.Pt_Pa, Pt_out + k.frac_P * (fs_in.Pt_Pa - Pt_out), k.frac_P) for k in cooling
+               if k.flow.Pt_Pa < (Pt_out + k.frac_P * (fs_in.Pt_Pa - Pt_out)) * (1.0 - 1e-12)][0]
+        raise OutOfRangeError(f"turbine: cooling air at Pt={bad[0]:.6g} Pa cannot enter at {bad[1]:.6g} Pa "
+                              f"(frac_P={bad[2]})")
+    if err[0] == 8:
+        raise OutOfRangeError(f"turbine: W_kg_s={fs_in.W_kg_s!r} and Pt_out={fs_in.Pt_Pa / PR!r} Pa must be finite, "
+                              "W >= 0 and Pt > 0")
+    if err[0]:
+        raise OutOfRangeError(f"turbine: expanding Tt={fs_in.Tt_K!r} K, FAR={fs_in.FAR!r} by PR={PR!r} leaves the gas "
+                              f"tables ({K.T_MIN} K to {K.T_MAX} K)")
+    out = FlowStation(float(Wo), float(To), float(Po), float(fo), float(ho))
+    rotor_in = FlowStation(float(W41), float(T41), fs_in.Pt_Pa, float(f41), float(h41)) if \
+        any(k.frac_P == 1.0 for k in cooling) else fs_in
+    return TurbineResult(rotor_in, out, float(P), PR, eta_is, fs_in.W_kg_s * math.sqrt(fs_in.Tt_K) / fs_in.Pt_Pa)
 
 
 def _power(fs_in: FlowStation, PR: float, eta: float, cooling: Sequence[Cooling], gas: GasModel) -> float:
-    """Shaft power [W] of :func:`turbine` without building the exit stations."""
-    Pt_in, Pt_out = fs_in.Pt_Pa, fs_in.Pt_Pa / PR
-    P = fs_in.W_kg_s * (fs_in.ht_J_kg - _expand(fs_in, Pt_in, Pt_out, eta, gas))
-    for c in cooling:
-        Pt_c = Pt_out + c.frac_P * (Pt_in - Pt_out)
-        if Pt_c > Pt_out:
-            P += c.flow.W_kg_s * (c.flow.ht_J_kg - _expand(c.flow, Pt_c, Pt_out, eta, gas))
-    return P
+    """Shaft power [W] of :func:`turbine` (:func:`turbine_stream`)."""
+    return turbine(fs_in, PR, eta, cooling, gas).power_W
 
 
 def turbine_for_power(fs_in: FlowStation, power_W: float, eta_is: float, cooling: Sequence[Cooling] = (),

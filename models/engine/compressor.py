@@ -37,7 +37,7 @@ from .flow import FlowStation, check_flow
 from .gas import DEFAULT_GAS, GasModel
 from .jit_kernels import jit
 
-__all__ = ["CompressorResult", "compressor", "compress_exit", "efficiency_poly_to_isentropic"]
+__all__ = ["CompressorResult", "compressor", "compress_exit", "bled_power", "efficiency_poly_to_isentropic"]
 
 
 @jit
@@ -52,6 +52,17 @@ def compress_exit(gc: np.ndarray, gs: np.ndarray, Tt_K: float, FAR: float, ht_J_
     T_is = K.T_isentropic(gc, gs, Tt_K, PR, FAR, Tt_K * PR ** 0.2857, err)
     ht_out = ht_J_kg + (K.h(gc, gs, T_is, FAR, err) - ht_J_kg) / eta_is
     return K.T_from_h(gc, gs, ht_out, FAR, Tt_K + (T_is - Tt_K) / eta_is, err), ht_out
+
+
+@jit
+def bled_power(W_in: float, h_in: float, h_out: float, bW: np.ndarray, bh: np.ndarray, n: int) -> float:
+    """Shaft power [W] absorbed by a compressor of inlet flow W_in [kg/s] from h_in to h_out [J/kg] whose n bleeds
+    (flows bW [kg/s], enthalpies bh [J/kg]) leave with part of the work: W_in (h_out - h_in) - sum bW (h_out - bh).
+    The one implementation (:func:`compressor` and the gas path, :mod:`.gas_path`)."""
+    P_b = 0.0
+    for i in range(n):
+        P_b += bW[i] * (h_out - bh[i])
+    return W_in * (h_out - h_in) - P_b
 
 
 @dataclass(frozen=True, slots=True)
@@ -123,8 +134,8 @@ def compressor(fs_in: FlowStation, PR: float, eta_is: float, bleeds: Sequence[Bl
     W_all = sum(s.W_kg_s for s in streams)
     if W_all >= fs_in.W_kg_s:
         raise OutOfRangeError(f"compressor: bleeds take {W_all!r} kg/s of {fs_in.W_kg_s!r} kg/s")
-    power = fs_in.W_kg_s * (ht_out - fs_in.ht_J_kg) - sum(
-        s.W_kg_s * (ht_out - s.ht_J_kg) for s in streams)
+    power = float(bled_power(fs_in.W_kg_s, fs_in.ht_J_kg, float(ht_out), np.array([b.W_kg_s for b in streams]),
+                             np.array([b.ht_J_kg for b in streams]), len(streams)))
     dphi = gas.phi(full.Tt_K, f) - gas.phi(fs_in.Tt_K, f)
     eta_p = gas.R(f) * math.log(PR) / dphi if dphi > 0.0 else 1.0
     return CompressorResult(full.with_W(fs_in.W_kg_s - W_inter), streams, power, PR, eta_is, eta_p,

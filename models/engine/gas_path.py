@@ -52,7 +52,7 @@ import numpy as np
 from . import jit_kernels as K
 from .bleed import bleed_state
 from .combustion import burner_exit_T, burner_far
-from .compressor import compress_exit
+from .compressor import bled_power, compress_exit
 from .flow import P_STD_PA, T_STD_K, mix_state
 from .jit_kernels import jit
 from .nozzle import convergent_throat
@@ -429,7 +429,7 @@ def turbofan(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: 
     for k in range(nsh):
         Win = sW[k] * (W25 / Whpc)
         T3, h3, P3 = _compress(gc, gs, Win, sT[k], sP[k], 0.0, sh[k], hPR[k], heff[k], err)
-        W_inter = W_all = P_b = 0.0
+        W_inter = W_all = 0.0
         for i in range(nb):
             bW = bfw[i] * Win
             sbT[i, k], sbP[i, k], sbh[i, k] = bleed_state(gc, gs, sT[k], sP[k], 0.0, sh[k], T3, P3, h3, bfP[i],
@@ -441,9 +441,7 @@ def turbofan(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: 
         if W_all >= Win:
             _mark(err, 3, _ST_HPC)
             return err[0]
-        for i in range(nb):
-            P_b += sbW[i, k] * (h3 - sbh[i, k])
-        P_hpc += Win * (h3 - sh[k]) - P_b
+        P_hpc += bled_power(Win, sh[k], h3, sbW[:, k], sbh[:, k], nb)
         xW[k], xT[k], xP[k], xh[k] = Win - W_inter, T3, P3, h3
         W_inter_all += W_inter
     W3, T3, P3, h3 = _mix_sectors(gc, gs, nsh, xW, xT, xP, 0.0, xh, err)

@@ -52,7 +52,7 @@ def burner_exit_T(gc: np.ndarray, gs: np.ndarray, Tt3_K: float, FAR_in: float, F
                   h_fuel_J_kg: float, T_guess_K: float, err: np.ndarray) -> float:
     """Burner exit total temperature [K] from the energy balance of :func:`T_burner_exit` (h_fuel_J_kg: the
     liquid fuel's enthalpy, :func:`h_fuel_liquid`; gs[12] the LHV): the one implementation, compiled
-    (:mod:`.jit_cycle`) and called by :func:`T_burner_exit`; ``err[0]`` set where the gas tables end."""
+    (:mod:`.gas_path`) and called by :func:`T_burner_exit`; ``err[0]`` set where the gas tables end."""
     ha3, hf3 = K.h_parts(gc, gs, Tt3_K, err)
     q = (FAR_out - FAR_in) * (eta_b * gs[12] + h_fuel_J_kg)
     return K.T_from_h(gc, gs, (ha3 + FAR_in * hf3 + q) / (1.0 + FAR_out), FAR_out, T_guess_K, err)

@@ -44,7 +44,7 @@ __all__ = ["CompressorResult", "compressor", "compress_exit", "bled_power", "eff
 def compress_exit(gc: np.ndarray, gs: np.ndarray, Tt_K: float, FAR: float, ht_J_kg: float, PR: float, eta_is: float,
                   err: np.ndarray) -> tuple[float, float]:
     """Exit (Tt [K], ht [J/kg]) of a compression by `PR` [-] at isentropic efficiency `eta_is` [-]: the one
-    implementation, compiled (:mod:`.jit_cycle`) and called by :func:`compressor`.
+    implementation, compiled (:mod:`.gas_path`) and called by :func:`compressor`.
 
     ht_out = ht_in + (h(T_is) - ht_in) / eta_is, T_is the isentropic exit temperature; ``err[0]`` is set where a
     temperature leaves the gas tables (:mod:`.jit_kernels`).

@@ -162,7 +162,7 @@ def mix(streams: Iterable[FlowStation], Pt_Pa: float | None = None,
 def mix_state(gc: np.ndarray, gs: np.ndarray, W: np.ndarray, T: np.ndarray, f: np.ndarray, ht: np.ndarray, n: int,
               err: np.ndarray) -> tuple[float, float, float, float]:
     """(W [kg/s], Tt [K], FAR [-], ht [J/kg]) of the adiabatic mixture of the first n streams (mass, air, fuel
-    and enthalpy conserved): the one implementation, compiled (:mod:`.jit_cycle`) and called by :func:`mix`."""
+    and enthalpy conserved): the one implementation, compiled (:mod:`.gas_path`) and called by :func:`mix`."""
     Ws = air = fuel = H = WT = 0.0
     for i in range(n):
         Ws += W[i]

@@ -2,11 +2,12 @@
 
 The one implementation of the gas properties (NASA Glenn mixtures of air and lean combustion
 products): :class:`.gas.GasModel` checks its arguments and calls these functions, and the
-compiled cycle (:mod:`.jit_cycle`) calls them directly; written on plain floats and arrays
+gas path (:mod:`.gas_path`) calls them directly; written on plain floats and arrays
 so that numba compiles them (``njit``), and plain Python without numba (``OPENEMSS_NO_JIT``).
-The map tables follow :mod:`.map_interp` (C1 bicubic Hermite tables with linear
-extrapolation) and the surge margin :meth:`.maps.CompressorMap.surge_margin` (flow basis);
-``tests/engine/test_jit_cycle.py`` checks those against their Python versions.
+The map tables (:func:`table`: the C1 bicubic Hermite tables of :mod:`.map_interp`, whose
+``BicubicTable.values`` calls it, with linear extrapolation) and the surge line and margin
+(:func:`surge_speed_at_flow`, :func:`surge_margin`, called by :class:`.maps.CompressorMap`)
+are the one implementation too; ``tests/engine/test_one_source.py`` runs them compiled and not.
 
 Errors are not raised here: a function that meets an input the Python version would
 refuse sets ``err[0] = 1`` and returns a finite dummy value; the caller then raises

@@ -15,7 +15,7 @@ the same numbers, bit for bit; elsewhere they differ by rounding.
 first entries of the ``fsc`` array remember the last one).
 
 Nothing here raises: a status tells the caller what Python would do. ``tests/engine/
-test_jit_cycle.py`` checks the free stream against :func:`.atmosphere.free_stream` and the
+test_one_source.py`` checks the free stream against :func:`.atmosphere.free_stream` and the
 solver against the Python iteration on the same steps. Needs SciPy (numba's ``np.dot``).
 
 References
@@ -117,7 +117,7 @@ def chord_solve(xf: np.ndarray, u: np.ndarray, H0: np.ndarray, J_in: np.ndarray,
     fcb : the compiled cycle's arrays (:func:`bundle`); its free-stream cache ``fsc`` is updated
         (:func:`free_stream_at`).
     tol : convergence when max |r| of the six matched residuals < tol.
-    H, r, o, sens : outputs: the updated inverse Jacobian, the residuals (9) and outputs (:data:`.jit_cycle.OUT`,
+    H, r, o, sens : outputs: the updated inverse Jacobian, the residuals (9) and outputs (:data:`.gas_path.OUT`,
         surge margins included) at the match, and the shaft residuals' (HP, LP) change per unit of scaled fuel
         flow with the gas path re-matched (-Js_free H J_in[:, 2] + Js_in[:, 2], for
         :meth:`.transient.TurbofanTransient.fuel_sensitivity`).

@@ -7,7 +7,7 @@ the match itself. :func:`euler_step` is that step for the configuration a missio
 (explicit Euler, no inlet distortion, a customer bleed inside its range, a cached Jacobian of
 the compiled iteration): the same operations in the same order on the same floats, the
 matches by :func:`.jit_solve.chord_solve`, so its results are the Python step's, bit for bit
-(``tests/engine/test_jit_cycle.py`` compares both).
+(``tests/engine/test_one_source.py`` compares both).
 
 It commits nothing until the step has succeeded. Whatever the Python step would treat in
 another way (a match that fails or stalls, the surge-side beta floor, a speed that is not

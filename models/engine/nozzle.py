@@ -50,7 +50,7 @@ def convergent_throat(gc: np.ndarray, gs: np.ndarray, W: float, Tt: float, Pt: f
 
     Choked (p_amb at or below the Mach-1 static pressure): Mach 1 at the throat and a pressure thrust
     (Ps - p_amb) A; else expanded to p_amb. Fg = Cv W V + pressure thrust. The one implementation, compiled
-    (:mod:`.jit_cycle`) and called by :func:`convergent_nozzle`; ``err[0]`` set where the gas tables end.
+    (:mod:`.gas_path`) and called by :func:`convergent_nozzle`; ``err[0]`` set where the gas tables end.
     """
     Ts, p_pt = K.static_from_total(gc, gs, Tt, 1.0, FAR, err)
     Ps = Pt * p_pt

@@ -18,7 +18,7 @@ losses belong to the machine's model).
 The topology of the shafts is data: :data:`TURBOFAN_SHAFTS` declares, once, which
 component's power goes to which spool and how (:class:`ShaftTerm`);
 :func:`spool_balance` forms the balances of any such declaration from a vector of
-the terms' powers, the same function compiled (numba, :mod:`.jit_cycle`) and in
+the terms' powers, the same function compiled (numba, :mod:`.gas_path`) and in
 Python (:mod:`.offdesign`). Adding a machine on a shaft is one more term here and
 its power in the vector (see ``models/engine/README.md``, "How to add a component").
 

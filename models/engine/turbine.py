@@ -90,7 +90,7 @@ class TurbineResult:
 def expand_h(gc: np.ndarray, gs: np.ndarray, Tt_K: float, FAR: float, ht_J_kg: float, Pt_from: float, Pt_to: float,
              eta: float, err: np.ndarray) -> float:
     """Exit enthalpy [J/kg] of a stream expanded from Pt_from to Pt_to [Pa] with isentropic efficiency `eta`
-    [-]: ht - eta (ht - h(T_is)); the one implementation, compiled (:mod:`.jit_cycle`) and called by
+    [-]: ht - eta (ht - h(T_is)); the one implementation, compiled (:mod:`.gas_path`) and called by
     :func:`turbine`. ``err[0]`` is set where a temperature leaves the gas tables."""
     T_is = K.T_isentropic(gc, gs, Tt_K, Pt_to / Pt_from, FAR, Tt_K * (Pt_to / Pt_from) ** 0.25, err)
     return ht_J_kg - eta * (ht_J_kg - K.h(gc, gs, T_is, FAR, err))

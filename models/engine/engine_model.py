@@ -54,7 +54,7 @@ from .atmosphere import free_stream
 from .cycle_design import design
 from .design_params import TurbofanParams, load_params, preset_path
 from .distortion import Distortion
-from .engine_signals import FLAGS, OUTPUTS, BleedValve, EngineInputs, EngineLimits, condition_from_ambient
+from .engine_signals import EO, FLAGS, OUTPUTS, BleedValve, EngineInputs, EngineLimits, condition_from_ambient
 from .errors import ModelError, OutOfRangeError
 from .flow import T_STD_K
 from .gas_path import OX
@@ -559,9 +559,9 @@ class EngineModel:
         for i, (name, _) in enumerate(FLAGS):
             if out & (1 << i):
                 self.events += 1
-                self.log(f"engine: t={self.t_s:.6g} s: {name} (N1 {v[6]:.2f} %, N2 {v[7]:.2f} %, "
-                         f"SM fan {v[17]:.4f}, SM HPC {v[18]:.4f}, FAR4 {v[26]:.5f}, shaft ports HP "
-                         f"{v[28]:.6g} W, LP {v[29]:.6g} W)")
+                self.log(f"engine: t={self.t_s:.6g} s: {name} (N1 {v[EO.N1_pct]:.2f} %, N2 {v[EO.N2_pct]:.2f} %, "
+                         f"SM fan {v[EO.SM_fan]:.4f}, SM HPC {v[EO.SM_hpc]:.4f}, FAR4 {v[EO.FAR4]:.5f}, shaft ports "
+                         f"HP {v[EO.offtake_hp_applied_W]:.6g} W, LP {v[EO.offtake_lp_applied_W]:.6g} W)")
 
     def _step(self, dt_s: float, u: EngineInputs) -> list[float]:
         """The step in Python around the compiled (or Python) match; hands over to the compiled step after it."""
@@ -641,34 +641,33 @@ class EngineModel:
     def _publish(self, Wf: float, Wf_in: float, failed: bool = False) -> None:
         s = self.state
         assert s is not None
-        o = s.fast
-        v = self.values
+        o = s.fast.tolist()                     # the gas path's outputs at the match (Python floats: the same
+        v = self.values                         # operations as the compiled step's on numpy's)
         Wf = float(Wf)
-        if o is not None:                       # the compiled kernel's outputs, as OffDesignPoint forms them
-            p = self.p                          # (Python floats: the same operations as on numpy's)
-            Fn, Fg, ram, N1c, _, Tt4, T41, T21, T17, T7, Pt3, Pt2, hb, FAR4, W2, sm_f, sm_h = o.tolist()[:17]
-            sm_fc, sm_hc = float(o[OX.SM_fan_clean]), float(o[OX.SM_hpc_clean])   # the clean sectors' (distortion)
-            N1, N2 = s.N1_rpm, s.N2_rpm
-            v[:] = (Fn, Fg, ram, Wf, N1, N2, 100.0 * N1 / p.N1_rpm, 100.0 * N2 / p.N2_rpm,
-                    100.0 * N1c / self._Nc1_d, Tt4, T41, T21, T17, T7, Pt3, Pt3 / Pt2, float(s.x[7] * p.BPR),
-                    sm_f, sm_h, sm_fc, sm_hc, Wf / Fn if Fn > 0.0 else math.inf, float(self.fuel_burned_kg),
-                    float(s.dN1_dt_rpm_s), float(s.dN2_dt_rpm_s), hb, FAR4, W2, *self.port_W)
-        else:
-            pt = s.point
-            out = (pt.Fn_N, pt.Fg_N, pt.ram_drag_N, Wf, pt.N1_rpm, pt.N2_rpm, pt.N1_pct, pt.N2_pct, pt.N1c_pct,
-                   pt.Tt4_K, pt.T41_K, pt.Tt21_K, pt.Tt17_K, pt.Tt7_K, pt.Pt3_Pa, pt.OPR, pt.BPR, pt.SM_fan,
-                   pt.SM_hpc, pt.SM_fan_clean, pt.SM_hpc_clean)
-            Fn, hb, FAR4, W2 = pt.Fn_N, pt.handling_bleed_frac, pt.stations["4"].FAR, pt.stations["2"].W_kg_s
-            for i, x_ in enumerate(out + (Wf / Fn if Fn > 0.0 else math.inf, self.fuel_burned_kg, s.dN1_dt_rpm_s,
-                                          s.dN2_dt_rpm_s, hb, FAR4, W2, *self.port_W)):
-                v[i] = float(x_)
+        p = self.p
+        N1, N2, Fn, Pt3 = s.N1_rpm, s.N2_rpm, o[OX.Fn], o[OX.Pt3]
+        v[EO.thrust_N], v[EO.gross_thrust_N], v[EO.ram_drag_N], v[EO.fuel_flow_kg_s] = Fn, o[OX.Fg], o[OX.ram], Wf
+        v[EO.N1_rpm], v[EO.N2_rpm] = N1, N2
+        v[EO.N1_pct], v[EO.N2_pct] = 100.0 * N1 / p.N1_rpm, 100.0 * N2 / p.N2_rpm
+        v[EO.N1c_pct] = 100.0 * o[OX.N1c] / self._Nc1_d
+        v[EO.Tt4_K], v[EO.Tt41_K], v[EO.Tt21_K], v[EO.Tt17_K], v[EO.Tt7_K] = (o[OX.Tt4], o[OX.T41], o[OX.Tt21],
+                                                                               o[OX.Tt17], o[OX.Tt7])
+        v[EO.Pt3_Pa], v[EO.OPR], v[EO.BPR] = Pt3, Pt3 / o[OX.Pt2], float(s.x[7] * p.BPR)
+        v[EO.SM_fan], v[EO.SM_hpc] = o[OX.SM_fan], o[OX.SM_hpc]
+        v[EO.SM_fan_clean], v[EO.SM_hpc_clean] = o[OX.SM_fan_clean], o[OX.SM_hpc_clean]   # the clean sectors'
+        v[EO.SFC_kg_N_s] = Wf / Fn if Fn > 0.0 else math.inf
+        v[EO.fuel_burned_kg] = float(self.fuel_burned_kg)
+        v[EO.dN1_dt_rpm_s], v[EO.dN2_dt_rpm_s] = float(s.dN1_dt_rpm_s), float(s.dN2_dt_rpm_s)
+        v[EO.handling_bleed_frac], v[EO.FAR4], v[EO.W2_kg_s] = o[OX.hb], o[OX.FAR4], o[OX.W2]
+        v[EO.offtake_hp_applied_W], v[EO.offtake_lp_applied_W] = self.port_W
+        FAR4 = v[EO.FAR4]
         lim = self.limits
-        N1_pct, N2_pct, SM_fan, SM_hpc = v[6], v[7], v[17], v[18]
+        N1_pct, N2_pct, SM_fan, SM_hpc = v[EO.N1_pct], v[EO.N2_pct], v[EO.SM_fan], v[EO.SM_hpc]
         new = [bool(SM_fan < 0.0 or SM_hpc < 0.0 or self.fuel_limited),
                bool(FAR4 < lim.FAR_lean or Wf_in < lim.Wf_min_frac * self.dp.Wf_kg_s),
                bool(N1_pct > lim.N1_max_pct or N2_pct > lim.N2_max_pct), failed, self.fuel_limited,
                self.port_limited]
-        self._st[_ST_PT3] = v[14]
+        self._st[_ST_PT3] = v[EO.Pt3_Pa]
         self._st[_ST_FLAG:_ST_FLAG + len(new)] = new
         for i, (name, _) in enumerate(FLAGS):
             if i != _SOLVER_FAILED and new[i] and not self.flags[i]:     # a failed match is logged by step()

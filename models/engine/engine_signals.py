@@ -18,6 +18,7 @@ ISO 2533:1975, Standard Atmosphere (pressure altitude).
 
 from __future__ import annotations
 
+import enum
 import math
 from dataclasses import dataclass, fields
 
@@ -85,6 +86,9 @@ _FLAG_ROWS: tuple[Signal, ...] = (
 OUTPUTS: tuple[tuple[str, str], ...] = tuple((s.name, s.described()) for s in _OUTPUT_ROWS)
 #: Boolean outputs of :attr:`EngineModel.flags`, in order: (name, description).
 FLAGS: tuple[tuple[str, str], ...] = tuple((s.name, s.described()) for s in _FLAG_ROWS)
+#: Index of each output in the model's value vector, by name (an IntEnum: the compiled step reads its members as
+#: constants), so that both steps fill the outputs by name.
+EO = enum.IntEnum("EO", [(name, i) for i, (name, _) in enumerate(OUTPUTS)])
 
 
 @dataclass(frozen=True)

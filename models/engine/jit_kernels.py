@@ -62,15 +62,15 @@ def _cache_dir() -> str:
         os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "openemss", "numba")
     here = os.path.dirname(os.path.abspath(__file__))
     digest = hashlib.sha256(__name__.encode())            # compiled code refers to its module by name
-    # a kernel embeds the ones it calls: hash every module of the package that holds one (found by its
-    # decorator, so that a new kernel module cannot be forgotten), and the common atmosphere compiled into them
-    paths = [os.path.join(here, n) for n in sorted(os.listdir(here)) if n.endswith(".py")]
-    paths.append(os.path.join(here, "..", "common", "atmosphere.py"))
-    for path in paths:
-        with open(path, "rb") as fh:
-            src = fh.read()
-        if b"@jit" in src or path.endswith("atmosphere.py"):
-            digest.update(os.path.basename(path).encode() + src)
+    # a kernel embeds the kernels it calls and the constants it reads (IntEnum indices of other modules, the
+    # common atmosphere): hash every module of the package and of models/common, so that no change to what a
+    # compiled kernel embeds can leave a stale one in the cache (any change recompiles, once)
+    common = os.path.join(here, "..", "common")
+    for folder in (here, common):
+        for name in sorted(os.listdir(folder)):
+            if name.endswith(".py"):
+                with open(os.path.join(folder, name), "rb") as fh:
+                    digest.update(name.encode() + fh.read())
     return os.path.join(root, digest.hexdigest()[:20])
 
 

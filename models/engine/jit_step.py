@@ -36,6 +36,7 @@ import numpy as np
 from numba.core import types
 from numba.experimental import structref
 
+from .engine_signals import EO
 from .gas_path import OX
 from .jit_kernels import jit
 from .jit_solve import CONVERGED, chord_solve, free_stream_at
@@ -264,11 +265,18 @@ def euler_step(dt_s: float, h: float, d: StepData, k_prev: int, tol: float) -> i
     Fn, Pt3, hb_o, FAR4, sm_f, sm_h = o[OX.Fn], o[OX.Pt3], o[OX.hb], o[OX.FAR4], o[OX.SM_fan], o[OX.SM_hpc]
     sm_fc, sm_hc = o[OX.SM_fan_clean], o[OX.SM_hpc_clean]
     N1_pct, N2_pct = 100.0 * N1_s / par[_N1D], 100.0 * N2_s / par[_N2D]
-    v = (Fn, o[1], o[2], Wf_s, N1_s, N2_s, N1_pct, N2_pct, 100.0 * o[3] / par[_NC1D], o[5], o[6], o[7], o[8], o[9],
-         Pt3, Pt3 / o[11], xf[7] * par[_BPRD], sm_f, sm_h, sm_fc, sm_hc, Wf_s / Fn if Fn > 0.0 else math.inf, fuel,
-         a1, a2, hb_o, FAR4, o[14], hp, lp)
-    for k in range(len(v)):
-        vals[k] = v[k]
+    vals[EO.thrust_N], vals[EO.gross_thrust_N], vals[EO.ram_drag_N], vals[EO.fuel_flow_kg_s] = Fn, o[OX.Fg], \
+        o[OX.ram], Wf_s
+    vals[EO.N1_rpm], vals[EO.N2_rpm], vals[EO.N1_pct], vals[EO.N2_pct] = N1_s, N2_s, N1_pct, N2_pct
+    vals[EO.N1c_pct] = 100.0 * o[OX.N1c] / par[_NC1D]
+    vals[EO.Tt4_K], vals[EO.Tt41_K], vals[EO.Tt21_K] = o[OX.Tt4], o[OX.T41], o[OX.Tt21]
+    vals[EO.Tt17_K], vals[EO.Tt7_K] = o[OX.Tt17], o[OX.Tt7]
+    vals[EO.Pt3_Pa], vals[EO.OPR], vals[EO.BPR] = Pt3, Pt3 / o[OX.Pt2], xf[7] * par[_BPRD]
+    vals[EO.SM_fan], vals[EO.SM_hpc], vals[EO.SM_fan_clean], vals[EO.SM_hpc_clean] = sm_f, sm_h, sm_fc, sm_hc
+    vals[EO.SFC_kg_N_s] = Wf_s / Fn if Fn > 0.0 else math.inf
+    vals[EO.fuel_burned_kg], vals[EO.dN1_dt_rpm_s], vals[EO.dN2_dt_rpm_s] = fuel, a1, a2
+    vals[EO.handling_bleed_frac], vals[EO.FAR4], vals[EO.W2_kg_s] = hb_o, FAR4, o[OX.W2]
+    vals[EO.offtake_hp_applied_W], vals[EO.offtake_lp_applied_W] = hp, lp
     flags = (sm_f < 0.0 or sm_h < 0.0, FAR4 < par[_FARL] or uin[0] < par[_WFMIN],
              N1_pct > par[_N1MAX] or N2_pct > par[_N2MAX], False, False, hp_cut or lp_cut)
     out = 0
@@ -293,7 +301,8 @@ def euler_step(dt_s: float, h: float, d: StepData, k_prev: int, tol: float) -> i
             new[_H + 6 * i + j] = Hm[i, j]
     new[_S], new[_S + 1] = sens[0], sens[1]
     new[_C], new[_C + 1], new[_C + 2], new[_C + 3], new[_C + 4], new[_C + 5] = t_m, Wf_m, hb_m, it_m, N1_m, N2_m
-    new[_C + 6], new[_C + 7], new[_C + 8], new[_C + 9], new[_C + 10], new[_C + 11] = uin[1], uin[2], uin[3], cust, hp, lp
+    new[_C + 6], new[_C + 7], new[_C + 8] = uin[1], uin[2], uin[3]
+    new[_C + 9], new[_C + 10], new[_C + 11] = cust, hp, lp
     return out
 
 

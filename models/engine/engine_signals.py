@@ -45,7 +45,7 @@ def _par(name: str, unit: str, description: str, start: float | None = None, acc
     return Signal(name, "parameter", unit, description, type_, start, accessor)
 
 
-#: Real outputs, in the order of :attr:`EngineModel.values` (the model fills its vector in this order).
+#: Real outputs, in the order of :attr:`EngineModel.values` (filled by name, :data:`EO`).
 _OUTPUT_ROWS: tuple[Signal, ...] = (
     _out("thrust_N", "N", "Net thrust"), _out("gross_thrust_N", "N", "Gross thrust"),
     _out("ram_drag_N", "N", "Ram drag"), _out("fuel_flow_kg_s", "kg/s", "Fuel flow burnt"),

@@ -39,13 +39,12 @@ def cycle(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: np.
     :func:`.gas_path.turbofan` with scratch arrays for its stations, bleeds and powers; 0 or its error code."""
     S, B, PW = np.empty((_NST, 5)), np.empty((MAX_BLEEDS, 6)), np.empty(_NPW)
     err, dist = np.zeros(2, np.int64), np.zeros((2, 4))
-    # contiguous copies and a plain bool: the gas path then has the argument types FastCycle.evaluate calls it
-    # with, and numba compiles it once for both (a slice's layout or a literal False is another type: a second
-    # compilation of the largest kernel, some 25 s)
+    # a plain bool: the gas path then has the argument types FastCycle.evaluate calls it with (the caller passes
+    # contiguous arrays), and numba compiles it once for both (a literal False, or a slice's layout, is another
+    # type: a second compilation of the largest kernel, some 25 s)
     flag = np.empty(1, np.bool_)
     flag[0] = with_sm
-    return turbofan(x.copy(), fs.copy(), ctl.copy(), e, gc, gs, bl, fan, hpc, hpt, lpt, fan, dist, S, B, PW, r, o,
-                    err, flag[0])
+    return turbofan(x, fs, ctl, e, gc, gs, bl, fan, hpc, hpt, lpt, fan, dist, S, B, PW, r, o, err, flag[0])
 
 
 def _maps(od: Any) -> tuple[Any, ...]:

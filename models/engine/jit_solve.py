@@ -128,7 +128,8 @@ def chord_solve(xf: np.ndarray, u: np.ndarray, H0: np.ndarray, J_in: np.ndarray,
         set only when converged.
     """
     fsc, _, e, gc, gs, bl, fan, hpc, hpt, lpt = _open(fcb)
-    xin, cond, ctl = u[0:3], u[3:6], u[6:12]
+    xin, cond = u[0:3], u[3:6]
+    ctl = u[6:12].copy()        # contiguous, as fs below: the gas path is compiled once, for FastCycle's types
     if free_stream_at(fcb, cond[0], cond[1], cond[2]) != 0:
         return REFUSED, 0
     fs = fsc[3:].copy()         # contiguous: cycle then has the signature it is compiled for elsewhere (reused)

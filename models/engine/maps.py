@@ -353,9 +353,10 @@ class CompressorMap:
         w, p, _e = self._table.values(nc_rel, beta)          # raises with the map's message out of range
         pr = (p - 1.0) * s_PR + 1.0
         if basis == "flow":                                 # the one implementation, also the gas path's
-            if beta != 0.0:
-                self.surge_nc_rel_at_flow(w)                # raises with its message where there is none
-            return float(_K.surge_margin(*self.kernel_arrays(), float(nc_rel), float(beta), float(s_PR)))
+            sm = float(_K.surge_margin(*self.kernel_arrays(), float(nc_rel), float(beta), float(s_PR)))
+            if sm != sm:                                    # no surge line at this flow: raise with its message
+                self.surge_nc_rel_at_flow(w)
+            return sm
         if basis == "speed":
             w_s, p_s, _ = self._table.values(nc_rel, 0.0)
             return ((p_s - 1.0) * s_PR + 1.0) / pr * (w / w_s) - 1.0

@@ -233,8 +233,8 @@ def _turbofan(p: TurbofanParams, W2: float, gas: GasModel) -> DesignPoint:
         [BleedSpec("customer", p.customer_bleed_frac, 1.0, 1.0, "overboard")] if p.customer_bleed_frac > 0.0 else [])
     if len({b.name for b in specs}) != len(specs):
         raise ModelError(f"{p.name}: bleed names must be unique, got {[b.name for b in specs]}")
-    if len(specs) > MAX_BLEEDS:
-        raise ModelError(f"{p.name}: at most {MAX_BLEEDS} bleeds, got {len(specs)}")
+    if len(p.bleeds) + 2 > MAX_BLEEDS:                  # the handling and customer bleeds come on top
+        raise ModelError(f"{p.name}: at most {MAX_BLEEDS - 2} bleeds, got {len(p.bleeds)}")
     fs = np.array([fr.Tt0_K, fr.Pt0_Pa, fr.V0_m_s, fr.amb.P_Pa, p.Mach, ram_recovery_mil_e_5008b(p.Mach)])
     ctl = np.array([3.0, p.Tt4_K, p.customer_bleed_frac, p.offtake_hp_W, p.offtake_lp_W, 0.0])
     gc, gs0 = gas.kernel_arrays()

@@ -54,7 +54,7 @@ from .bleed import bleed_state
 from .combustion import burner_exit_T, burner_far
 from .compressor import bled_power, compress_exit
 from .flow import P_STD_PA, T_STD_K, mix_state
-from .jit_kernels import jit
+from .jit_kernels import jit, jit_inline
 from .nozzle import convergent_throat
 from .shaft import TERM_INDEX, TURBOFAN_SHAFTS, spool_balance, term_arrays
 from .turbine import turbine_stream as _turbine
@@ -108,11 +108,15 @@ ERRORS: dict[int, str] = {
     7: "a cooling flow's pressure is below that of its entry into the turbine",
     8: "a flow or pressure is not finite or not positive",
     9: "its map is read beyond the map's extrapolation margin (corrected speed, beta or pressure ratio off the map)",
+    10: f"more than {MAX_BLEEDS - 2} bleeds besides the handling and customer bleeds",
 }
 #: Where the first error arose (``err[1]``).
 STAGES: tuple[str, ...] = ("", "inlet", "fan", "booster", "HPC", "burner", "HPT", "LPT", "bypass duct", "nozzles",
                            "surge margin")
 _ST_INLET, _ST_FAN, _ST_BOO, _ST_HPC, _ST_BURN, _ST_HPT, _ST_LPT, _ST_BYP, _ST_NOZ = range(1, 10)
+
+#: Rows of the evaluation's scratch arrays (:func:`turbofan`): of 3 (sector vectors...), of MAX_BLEEDS + 1 (bleeds).
+_N_T3, _N_TB = 35, 15
 
 _TERM_SPOOL, _TERM_KIND = term_arrays()
 _NTERM = len(TURBOFAN_SHAFTS)
@@ -129,7 +133,7 @@ def pack_params(values: dict[str, float]) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------- pieces
-@jit
+@jit_inline
 def _mark(err: np.ndarray, code: int, stage: int) -> None:
     """Record the first error: its code (if the kernels did not set one) and its stage."""
     if err[0] == 0:
@@ -138,14 +142,14 @@ def _mark(err: np.ndarray, code: int, stage: int) -> None:
         err[1] = stage
 
 
-@jit
+@jit_inline
 def _stage(err: np.ndarray, stage: int) -> None:
     """Name the stage of an error a kernel has just set."""
     if err[0] != 0 and err[1] == 0:
         err[1] = stage
 
 
-@jit
+@jit_inline
 def _put(S: np.ndarray, k: int, W: float, T: float, P: float, f: float, h: float) -> None:
     S[k, 0], S[k, 1], S[k, 2], S[k, 3], S[k, 4] = W, T, P, f, h
 
@@ -199,7 +203,7 @@ def _turbine_point(m: Any, design: bool, eta_d: float, W: float, T: float, P: fl
     return _map_t(m, N / math.sqrt(T / T_STD_K), PR, v, gx, gy, err)
 
 
-@jit
+@jit_inline
 def _mix_T(gc: np.ndarray, gs: np.ndarray, W: np.ndarray, T: np.ndarray, f: np.ndarray, ht: np.ndarray, n: int,
            err: np.ndarray) -> tuple[float, float, float, float]:
     """(W, Tt, FAR, ht) of the adiabatic mixture of the first n streams (:func:`.flow.mix_state`)."""
@@ -330,7 +334,13 @@ def turbofan(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: 
         ix += 1
     if dist[1, 0] != 0.0:
         b_hpc_d = x[ix]
-    v, gx, gy = np.empty(3), np.empty(3), np.empty(3)
+    # the small vectors of the stages (per sector, a map's outputs and slopes, a spool's terms), rows of one array
+    # allocated once per evaluation, and the bleeds' likewise: an allocation costs more than the arithmetic
+    # around it, and some sixty of them did (about a third of an evaluation)
+    t3 = np.empty((_N_T3, 3))
+    tb = np.empty((_N_TB, MAX_BLEEDS + 1))
+    sb = np.empty((4, MAX_BLEEDS, 2))
+    v, gx, gy = t3[0], t3[1], t3[2]
     # free stream and inlet
     T2 = fs[0]
     h0 = K.h(gc, gs, T2, 0.0, err)
@@ -341,17 +351,17 @@ def turbofan(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: 
     N1c = N1 / sq2
     _stage(err, _ST_INLET)
     # fan: sectors on the map, each split into bypass and core and compressed
-    sT, sP, sh, sfr, sW = np.empty(2), np.empty(2), np.empty(2), np.empty(2), np.empty(2)
+    sT, sP, sh, sfr, sW = t3[3], t3[4], t3[5], t3[6], t3[7]
     nsf = _faces(gc, gs, T2, P2, 0.0, h0, dist[0], sT, sP, sh, sfr, err)
-    PRs, effs, Ncs, bets = np.empty(2), np.empty(2), np.empty(2), np.empty(2)
+    PRs, effs, Ncs, bets = t3[8], t3[9], t3[10], t3[11]
     Wfan = _on_map(fan, design, e[EP.PR_fan_outer], e[EP.eta_fan_outer], W2, N1, bfan, b_fan_d, nsf, sT, sP, sfr,
                    PRs, effs, Ncs, bets, sW, v, gx, gy, err)
     if not (BPR >= 0.0):
         _mark(err, 2, _ST_FAN)
         return err[0]
     fr = 1.0 / (1.0 + BPR)
-    oW, oT, oP, oh = np.empty(2), np.empty(2), np.empty(2), np.empty(2)
-    iW, iT, iP, ih = np.empty(2), np.empty(2), np.empty(2), np.empty(2)
+    oW, oT, oP, oh = t3[12], t3[13], t3[14], t3[15]
+    iW, iT, iP, ih = t3[16], t3[17], t3[18], t3[19]
     P_fo = P_fi = 0.0
     r_fan_p = sP[1] * PRs[1] / (sP[0] * PRs[0]) - 1.0 if nsf == 2 else 0.0
     for k in range(nsf):
@@ -391,15 +401,17 @@ def turbofan(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: 
     N2c = N2 / sq25
     # HPC: sectors on the map
     nsh = _faces(gc, gs, T25, P25, 0.0, h25, dist[1], sT, sP, sh, sfr, err)
-    hPR, heff, hNc, hbet = np.empty(2), np.empty(2), np.empty(2), np.empty(2)
+    hPR, heff, hNc, hbet = t3[20], t3[21], t3[22], t3[23]
     Whpc = _on_map(hpc, design, e[EP.PR_hpc], e[EP.eta_hpc], W25, N2, bhpc, b_hpc_d, nsh, sT, sP, sfr, hPR, heff, hNc,
                    hbet, sW, v, gx, gy, err)
     PRc = hPR[0]
     r_hpc_p = sP[1] * hPR[1] / (sP[0] * hPR[0]) - 1.0 if nsh == 2 else 0.0
     # the bleeds: the design's, then handling (to the bypass) and customer (overboard)
     nb0 = bl.shape[0]
-    bfw, bfP, bwk, bsink, bfp = np.empty(nb0 + 2), np.empty(nb0 + 2), np.empty(nb0 + 2), np.empty(nb0 + 2), \
-        np.empty(nb0 + 2)
+    if nb0 + 2 > MAX_BLEEDS:                    # (the scratch rows hold MAX_BLEEDS; FastCycle refuses it before)
+        _mark(err, 10, _ST_HPC)
+        return err[0]
+    bfw, bfP, bwk, bsink, bfp = tb[0], tb[1], tb[2], tb[3], tb[4]
     for i in range(nb0):
         bfw[i], bfP[i], bwk[i], bsink[i], bfp[i] = bl[i, 0], bl[i, 1], bl[i, 2], bl[i, 3], bl[i, 4]
     nb = nb0
@@ -423,8 +435,8 @@ def turbofan(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: 
         bfw[nb], bfP[nb], bwk[nb], bsink[nb], bfp[nb] = cust, 1.0, 1.0, 0.0, 1.0
         nb += 1
     # each sector compressed with its bleeds; exits and each bleed mixed over the sectors
-    xW, xT, xP, xh = np.empty(2), np.empty(2), np.empty(2), np.empty(2)
-    sbW, sbT, sbP, sbh = np.empty((nb, 2)), np.empty((nb, 2)), np.empty((nb, 2)), np.empty((nb, 2))
+    xW, xT, xP, xh = t3[24], t3[25], t3[26], t3[27]
+    sbW, sbT, sbP, sbh = sb[0], sb[1], sb[2], sb[3]
     P_hpc = W_inter_all = 0.0
     for k in range(nsh):
         Win = sW[k] * (W25 / Whpc)
@@ -447,7 +459,7 @@ def turbofan(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: 
     W3, T3, P3, h3 = _mix_sectors(gc, gs, nsh, xW, xT, xP, 0.0, xh, err)
     _put(S, _S3, W3, T3, P3, 0.0, h3)
     W_exit = 0.0
-    tW, tT, tP, th = np.empty(2), np.empty(2), np.empty(2), np.empty(2)
+    tW, tT, tP, th = t3[28], t3[29], t3[30], t3[31]
     for i in range(nb):
         for k in range(nsh):
             tW[k], tT[k], tP[k], th[k] = sbW[i, k], sbT[i, k], sbP[i, k], sbh[i, k]
@@ -488,7 +500,7 @@ def turbofan(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: 
     _stage(err, _ST_BURN)
     # HPT with its cooling
     Wc_t1, eff_t1 = _turbine_point(hpt, design, e[EP.eta_hpt], W4, Tt4, P4, N2, PRh, v, gx, gy, err)
-    cw, cT, cP, cf, ch, cfp = np.empty(nb), np.empty(nb), np.empty(nb), np.empty(nb), np.empty(nb), np.empty(nb)
+    cw, cT, cP, cf, ch, cfp = tb[5], tb[6], tb[7], tb[8], tb[9], tb[10]
     nc = _cooling(B, nb, bfp, 2.0, cw, cT, cP, cf, ch, cfp)
     P_hpt, W44, T44, P44, f44, h44, W41, T41, f41, h41 = _turbine(gc, gs, W4, Tt4, P4, f4, h4, PRh, eff_t1, cw, cT,
                                                                   cP, cf, ch, cfp, nc, err)
@@ -506,7 +518,7 @@ def turbofan(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: 
     _put(S, _S7, W5, T5, P7, f5, h5)
     _stage(err, _ST_LPT)
     # bypass: the fan's bypass stream, less a bypass bleed, plus the bleeds returned to it
-    mW, mT, mf, mh = np.empty(nb + 1), np.empty(nb + 1), np.empty(nb + 1), np.empty(nb + 1)
+    mW, mT, mf, mh = tb[11], tb[12], tb[13], tb[14]
     mW[0], mT[0], mf[0], mh[0] = W13 * (1.0 - e[EP.bypass_bleed_frac]), T13, 0.0, h13
     m = 1
     for i in range(nb):
@@ -544,7 +556,7 @@ def turbofan(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: 
         PW[i] = 0.0
     PW[_T_HPT], PW[_T_HPC], PW[_T_PHP], PW[_T_LPT] = P_hpt, P_hpc, off_hp, P_lpt
     PW[_T_FO], PW[_T_FI], PW[_T_BO], PW[_T_PLP] = P_fo, P_fi, P_bo, off_lp
-    eta_mech, net, loss = np.empty(2), np.empty(2), np.empty(2)
+    eta_mech, net, loss = t3[32, :2], t3[33, :2], t3[34, :2]
     eta_mech[0], eta_mech[1] = e[EP.eta_mech_hp], e[EP.eta_mech_lp]
     spool_balance(PW[:_NTERM], _TERM_SPOOL, _TERM_KIND, eta_mech, net, loss)
     PW[_NTERM], PW[_NTERM + 1] = loss[0], loss[1]

@@ -21,7 +21,7 @@ from . import jit_kernels as K
 from .gas_path import MAX_BLEEDS, OUT, SINK, STATIONS, pack_params, turbofan
 from .jit_freestream import atm_array
 from .jit_freestream import free_stream as compiled_free_stream
-from .jit_kernels import jit
+from .jit_kernels import jit_inline
 from .shaft import TURBOFAN_SHAFTS
 
 __all__ = ["OUT", "DEMAND", "FastCycle", "cycle"]
@@ -31,18 +31,24 @@ _NST, _NPW = len(STATIONS), len(TURBOFAN_SHAFTS) + 2
 DEMAND = {"Wf_kg_s": 0, "N1_rpm": 1, "N1c_rpm": 2, "Tt4_K": 3, "Fn_N": 4}
 
 
-@jit
+def scratch() -> tuple[np.ndarray, ...]:
+    """The arrays :func:`cycle` evaluates the gas path into and discards (stations, bleeds, powers, a face without
+    distortion, error, with_sm flag), allocated once by the caller (:func:`.jit_solve.bundle`)."""
+    return (np.empty((_NST, 5)), np.empty((MAX_BLEEDS, 6)), np.empty(_NPW), np.zeros((2, 4)),
+            np.zeros(2, np.int64), np.zeros(1, np.bool_))
+
+
+@jit_inline
 def cycle(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: np.ndarray, gs: np.ndarray,
-          bl: np.ndarray, fan: Any, hpc: Any, hpt: Any, lpt: Any, r: np.ndarray, o: np.ndarray,
+          bl: np.ndarray, fan: Any, hpc: Any, hpt: Any, lpt: Any, scr: Any, r: np.ndarray, o: np.ndarray,
           with_sm: bool) -> int:
     """Residuals r (9) and outputs o (:data:`.gas_path.OUT`) of an engine without booster or distortion:
-    :func:`.gas_path.turbofan` with scratch arrays for its stations, bleeds and powers; 0 or its error code."""
-    S, B, PW = np.empty((_NST, 5)), np.empty((MAX_BLEEDS, 6)), np.empty(_NPW)
-    err, dist = np.zeros(2, np.int64), np.zeros((2, 4))
+    :func:`.gas_path.turbofan` into the scratch arrays `scr` (:func:`scratch`); 0 or its error code."""
+    S, B, PW, dist, err, flag = scr
+    err[0] = err[1] = 0
     # a plain bool: the gas path then has the argument types FastCycle.evaluate calls it with (the caller passes
     # contiguous arrays), and numba compiles it once for both (a literal False, or a slice's layout, is another
     # type: a second compilation of the largest kernel, some 25 s)
-    flag = np.empty(1, np.bool_)
     flag[0] = with_sm
     return turbofan(x, fs, ctl, e, gc, gs, bl, fan, hpc, hpt, lpt, fan, dist, S, B, PW, r, o, err, flag[0])
 

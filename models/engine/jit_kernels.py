@@ -40,7 +40,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["AVAILABLE", "jit", "T_MIN", "T_MAX"]
+__all__ = ["AVAILABLE", "jit", "jit_inline", "T_MIN", "T_MAX"]
 
 T_MIN = 200.0
 T_MAX = 2200.0
@@ -133,9 +133,15 @@ try:                                        # numba is a dependency; without it 
     def jit(fn: Callable[..., Any]) -> Callable[..., Any]:
         """numba ``njit``, cached on disk (fastmath off: results equal the Python ones to rounding)."""
         return _njit(cache=True, nogil=True)(fn)
+
+    def jit_inline(fn: Callable[..., Any]) -> Callable[..., Any]:
+        """:func:`jit` inlined into its compiled callers (numba ``inline="always"``), for a thin layer between a
+        caller and a large kernel: numba links a kernel's code into every compiled function above it and
+        optimises and emits it again there, so each layer over the gas path cost seconds of compilation."""
+        return _njit(cache=True, nogil=True, inline="always")(fn)
 except ImportError:                         # pragma: no cover
     AVAILABLE = False
-    jit = _plain
+    jit = jit_inline = _plain
 
 
 # ---------------------------------------------------------------------- gas
@@ -378,7 +384,8 @@ def surge_speed_at_flow(xg: np.ndarray, yg: np.ndarray, ihx: np.ndarray, ihy: np
     if not sw[0] <= w <= sw[n - 1]:
         return math.nan
     err = np.zeros(1, np.int64)
-    v, gx, gy = np.empty(3), np.empty(3), np.empty(3)
+    t = np.empty((3, 3))                    # the table's values and slopes: one allocation, not three
+    v, gx, gy = t[0], t[1], t[2]
     k = 0                                   # bisect_right(sw, w) - 1, clipped to [0, n - 2]
     while k < n - 1 and sw[k] <= w:
         k += 1
@@ -407,7 +414,8 @@ def surge_margin(xg: np.ndarray, yg: np.ndarray, ihx: np.ndarray, ihy: np.ndarra
     """Flow-basis surge margin [-] (:meth:`.maps.CompressorMap.surge_margin`), PR_surge(Wc) / PR - 1 with the PR
     scaled as (PR - 1) s_PR + 1; NaN where it cannot be formed (off the map, or no surge line at that flow)."""
     err = np.zeros(1, np.int64)
-    v, gx, gy = np.empty(3), np.empty(3), np.empty(3)
+    t = np.empty((3, 3))
+    v, gx, gy = t[0], t[1], t[2]
     table(xg, yg, ihx, ihy, cells, lim, nc, beta, v, gx, gy, err)
     if err[0]:
         return math.nan

@@ -33,9 +33,9 @@ import numpy as np
 
 from . import jit_kernels as K
 from .gas_path import OX
-from .jit_cycle import cycle
+from .jit_cycle import cycle, scratch
 from .jit_freestream import free_stream
-from .jit_kernels import jit
+from .jit_kernels import jit, jit_inline
 
 __all__ = ["CONVERGED", "STALLED", "REFUSED", "FREE", "INPUTS", "bundle", "chord_solve", "free_stream_at"]
 
@@ -52,17 +52,17 @@ _MAX_IT = 8
 def bundle(fc: Any) -> tuple[Any, ...]:
     """The arrays of a :class:`.jit_cycle.FastCycle` that :func:`chord_solve` needs, as one tuple passed through
     unopened by its callers (:mod:`.transient`, :mod:`.jit_step`); :func:`_open` is its only reader."""
-    return (fc.fsc, fc.atm, fc.e, fc.gc, fc.gs, fc.bl, *fc.maps)
+    return (fc.fsc, fc.atm, fc.e, fc.gc, fc.gs, fc.bl, *fc.maps, scratch())
 
 
-@jit
+@jit_inline
 def _open(fcb: Any) -> Any:
-    """The parts of a :func:`bundle`: (fsc, atm, e, gc, gs, bl, fan, hpc, hpt, lpt)."""
-    fsc, atm, e, gc, gs, bl, fan, hpc, hpt, lpt = fcb
-    return fsc, atm, e, gc, gs, bl, fan, hpc, hpt, lpt
+    """The parts of a :func:`bundle`: (fsc, atm, e, gc, gs, bl, fan, hpc, hpt, lpt, scratch)."""
+    fsc, atm, e, gc, gs, bl, fan, hpc, hpt, lpt, scr = fcb
+    return fsc, atm, e, gc, gs, bl, fan, hpc, hpt, lpt, scr
 
 
-@jit
+@jit_inline
 def free_stream_at(fcb: Any, alt: float, Mach: float, dT: float) -> int:
     """Make the free-stream cache of the bundle (its ``fsc``: (alt, Mach, dT) then the six values of
     :func:`.jit_freestream.free_stream`) hold the flight condition (alt [m], Mach [-], dT [K]), computing it only
@@ -79,15 +79,15 @@ def free_stream_at(fcb: Any, alt: float, Mach: float, dT: float) -> int:
     return 0
 
 
-@jit
+@jit_inline
 def _resid(xf: np.ndarray, xr: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: np.ndarray,
-           gs: np.ndarray, bl: np.ndarray, fan: Any, hpc: Any, hpt: Any, lpt: Any, r: np.ndarray,
+           gs: np.ndarray, bl: np.ndarray, fan: Any, hpc: Any, hpt: Any, lpt: Any, scr: Any, r: np.ndarray,
            o: np.ndarray) -> float:
     """Residuals at the matched unknowns xr (6) put into xf; max |r| of the six matched ones, or NaN where
     the kernel refuses or a residual is not a number (the caller hands over to Python)."""
     for k in range(6):
         xf[FREE[k]] = xr[k]
-    if cycle(xf, fs, ctl, e, gc, gs, bl, fan, hpc, hpt, lpt, r, o, False) != 0:
+    if cycle(xf, fs, ctl, e, gc, gs, bl, fan, hpc, hpt, lpt, scr, r, o, False) != 0:
         return math.nan
     m = 0.0
     for k in range(6):
@@ -127,7 +127,7 @@ def chord_solve(xf: np.ndarray, u: np.ndarray, H0: np.ndarray, J_in: np.ndarray,
     (status, iterations) : status :data:`CONVERGED`, :data:`STALLED` or :data:`REFUSED`; the outputs are
         set only when converged.
     """
-    fsc, _, e, gc, gs, bl, fan, hpc, hpt, lpt = _open(fcb)
+    fsc, _, e, gc, gs, bl, fan, hpc, hpt, lpt, scr = _open(fcb)
     xin, cond = u[0:3], u[3:6]
     ctl = u[6:12].copy()        # contiguous, as fs below: the gas path is compiled once, for FastCycle's types
     if free_stream_at(fcb, cond[0], cond[1], cond[2]) != 0:
@@ -143,7 +143,7 @@ def chord_solve(xf: np.ndarray, u: np.ndarray, H0: np.ndarray, J_in: np.ndarray,
     # the operations of TurbofanTransient._chord, as NumPy forms them: np.dot is the same BLAS call as the
     # operator @ there (gemv, dot), so the iterates are the same numbers where both use the same BLAS kernels
     x = x - np.dot(H0, np.dot(J_in, din))                  # predictor
-    norm = _resid(xf, x, fs, ctl, e, gc, gs, bl, fan, hpc, hpt, lpt, r, o)
+    norm = _resid(xf, x, fs, ctl, e, gc, gs, bl, fan, hpc, hpt, lpt, scr, r, o)
     if not norm == norm:
         return REFUSED, 0
     Hc = H0.copy()
@@ -157,12 +157,16 @@ def chord_solve(xf: np.ndarray, u: np.ndarray, H0: np.ndarray, J_in: np.ndarray,
             o[OX.SM_hpc] = K.surge_margin(hpc[0], hpc[1], hpc[2], hpc[3], hpc[4], hpc[5], hpc[7], hpc[8],
                                           o[OX.N2c] / hpc[6][3], x[2], hpc[6][1])
             o[OX.SM_fan_clean], o[OX.SM_hpc_clean] = o[OX.SM_fan], o[OX.SM_hpc]     # one sector: the same
-            H[:, :] = Hc
             dxw = np.dot(-Hc, np.ascontiguousarray(J_in[:, 2]))  # as TurbofanTransient.fuel_sensitivity
-            sens[:] = np.dot(Js_free, dxw) + Js_in[:, 2]
+            sv = np.dot(Js_free, dxw) + Js_in[:, 2]
+            # element by element: an array assignment's shape check costs seconds of compilation
+            for i in range(6):
+                for j in range(6):
+                    H[i, j] = Hc[i, j]
+            sens[0], sens[1] = sv[0], sv[1]
             return CONVERGED, it
         dx = np.dot(-Hc, rr)
-        norm_new = _resid(xf, x + dx, fs, ctl, e, gc, gs, bl, fan, hpc, hpt, lpt, r, o)
+        norm_new = _resid(xf, x + dx, fs, ctl, e, gc, gs, bl, fan, hpc, hpt, lpt, scr, r, o)
         if not norm_new == norm_new:
             return REFUSED, it
         if norm_new > 0.5 * norm:
@@ -170,7 +174,14 @@ def chord_solve(xf: np.ndarray, u: np.ndarray, H0: np.ndarray, J_in: np.ndarray,
         r_new = r[:6].copy()
         y = r_new - rr
         Hy = np.dot(Hc, y)
-        Hc = Hc + np.outer(dx - Hy, np.dot(dx, Hc)) / np.dot(dx, Hy)   # Broyden's good update of the inverse
+        # Broyden's good update of the inverse, H + outer(dx - Hy, dx H) / (dx Hy), element by element (the same
+        # products and quotients as np.outer's; numba's np.outer cost a second and a half of compilation)
+        u, w, d = dx - Hy, np.dot(dx, Hc), np.dot(dx, Hy)
+        Hn = np.empty((6, 6))
+        for i in range(6):
+            for j in range(6):
+                Hn[i, j] = Hc[i, j] + u[i] * w[j] / d
+        Hc = Hn
         x, rr = x + dx, r_new
         norm = norm_new
     return STALLED, _MAX_IT

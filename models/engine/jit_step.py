@@ -38,7 +38,7 @@ from numba.experimental import structref
 
 from .engine_signals import EO
 from .gas_path import OX
-from .jit_kernels import jit
+from .jit_kernels import jit, jit_inline
 from .jit_solve import CONVERGED, chord_solve, free_stream_at
 from .shaft import spool_acceleration_of
 
@@ -113,7 +113,7 @@ def step_data(fcb: Any, par: np.ndarray, state: np.ndarray, uin: np.ndarray, val
     return StepData(fcb, par, state, uin, vals, J_in, Js_free, Js_in, buf)
 
 
-@jit
+@jit_inline
 def _port(v: float, assist_max_W: float, offtake_max_W: float) -> tuple[float, bool]:
     """:meth:`.engine_model.EngineModel._port`: the port's power clipped to [-assist, offtake], and if it was."""
     if -assist_max_W <= v <= offtake_max_W:
@@ -121,7 +121,7 @@ def _port(v: float, assist_max_W: float, offtake_max_W: float) -> tuple[float, b
     return (offtake_max_W if v > offtake_max_W else -assist_max_W) if v == v else 0.0, True
 
 
-@jit
+@jit_inline
 def _match(N1: float, N2: float, Wf: float, hb: float, uin: np.ndarray, extras: np.ndarray, par: np.ndarray,
            xf: np.ndarray, H0: np.ndarray, J_in: np.ndarray, Js_free: np.ndarray, Js_in: np.ndarray, fcb: Any,
            tol: float, H: np.ndarray, r: np.ndarray, o: np.ndarray, sens: np.ndarray) -> int:
@@ -191,7 +191,10 @@ def euler_step(dt_s: float, h: float, d: StepData, k_prev: int, tol: float) -> i
     # the state of the last match
     Wf_s, N1_s, N2_s, a1, a2 = st[_WFS], st[_N1S], st[_N2S], st[_A1], st[_A2]
     xf = prev[_X:_X + 9].copy()
-    Hm = prev[_H:_H + 36].copy().reshape((6, 6))
+    Hm = np.empty((6, 6))                       # (a reshape's error path costs seconds of compilation)
+    for i in range(6):
+        for j in range(6):
+            Hm[i, j] = prev[_H + 6 * i + j]
     sens = prev[_S:_S + 2].copy()
     r, o = prev[_R:_R + 9].copy(), prev[_O:_O + n_out].copy()
     t_m, Wf_m, hb_m, it_m, N1_m, N2_m = prev[_C], prev[_C + 1], prev[_C + 2], prev[_C + 3], prev[_C + 4], prev[_C + 5]

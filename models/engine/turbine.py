@@ -120,7 +120,8 @@ def turbine_stream(gc: np.ndarray, gs: np.ndarray, W: float, T: float, P: float,
     if not (W >= 0.0 and math.isfinite(W)) or not (Pout > 0.0 and math.isfinite(Pout)):
         err[0] = err[0] or 8
     To = K.T_from_h(gc, gs, ho, f, Tg, err)
-    eW, eT, ef, eh = np.empty(nc + 1), np.empty(nc + 1), np.empty(nc + 1), np.empty(nc + 1)
+    ex = np.empty((4, nc + 1))                  # the streams to mix: one allocation, not four
+    eW, eT, ef, eh = ex[0], ex[1], ex[2], ex[3]
     eW[0], eT[0], ef[0], eh[0] = W, To, f, ho
     for i in range(nc):
         Pc = Pout + cfp[i] * (Pin - Pout)

@@ -131,20 +131,49 @@ try:                                        # numba is a dependency; without it 
         pass
 
     def jit(fn: Callable[..., Any]) -> Callable[..., Any]:
-        """numba ``njit``, cached on disk (fastmath off: results equal the Python ones to rounding)."""
-        return _njit(cache=True, nogil=True)(fn)
+        """numba ``njit``, cached on disk (fastmath off: results equal the Python ones to rounding).
+
+        NumPy's error model: a division by zero gives inf or NaN, as in NumPy, instead of raising, which spares
+        every division a test and an exception path (and the reference counting such paths keep alive). The
+        kernels never rely on the exception: a non-finite residual or output is refused by the iterations and
+        the checks above them, and the plain-Python path (OPENEMSS_NO_JIT) raises where it did."""
+        return _njit(cache=True, nogil=True, error_model="numpy")(fn)
 
     def jit_inline(fn: Callable[..., Any]) -> Callable[..., Any]:
         """:func:`jit` inlined into its compiled callers (numba ``inline="always"``), for a thin layer between a
         caller and a large kernel: numba links a kernel's code into every compiled function above it and
         optimises and emits it again there, so each layer over the gas path cost seconds of compilation."""
-        return _njit(cache=True, nogil=True, inline="always")(fn)
+        return _njit(cache=True, nogil=True, error_model="numpy", inline="always")(fn)
 except ImportError:                         # pragma: no cover
     AVAILABLE = False
     jit = jit_inline = _plain
 
 
 # ---------------------------------------------------------------------- gas
+# The polynomials of one row of ``gc`` (interval k, property j), read element by element: a row taken as an array
+# is a view, whose reference count numba raises and lowers atomically at every call (a few per kernel, several
+# hundred per gas-path evaluation)
+@jit_inline
+def _cp_row(gc: np.ndarray, k: int, j: int, T: float, i: float) -> float:
+    """cp polynomial of row (k, j) at T [K], i = 1/T."""
+    return i * (gc[k, j, 0] * i + gc[k, j, 1]) + gc[k, j, 2] + \
+        T * (gc[k, j, 3] + T * (gc[k, j, 4] + T * (gc[k, j, 5] + T * gc[k, j, 6])))
+
+
+@jit_inline
+def _h_row(gc: np.ndarray, k: int, j: int, T: float, lnT: float) -> float:
+    """Enthalpy polynomial of row (k, j) at T [K], lnT = ln T."""
+    return gc[k, j, 0] / T + gc[k, j, 1] * lnT + \
+        T * (gc[k, j, 2] + T * (gc[k, j, 3] + T * (gc[k, j, 4] + T * (gc[k, j, 5] + T * gc[k, j, 6])))) + gc[k, j, 7]
+
+
+@jit_inline
+def _phi_row(gc: np.ndarray, k: int, j: int, T: float, i: float, lnT: float) -> float:
+    """Entropy-function polynomial of row (k, j) at T [K], i = 1/T, lnT = ln T."""
+    return i * (gc[k, j, 0] * i + gc[k, j, 1]) + gc[k, j, 2] * lnT + \
+        T * (gc[k, j, 3] + T * (gc[k, j, 4] + T * (gc[k, j, 5] + T * gc[k, j, 6]))) + gc[k, j, 7]
+
+
 @jit
 def cp(gc: np.ndarray, gs: np.ndarray, T: float, f: float, err: np.ndarray) -> float:
     """cp [J/(kg K)] at T [K], FAR f [-]."""
@@ -153,11 +182,9 @@ def cp(gc: np.ndarray, gs: np.ndarray, T: float, f: float, err: np.ndarray) -> f
         return 1000.0
     k = 0 if T <= gs[0] else 1
     i = 1.0 / T
-    a = gc[k, 0]
-    v = i * (a[0] * i + a[1]) + a[2] + T * (a[3] + T * (a[4] + T * (a[5] + T * a[6])))
+    v = _cp_row(gc, k, 0, T, i)
     if f != 0.0:
-        a = gc[k, 1]
-        v = (v + f * (i * (a[0] * i + a[1]) + a[2] + T * (a[3] + T * (a[4] + T * (a[5] + T * a[6]))))) / (1.0 + f)
+        v = (v + f * _cp_row(gc, k, 1, T, i)) / (1.0 + f)
     return v
 
 
@@ -168,13 +195,10 @@ def h(gc: np.ndarray, gs: np.ndarray, T: float, f: float, err: np.ndarray) -> fl
         err[0] = 1
         return 0.0
     k = 0 if T <= gs[0] else 1
-    b = gc[k, 2]
     lnT = math.log(T)
-    v = b[0] / T + b[1] * lnT + T * (b[2] + T * (b[3] + T * (b[4] + T * (b[5] + T * b[6])))) + b[7]
+    v = _h_row(gc, k, 2, T, lnT)
     if f != 0.0:
-        b = gc[k, 3]
-        v = (v + f * (b[0] / T + b[1] * lnT + T * (b[2] + T * (b[3] + T * (b[4] + T * (b[5] + T * b[6]))))
-                      + b[7])) / (1.0 + f)
+        v = (v + f * _h_row(gc, k, 3, T, lnT)) / (1.0 + f)
     return v
 
 
@@ -186,11 +210,7 @@ def h_parts(gc: np.ndarray, gs: np.ndarray, T: float, err: np.ndarray) -> tuple[
         return 0.0, 0.0
     k = 0 if T <= gs[0] else 1
     lnT = math.log(T)
-    b = gc[k, 2]
-    ha = b[0] / T + b[1] * lnT + T * (b[2] + T * (b[3] + T * (b[4] + T * (b[5] + T * b[6])))) + b[7]
-    b = gc[k, 3]
-    hf = b[0] / T + b[1] * lnT + T * (b[2] + T * (b[3] + T * (b[4] + T * (b[5] + T * b[6])))) + b[7]
-    return ha, hf
+    return _h_row(gc, k, 2, T, lnT), _h_row(gc, k, 3, T, lnT)
 
 
 @jit
@@ -202,12 +222,9 @@ def phi(gc: np.ndarray, gs: np.ndarray, T: float, f: float, err: np.ndarray) -> 
     k = 0 if T <= gs[0] else 1
     i = 1.0 / T
     lnT = math.log(T)
-    b = gc[k, 4]
-    v = i * (b[0] * i + b[1]) + b[2] * lnT + T * (b[3] + T * (b[4] + T * (b[5] + T * b[6]))) + b[7]
+    v = _phi_row(gc, k, 4, T, i, lnT)
     if f != 0.0:
-        b = gc[k, 5]
-        v = (v + f * (i * (b[0] * i + b[1]) + b[2] * lnT + T * (b[3] + T * (b[4] + T * (b[5] + T * b[6])))
-                      + b[7])) / (1.0 + f)
+        v = (v + f * _phi_row(gc, k, 5, T, i, lnT)) / (1.0 + f)
     return v
 
 

@@ -78,6 +78,7 @@ def _puller():  # type: ignore[no-untyped-def]
 
 
 _PULL = _puller()
+_radians = math.radians
 #: (name, description with unit) of the Real inputs and outputs, in the order of registration
 INPUTS = tuple((s.name, s.described()) for s in SIGNALS if s.causality == "input" and s.type == "Real")
 OUTPUTS = tuple((s.name, s.described()) for s in _OUTPUTS["Real"])
@@ -213,7 +214,7 @@ class Fcs(InitialOutputs, SignalIO, Fmi2Slave):
             self.log(f"fcs: t={current_time:.6g} s: inputs are not an aircraft state (mass_kg={mass}, "
                      f"rho_amb_kg_m3={rho}); commands held")
             return True
-        pos = LatLon.from_deg(lat, lon)
+        pos = LatLon.make(_radians(lat), _radians(lon))  # LatLon.from_deg without its class call (~0.25 us)
         if self._prev_pos is None or self._prev_h <= 0.0:
             vn, ve = gs * math.cos(psi), gs * math.sin(psi)
         else:  # the previous step's length separates the previous position from this one

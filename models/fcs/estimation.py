@@ -138,21 +138,22 @@ class AirspeedRateEstimator(Tunable[EstimationParams]):
         """
         vg = (vn_m_s, ve_m_s, vu_m_s)
         u_now = air_path_direction(phi_rad, theta_rad, psi_rad, beta_rad, gamma_rad)
-        if self._v_est is None or self._vg_prev is None or dt_s <= 0.0:
+        v_est, prev = self._v_est, self._vg_prev  # (each read once: the estimator runs every FCS step)
+        if v_est is None or prev is None or dt_s <= 0.0:
             self._v_est, self._vg_prev, self._path_prev = tas_m_s, vg, u_now
             return 0.0
         # the difference of two step-averaged velocities is the acceleration about one step ago: projected
         # on the air path of then (with the path of now, the turn rate times a step would turn some of a
         # turn's centripetal acceleration into a speed change)
-        (pn, pe, pu), (un, ue, uu) = self._vg_prev, self._path_prev
+        (pn, pe, pu), (un, ue, uu) = prev, self._path_prev
         # summed from 0.0 as sum() did (the same rounding, the sign of a zero included)
         vdot_i = (0.0 + (vn_m_s - pn) * un + (ve_m_s - pe) * ue + (vu_m_s - pu) * uu) / dt_s
         self._vg_prev, self._path_prev = vg, u_now
         tau = self._params.tau_cross_s
         if tau <= 0.0:
-            vdot = (tas_m_s - self._v_est) / dt_s
+            vdot = (tas_m_s - v_est) / dt_s
             self._v_est = tas_m_s
             return vdot
-        vdot = vdot_i + (tas_m_s - self._v_est) / tau
-        self._v_est += vdot * dt_s
+        vdot = vdot_i + (tas_m_s - v_est) / tau
+        self._v_est = v_est + vdot * dt_s
         return vdot

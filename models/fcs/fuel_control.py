@@ -53,7 +53,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..common.records import fast_init
-from .clip import clip
 from .errors import ParameterError
 from .tunable import Tunable, load_params
 
@@ -199,7 +198,9 @@ class FuelController(Tunable[FuelControlParams]):
         """:meth:`step` returning the fields of :class:`FuelControlOutput` in their order, as a tuple (the
         FCS's per-step path, which builds no records). The one implementation of the controller."""
         p = self._params
-        d = clip(delta, 0.0, 1.0)
+        # clip(v, lo, hi) written out as its two comparisons on this per-step path (as in pitch.py)
+        d = 0.0 if 0.0 > delta else delta
+        d = 1.0 if 1.0 < d else d
         N1c_dem = p.k_delta_pct * d
         if p.N1c_idle_pct > N1c_dem:  # max(k_delta d, N1c_idle)
             N1c_dem = p.N1c_idle_pct
@@ -213,11 +214,17 @@ class FuelController(Tunable[FuelControlParams]):
         if d_N < dWf:
             dWf, limiter = d_N, "N1"
         stp = p.stp_max_kg_s
-        dWf = clip(dWf, -stp, stp)
+        dWf = -stp if -stp > dWf else dWf
+        dWf = stp if stp < dWf else dWf
         # bounds, approached at the same limited rate if the command was outside them
-        target = clip(self._Wf + dWf, p.Wf_min_kg_s, p.Wf_max_kg_s)
-        dWf = clip(target - self._Wf, -stp, stp)
-        Wf_new = self._Wf + dWf
+        Wf = self._Wf
+        target = Wf + dWf
+        target = p.Wf_min_kg_s if p.Wf_min_kg_s > target else target
+        target = p.Wf_max_kg_s if p.Wf_max_kg_s < target else target
+        dWf = target - Wf
+        dWf = -stp if -stp > dWf else dWf
+        dWf = stp if stp < dWf else dWf
+        Wf_new = Wf + dWf
         self._Wf = Wf_new
         self._e_prev = e
         N1c_lim = N1c_dem if limiter == "demand" else N1c_pct

@@ -127,14 +127,18 @@ class L1Guidance(Tunable[GuidanceParams]):
         the first term governs; at jet speeds (150-250 m/s, turn radii 4-11 km) the second.
         """
         p = self._params
-        return max(p.L1_damping * p.L1_period_s * vg_m_s / math.pi, p.L1_min_turn_radii * self.turn_radius_m(vg_m_s),
-                   p.L1_min_m)
+        # max of the three written out (the builtin costs ~0.1 us a call; the same value: the first largest)
+        L1 = p.L1_damping * p.L1_period_s * vg_m_s / math.pi
+        b = p.L1_min_turn_radii * self.turn_radius_m(vg_m_s)
+        L1 = b if b > L1 else L1
+        return p.L1_min_m if p.L1_min_m > L1 else L1
 
     def _command(self, path_brg: float, xtk: float, vn: float, ve: float, ff_m_s2: float,
                  dist_to_go: float, L1_max_m: float = math.inf, psi_rad: float | None = None,
                  damping: float | None = None) -> PathCommand:
         vg = math.hypot(vn, ve)
-        L1 = min(self.l1_m(vg), L1_max_m)
+        L1 = self.l1_m(vg)  # min(L1, L1_max_m) and max(cos, 0.5) below written out (as in l1_m)
+        L1 = L1_max_m if L1_max_m < L1 else L1
         chi = math.atan2(ve, vn) if vg > 1.0 else path_brg
         if abs(xtk) < L1:
             brg_l1 = path_brg - math.asin(xtk / L1)
@@ -149,10 +153,11 @@ class L1Guidance(Tunable[GuidanceParams]):
             a -= (2.0 * math.sqrt(2.0) * damping - 2.0) * vg / L1 * vg * math.sin(wrap_pi(chi - path_brg))
         if psi_rad is not None:
             # the air-relative velocity turns; its part normal to the ground track is cos(crab) of it
-            a /= max(math.cos(wrap_pi(psi_rad - chi)), 0.5)
+            c = math.cos(wrap_pi(psi_rad - chi))
+            a /= 0.5 if 0.5 > c else c
         lim = self._params.phi_max_rad
         phi = clip(math.atan(a / G0_M_S2), -lim, lim)
-        return PathCommand(phi, path_brg, xtk, dist_to_go, eta)
+        return PathCommand.make(phi, path_brg, xtk, dist_to_go, eta)
 
     def line(self, path_brg_rad: float, xtk_m: float, vn_m_s: float, ve_m_s: float,
              psi_rad: float | None = None, dist_to_go_m: float = math.inf, damping: float | None = None) -> PathCommand:

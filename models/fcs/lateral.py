@@ -166,13 +166,21 @@ class LateralController(Tunable[LateralParams]):
                 phi_cmd_rad = self.phi_for_heading(heading_cmd_rad, psi_rad)
             else:
                 phi_cmd_rad = 0.0
-        s = clip(p.qbar_ref_Pa / (1.0 if 1.0 > qbar_Pa else qbar_Pa), p.gain_sched_min, p.gain_sched_max)
+        # clip(v, lo, hi) written out as its two comparisons on this per-step path (as in pitch.py)
+        s = p.qbar_ref_Pa / (1.0 if 1.0 > qbar_Pa else qbar_Pa)
+        s = p.gain_sched_min if p.gain_sched_min > s else s
+        s = p.gain_sched_max if p.gain_sched_max < s else s
         e = phi_cmd_rad - phi_rad
         u_p = s * (p.k_phi_1_rad * e - p.k_p_s_rad * p_rad_s)
         u = u_p + self._i_phi
         if abs(e) < p.phi_i_band_rad and (-1.0 < u < 1.0 or (u >= 1.0) != (e > 0)):
-            self._i_phi = clip(self._i_phi + s * p.k_phi_i_1_rad_s * e * dt_s, -p.phi_i_limit, p.phi_i_limit)
-        aileron = clip(u_p + self._i_phi, -1.0, 1.0)
+            i, lim = self._i_phi + s * p.k_phi_i_1_rad_s * e * dt_s, p.phi_i_limit
+            i = -lim if -lim > i else i
+            self._i_phi = lim if lim < i else i
+        aileron = u_p + self._i_phi
+        aileron = -1.0 if -1.0 > aileron else aileron
+        aileron = 1.0 if 1.0 < aileron else aileron
         r_c = G0_M_S2 * math.sin(phi_rad) * math.cos(theta_rad) / (1.0 if 1.0 > tas_m_s else tas_m_s)
-        rudder = clip(s * (p.k_beta_1_rad * beta_rad - p.k_r_s_rad * (r_rad_s - r_c)), -1.0, 1.0)
-        return aileron, rudder, phi_cmd_rad
+        rudder = s * (p.k_beta_1_rad * beta_rad - p.k_r_s_rad * (r_rad_s - r_c))
+        rudder = -1.0 if -1.0 > rudder else rudder
+        return aileron, 1.0 if 1.0 < rudder else rudder, phi_cmd_rad

@@ -285,14 +285,15 @@ class Orbiting(SectionType):
         super().__init__(sec, x, t_s, ctx)
         d = 1 if sec["direction"] == "clockwise" else -1
         self.orb = OrbitTracker(ctx.guidance, sec["center"], sec["radius_m"], d, sec["turns"])
+        self._alt_m, self._speed = sec["altitude_m"], sec["speed"]  # read at every step: looked up once
 
     def step(self, t_s: float, dt_s: float, x: AircraftState) -> Targets:
         cmd = self.orb.step(x.pos, x.vn_m_s, x.ve_m_s, x.psi_rad)
         self.done = self.orb.done
         phase = f"ORBIT {self.orb.turns_flown:.2f}" if self.orb.captured else "ORBIT_ENTRY"
-        return self.targets(phase=phase, alt_cmd_m=self.sec["altitude_m"], speed=self.sec["speed"],
+        return self.targets(phase=phase, alt_cmd_m=self._alt_m, speed=self._speed,
                             phi_cmd_rad=cmd.phi_cmd_rad, track_cmd_rad=cmd.track_cmd_rad, xtk_m=cmd.xtk_m,
-                            gear_down=False, vnav_mode=_mode(self.sec["altitude_m"], x, self.ctx.level_band_m))
+                            gear_down=False, vnav_mode=_mode(self._alt_m, x, self.ctx.level_band_m))
 
 
 @register
@@ -391,15 +392,17 @@ class Landing(SectionType):
     def __init__(self, sec: Section, x: AircraftState, t_s: float, ctx: MissionRunner) -> None:
         super().__init__(sec, x, t_s, ctx)
         self.land = AutoLand(sec["runway"], sec["approach_altitude_m"], ctx.guidance, ctx.approach_params)
+        # the fields read at every step, looked up once (a Section's field look-up is a search of its fields)
+        self._speed, self._track_rad = sec["approach_speed"], sec["runway"].heading_rad
 
     def step(self, t_s: float, dt_s: float, x: AircraftState) -> Targets:
         c = self.land.step(dt_s, x.pos, x.alt_m, x.vn_m_s, x.ve_m_s, x.psi_rad, x.tas_m_s, x.theta_rad, x.on_ground)
         self.done = self.land.done
         ground = c.theta_cmd_rad is not None
         return self.targets(phase=c.phase, alt_cmd_m=c.alt_cmd_m, gamma_cmd_rad=c.gamma_cmd_rad,
-                            theta_cmd_rad=c.theta_cmd_rad, speed=self.sec["approach_speed"],
+                            theta_cmd_rad=c.theta_cmd_rad, speed=self._speed,
                             lever=0.0 if c.idle else None, phi_cmd_rad=c.phi_cmd_rad,
-                            align_heading_rad=c.align_heading_rad, track_cmd_rad=self.sec["runway"].heading_rad,
+                            align_heading_rad=c.align_heading_rad, track_cmd_rad=self._track_rad,
                             xtk_m=c.ils.loc_m, steer=c.steer, brake=c.brake,
                             gear_down=ground or c.phase not in ("LOC_ARMED",), vnav_mode="APPROACH",
                             priority="path" if c.phase in ("LOC_ARMED", "LOC", "GS") else None)

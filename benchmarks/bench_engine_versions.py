@@ -15,7 +15,10 @@ Cases (Larzac 04 preset, 50 ms steps, explicit Euler, the default compiled path)
 * ``held``: 5000 m, Mach 0.6, N1 90 %, inputs held (one match per step);
 * ``changing``: the same with the fuel flow and altitude changing every step.
 
-    python benchmarks/bench_engine_versions.py [--rev main] [--rounds 30]
+With ``--compile N`` it prints instead the first compile of each version (CPU seconds of a new process on an
+empty kernel cache: the engine built, started and stepped three times), N alternating runs each.
+
+    python benchmarks/bench_engine_versions.py [--rev main] [--rounds 30] [--compile N]
 """
 
 from __future__ import annotations
@@ -91,7 +94,12 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--rev", default="main", help="git revision of the baseline (default main)")
     ap.add_argument("--rounds", type=int, default=30, help="chunks of 100 steps per case and version")
+    ap.add_argument("--compile", type=int, default=0, metavar="N",
+                    help="instead: the first compile of each version, N runs each on empty caches")
     a = ap.parse_args()
+    if a.compile:
+        compile_times(a.rev, a.compile)
+        return
     with tempfile.TemporaryDirectory() as tmp:
         _extract(a.rev, Path(tmp))
         sys.path.insert(0, tmp)
@@ -111,6 +119,41 @@ def main() -> None:
         o, n = times["old"][case], times["new"][case]
         print(f"{case:12s}{min(o):10.1f}{min(n):10.1f}{statistics.median(o):12.1f}{statistics.median(n):12.1f}"
               f"{min(n) / min(o):14.3f}")
+
+
+#: A child process's first compile: the engine built, started and stepped three times with an empty kernel cache.
+_COMPILE = """
+import os, sys, time, tempfile
+sys.path.insert(0, sys.argv[1])
+with tempfile.TemporaryDirectory() as cache:
+    os.environ["OPENEMSS_JIT_CACHE"] = cache
+    import importlib
+    E = importlib.import_module(sys.argv[2] + ".models.engine.engine_model")
+    m = E.EngineModel("larzac04_sls")
+    u = E.EngineInputs(m.od.solve(5000.0, 0.6, N1_pct=90.0).Wf_kg_s, 5000.0, 0.6)
+    m.start(u)
+    for _ in range(3):
+        m.step(0.05, u)
+    print(time.process_time())
+"""
+
+
+def compile_times(rev: str, rounds: int) -> None:
+    """Print the first compile [s of CPU] of `rev` and of this tree, each in a new process on an empty cache,
+    alternating (``rounds`` each)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        _extract(rev, Path(tmp))
+        out: dict[str, list[float]] = {"old": [], "new": []}
+        for _ in range(rounds):
+            for v, pkg in (("old", "openemss_base"), ("new", "openemss")):
+                res = subprocess.run([sys.executable, "-c", _COMPILE, tmp, pkg], check=True, capture_output=True,
+                                     text=True)
+                out[v].append(float(res.stdout.split()[-1]))
+    print(f"first compile on an empty cache, s of CPU (engine built, started, three steps), {rounds} alternating "
+          f"runs each; old = {rev}, new = this working tree")
+    print(f"{'old best':>10s}{'new best':>10s}{'old median':>12s}{'new median':>12s}{'new/old best':>14s}")
+    o, n = out["old"], out["new"]
+    print(f"{min(o):10.1f}{min(n):10.1f}{statistics.median(o):12.1f}{statistics.median(n):12.1f}{min(n) / min(o):14.3f}")
 
 
 if __name__ == "__main__":

@@ -153,7 +153,8 @@ def compile_times(rev: str, rounds: int) -> None:
           f"runs each; old = {rev}, new = this working tree")
     print(f"{'old best':>10s}{'new best':>10s}{'old median':>12s}{'new median':>12s}{'new/old best':>14s}")
     o, n = out["old"], out["new"]
-    print(f"{min(o):10.1f}{min(n):10.1f}{statistics.median(o):12.1f}{statistics.median(n):12.1f}{min(n) / min(o):14.3f}")
+    print(f"{min(o):10.1f}{min(n):10.1f}{statistics.median(o):12.1f}{statistics.median(n):12.1f}"
+          f"{min(n) / min(o):14.3f}")
 
 
 if __name__ == "__main__":

@@ -366,16 +366,21 @@ def table(xg: np.ndarray, yg: np.ndarray, ihx: np.ndarray, ihy: np.ndarray, cell
     t = (xc - xg[i]) * hx
     u = (yc - yg[j]) * hy
     for k in range(cells.shape[2]):
-        c = cells[i, j, k]
-        r0 = c[0] + u * (c[1] + u * (c[2] + u * c[3]))
-        r1 = c[4] + u * (c[5] + u * (c[6] + u * c[7]))
-        r2 = c[8] + u * (c[9] + u * (c[10] + u * c[11]))
-        r3 = c[12] + u * (c[13] + u * (c[14] + u * c[15]))
+        # the cell's 16 coefficients read one by one (a cell taken as an array is a view, with its atomic
+        # reference counting, at every output of every table read)
+        c0, c1, c2, c3 = cells[i, j, k, 0], cells[i, j, k, 1], cells[i, j, k, 2], cells[i, j, k, 3]
+        c4, c5, c6, c7 = cells[i, j, k, 4], cells[i, j, k, 5], cells[i, j, k, 6], cells[i, j, k, 7]
+        c8, c9, c10, c11 = cells[i, j, k, 8], cells[i, j, k, 9], cells[i, j, k, 10], cells[i, j, k, 11]
+        c12, c13, c14, c15 = cells[i, j, k, 12], cells[i, j, k, 13], cells[i, j, k, 14], cells[i, j, k, 15]
+        r0 = c0 + u * (c1 + u * (c2 + u * c3))
+        r1 = c4 + u * (c5 + u * (c6 + u * c7))
+        r2 = c8 + u * (c9 + u * (c10 + u * c11))
+        r3 = c12 + u * (c13 + u * (c14 + u * c15))
         p = r0 + t * (r1 + t * (r2 + t * r3))
-        s0 = c[1] + u * (2.0 * c[2] + 3.0 * u * c[3])
-        s1 = c[5] + u * (2.0 * c[6] + 3.0 * u * c[7])
-        s2 = c[9] + u * (2.0 * c[10] + 3.0 * u * c[11])
-        s3 = c[13] + u * (2.0 * c[14] + 3.0 * u * c[15])
+        s0 = c1 + u * (2.0 * c2 + 3.0 * u * c3)
+        s1 = c5 + u * (2.0 * c6 + 3.0 * u * c7)
+        s2 = c9 + u * (2.0 * c10 + 3.0 * u * c11)
+        s3 = c13 + u * (2.0 * c14 + 3.0 * u * c15)
         pt = r1 + t * (2.0 * r2 + 3.0 * t * r3)
         pu = s0 + t * (s1 + t * (s2 + t * s3))
         ptu = s1 + t * (2.0 * s2 + 3.0 * t * s3)

@@ -146,8 +146,9 @@ def chord_solve(xf: np.ndarray, u: np.ndarray, H0: np.ndarray, J_in: np.ndarray,
     norm = _resid(xf, x, fs, ctl, e, gc, gs, bl, fan, hpc, hpt, lpt, scr, r, o)
     if not norm == norm:
         return REFUSED, 0
-    Hc = H0.copy()
+    Hc = H0.copy()              # updated in place (Broyden), as are the residuals and differences below
     rr = r[:6].copy()
+    y, uu = np.empty(6), np.empty(6)
     for it in range(_MAX_IT):
         if norm < tol:
             for k in range(6):
@@ -166,22 +167,25 @@ def chord_solve(xf: np.ndarray, u: np.ndarray, H0: np.ndarray, J_in: np.ndarray,
             sens[0], sens[1] = sv[0], sv[1]
             return CONVERGED, it
         dx = np.dot(-Hc, rr)
-        norm_new = _resid(xf, x + dx, fs, ctl, e, gc, gs, bl, fan, hpc, hpt, lpt, scr, r, o)
+        xn = x + dx
+        norm_new = _resid(xf, xn, fs, ctl, e, gc, gs, bl, fan, hpc, hpt, lpt, scr, r, o)
         if not norm_new == norm_new:
             return REFUSED, it
         if norm_new > 0.5 * norm:
             return STALLED, it
-        r_new = r[:6].copy()
-        y = r_new - rr
+        for k in range(6):      # y = r_new - r, and r_new kept: element by element, the same differences
+            y[k] = r[k] - rr[k]
+            rr[k] = r[k]
         Hy = np.dot(Hc, y)
         # Broyden's good update of the inverse, H + outer(dx - Hy, dx H) / (dx Hy), element by element (the same
-        # products and quotients as np.outer's; numba's np.outer cost a second and a half of compilation)
-        u, w, d = dx - Hy, np.dot(dx, Hc), np.dot(dx, Hy)
-        Hn = np.empty((6, 6))
+        # products and quotients as np.outer's; numba's np.outer cost a second and a half of compilation), in
+        # place: dx H and dx - Hy are formed before
+        w, d = np.dot(dx, Hc), np.dot(dx, Hy)
+        for k in range(6):
+            uu[k] = dx[k] - Hy[k]
         for i in range(6):
             for j in range(6):
-                Hn[i, j] = Hc[i, j] + u[i] * w[j] / d
-        Hc = Hn
-        x, rr = x + dx, r_new
+                Hc[i, j] = Hc[i, j] + uu[i] * w[j] / d
+        x = xn
         norm = norm_new
     return STALLED, _MAX_IT

@@ -167,7 +167,7 @@ def _compress(gc: np.ndarray, gs: np.ndarray, W: float, T: float, P: float, f: f
     return To, ho, P * PR
 
 
-@jit
+@jit_inline
 def _map_c(m: Any, Nc: float, beta: float, v: np.ndarray, gx: np.ndarray, gy: np.ndarray,
            err: np.ndarray) -> tuple[float, float, float]:
     """(corrected flow [kg/s], PR [-], efficiency [-]) of a scaled compressor map at corrected speed Nc, beta."""
@@ -179,7 +179,7 @@ def _map_c(m: Any, Nc: float, beta: float, v: np.ndarray, gx: np.ndarray, gy: np
     return v[0] * sc[0], (v[1] - 1.0) * sc[1] + 1.0, v[2] * sc[2]
 
 
-@jit
+@jit_inline
 def _map_t(m: Any, Nc: float, PR: float, v: np.ndarray, gx: np.ndarray, gy: np.ndarray,
            err: np.ndarray) -> tuple[float, float]:
     """(corrected flow [kg/s], efficiency [-]) of a scaled turbine map; speed clamped to the map's [lo, hi]."""
@@ -193,7 +193,7 @@ def _map_t(m: Any, Nc: float, PR: float, v: np.ndarray, gx: np.ndarray, gy: np.n
     return v[0] * sc[0], v[1] * sc[2]
 
 
-@jit
+@jit_inline
 def _turbine_point(m: Any, design: bool, eta_d: float, W: float, T: float, P: float, N: float, PR: float,
                    v: np.ndarray, gx: np.ndarray, gy: np.ndarray, err: np.ndarray) -> tuple[float, float]:
     """(corrected flow [kg/s], efficiency [-]) of a turbine with inlet (W, Tt, Pt) at speed N [rpm] and pressure
@@ -210,7 +210,7 @@ def _mix_T(gc: np.ndarray, gs: np.ndarray, W: np.ndarray, T: np.ndarray, f: np.n
     return mix_state(gc, gs, W, T, f, ht, n, err)
 
 
-@jit
+@jit_inline
 def _faces(gc: np.ndarray, gs: np.ndarray, T: float, P: float, f: float, h: float, d: np.ndarray,
            sT: np.ndarray, sP: np.ndarray, sh: np.ndarray, sfrac: np.ndarray, err: np.ndarray) -> int:
     """Sector inlet states of a compressor face (:mod:`.distortion`): one sector, or clean and distorted when
@@ -224,7 +224,7 @@ def _faces(gc: np.ndarray, gs: np.ndarray, T: float, P: float, f: float, h: floa
     return 2
 
 
-@jit
+@jit_inline
 def _on_map(m: Any, design: bool, PR_d: float, eta_d: float, W_face: float, N: float, b_clean: float, b_dist: float,
             n: int, sT: np.ndarray, sP: np.ndarray, sfr: np.ndarray, PR: np.ndarray, eff: np.ndarray, Nc: np.ndarray,
             beta: np.ndarray, sW: np.ndarray, v: np.ndarray, gx: np.ndarray, gy: np.ndarray, err: np.ndarray) -> float:
@@ -245,7 +245,7 @@ def _on_map(m: Any, design: bool, PR_d: float, eta_d: float, W_face: float, N: f
     return Wsum
 
 
-@jit
+@jit_inline
 def _mix_sectors(gc: np.ndarray, gs: np.ndarray, n: int, W: np.ndarray, T: np.ndarray, P: np.ndarray, f: float,
                  h: np.ndarray, err: np.ndarray) -> tuple[float, float, float, float]:
     """(W, Tt, Pt, ht) of sector streams mixed at their flow-weighted total pressure (one: itself)."""

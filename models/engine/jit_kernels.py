@@ -150,12 +150,9 @@ except ImportError:                         # pragma: no cover
 
 
 # ---------------------------------------------------------------------- gas
-# cp, h, phi and R are inlined into their compiled callers (jit_inline): numba raises and lowers the reference
-# count of every array argument of a compiled call, atomically, and these are called some fifty times per
-# gas-path evaluation (about a quarter of its reference counting, measured with callgrind).
 # The polynomials of one row of ``gc`` (interval k, property j), read element by element: a row taken as an array
 # is a view, whose reference count numba raises and lowers atomically at every call (a few per kernel, several
-# hundred per gas-path evaluation)
+# hundred per gas-path evaluation). cp, T_from_h and T_from_phi share the cp form, phi and T_from_phi the phi form.
 @jit_inline
 def _cp_row(gc: np.ndarray, k: int, j: int, T: float, i: float) -> float:
     """cp polynomial of row (k, j) at T [K], i = 1/T."""
@@ -177,6 +174,9 @@ def _phi_row(gc: np.ndarray, k: int, j: int, T: float, i: float, lnT: float) -> 
         T * (gc[k, j, 3] + T * (gc[k, j, 4] + T * (gc[k, j, 5] + T * gc[k, j, 6]))) + gc[k, j, 7]
 
 
+# cp, h, phi and R are inlined into their compiled callers (jit_inline): numba raises and lowers the reference
+# count of every array argument of a compiled call, atomically, and these are called some fifty times per
+# gas-path evaluation (about a quarter of its reference counting, measured with callgrind)
 @jit_inline
 def cp(gc: np.ndarray, gs: np.ndarray, T: float, f: float, err: np.ndarray) -> float:
     """cp [J/(kg K)] at T [K], FAR f [-]."""
@@ -256,12 +256,14 @@ def T_from_h(gc: np.ndarray, gs: np.ndarray, hv: float, f: float, Tg: float, err
         T = T_MIN if T < T_MIN else (T_MAX if T > T_MAX else T)
         k = 0 if T <= gs[0] else 1
         i, lnT = 1.0 / T, math.log(T)
-        a, b = gc[k, 0], gc[k, 2]
-        c_ = i * (a[0] * i + a[1]) + a[2] + T * (a[3] + T * (a[4] + T * (a[5] + T * a[6])))
+        # the enthalpy polynomial with b0 * (1/T) where h() has b0 / T: the iteration's own rounding, which its
+        # results (and the cycle's, to the last digit) depend on
+        b = gc[k, 2]
+        c_ = _cp_row(gc, k, 0, T, i)
         h_ = b[0] * i + b[1] * lnT + T * (b[2] + T * (b[3] + T * (b[4] + T * (b[5] + T * b[6])))) + b[7]
         if f != 0.0:
-            a, b = gc[k, 1], gc[k, 3]
-            c_ = (c_ + f * (i * (a[0] * i + a[1]) + a[2] + T * (a[3] + T * (a[4] + T * (a[5] + T * a[6]))))) * inv
+            b = gc[k, 3]
+            c_ = (c_ + f * _cp_row(gc, k, 1, T, i)) * inv
             h_ = (h_ + f * (b[0] * i + b[1] * lnT + T * (b[2] + T * (b[3] + T * (b[4] + T * (b[5] + T * b[6]))))
                             + b[7])) * inv
         dT = (h_ - hv) / c_
@@ -289,14 +291,11 @@ def T_from_phi(gc: np.ndarray, gs: np.ndarray, pv: float, f: float, Tg: float, e
         T = T_MIN if T < T_MIN else (T_MAX if T > T_MAX else T)
         k = 0 if T <= gs[0] else 1
         i, lnT = 1.0 / T, math.log(T)
-        a, b = gc[k, 0], gc[k, 4]
-        c_ = i * (a[0] * i + a[1]) + a[2] + T * (a[3] + T * (a[4] + T * (a[5] + T * a[6])))
-        p_ = i * (b[0] * i + b[1]) + b[2] * lnT + T * (b[3] + T * (b[4] + T * (b[5] + T * b[6]))) + b[7]
+        c_ = _cp_row(gc, k, 0, T, i)
+        p_ = _phi_row(gc, k, 4, T, i, lnT)
         if f != 0.0:
-            a, b = gc[k, 1], gc[k, 5]
-            c_ = (c_ + f * (i * (a[0] * i + a[1]) + a[2] + T * (a[3] + T * (a[4] + T * (a[5] + T * a[6]))))) * inv
-            p_ = (p_ + f * (i * (b[0] * i + b[1]) + b[2] * lnT + T * (b[3] + T * (b[4] + T * (b[5] + T * b[6])))
-                            + b[7])) * inv
+            c_ = (c_ + f * _cp_row(gc, k, 1, T, i)) * inv
+            p_ = (p_ + f * _phi_row(gc, k, 5, T, i, lnT)) * inv
         T_new = T * math.exp((pv - p_) / c_)
         dT = T_new - T
         T = T_new

@@ -59,6 +59,14 @@ def _tuple_getter(idx: list[int]) -> Callable[[Sequence[Any]], tuple[Any, ...]]:
     return itemgetter(*idx)  # type: ignore[return-value]
 
 
+def _attrs_getter(names: list[str]) -> Callable[[Any], tuple[Any, ...]]:
+    """A function giving the tuple of the attributes ``names`` of an object (of one or more)."""
+    if len(names) == 1:
+        name = names[0]
+        return lambda obj: (getattr(obj, name),)
+    return attrgetter(*names)  # type: ignore[return-value]
+
+
 class SignalIO:
     """Mix-in of a pythonfmu slave whose variables come from signal tables (see the module)."""
 
@@ -162,18 +170,21 @@ class SignalIO:
         rows = [self._out_vr.get(vr) for vr in vrs]
         if all(r is not None for r in rows):
             return list(vrs), _picker(self, _VECTOR[kind], [self._out_index[r.name] for r in rows])  # type: ignore[union-attr]
-        if kind == "Real" and all(r is not None or vr in self._in_index for vr, r in zip(vrs, rows, strict=True)):
-            # outputs and Real inputs (a recorder's batch): the outputs from their vector, the inputs from _u,
-            # one itemgetter each, put back in the order asked by a third
+        held = {"Real": self._in_index, "Boolean": self._attr_vr, "Integer": self._attr_vr}.get(kind, {})
+        if all(r is not None or vr in held for vr, r in zip(vrs, rows, strict=True)):
+            # outputs and inputs (a recorder's batch): the outputs from their vector, the inputs from _u (Real)
+            # or the slave's attributes (Boolean, Integer), one getter each, put back in the order asked by a
+            # third (no cast: pythonfmu's C layer takes the truth or the integer of what it gets)
             outs = [(k, self._out_index[r.name]) for k, r in enumerate(rows) if r is not None]
-            ins = [(k, self._in_index[vr]) for k, (vr, r) in enumerate(zip(vrs, rows, strict=True)) if r is None]
+            ins = [(k, held[vr]) for k, (vr, r) in enumerate(zip(vrs, rows, strict=True)) if r is None]
             order = [k for k, _ in outs] + [k for k, _ in ins]
-            get_y, get_u = _tuple_getter([i for _, i in outs]), _tuple_getter([j for _, j in ins])
+            get_y, vec = _tuple_getter([i for _, i in outs]), attrgetter(_VECTOR[kind])
+            get_in, source = ((_tuple_getter([j for _, j in ins]), self._u) if kind == "Real"  # (_u is never replaced)
+                              else (_attrs_getter([name for _, name in ins]), self))
             back = itemgetter(*sorted(range(len(order)), key=order.__getitem__)) if len(order) > 1 else None
-            vec, u = attrgetter(_VECTOR[kind]), self._u                   # (_u is never replaced)
             if back is None:
-                return list(vrs), lambda: [*get_y(vec(self)), *get_u(u)]
-            return list(vrs), lambda: list(back(get_y(vec(self)) + get_u(u)))
+                return list(vrs), lambda: [*get_y(vec(self)), *get_in(source)]
+            return list(vrs), lambda: list(back(get_y(vec(self)) + get_in(source)))
         getters = [self.vars[vr].getter for vr in vrs]
         cast = {"Real": float, "Boolean": bool, "Integer": int, "String": str}[kind]
         return list(vrs), lambda: [cast(g()) for g in getters]

@@ -2,6 +2,8 @@
 from __future__ import annotations
 
 import shutil
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -30,6 +32,21 @@ def project_fmus(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     names = sorted(discover(ROOT / "fmus"))
     paths = ensure_built(ROOT / "fmus", out, names=names, force=True)
     return dict(zip(names, paths, strict=True))
+
+
+@pytest.fixture(scope="session")
+def state_fmu(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """LoopElement.fmu with canGetAndSetFMUstate="true" (pythonfmu saves and restores its variables)."""
+    out = tmp_path_factory.mktemp("state_fmu")
+    stage = out / "stage"
+    stage.mkdir()
+    script = ROOT / "tests" / "fmus" / "loop_element.py"
+    shutil.copy2(script, stage / script.name)
+    code = ("import sys; from pythonfmu.builder import FmuBuilder; "
+            "print(FmuBuilder.build_FMU(sys.argv[1], dest=sys.argv[2], canGetAndSetFMUstate=True))")
+    proc = subprocess.run([sys.executable, "-c", code, str(stage / script.name), str(out)], capture_output=True,
+                          text=True, check=True, cwd=out)
+    return Path(proc.stdout.strip().splitlines()[-1])
 
 
 def assert_house_style(model_description: object) -> None:

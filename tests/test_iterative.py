@@ -11,14 +11,11 @@ ring ``a.y -> b.u``, ``b.y -> a.u``:
 * a loop gain above 1: no sweep converges, the run fails with one line naming the loop;
 * FMUs that cannot get and set their state are refused by name.
 
-The state-capable FMU is built here with pythonfmu's builder and ``canGetAndSetFMUstate``; the
-project's ``build-fmus`` (the ``fmu_dir`` fixture) builds the same script without it.
+The state-capable FMU is the ``state_fmu`` fixture (tests/conftest.py); the project's ``build-fmus``
+(the ``fmu_dir`` fixture) builds the same script without ``canGetAndSetFMUstate``.
 """
 from __future__ import annotations
 
-import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -36,24 +33,9 @@ from openemss.orchestrator.ssp.read import load_system
 from openemss.orchestrator.ssp.system import bind_system
 from systems import Comp, write_system
 
-SCRIPT = Path(__file__).resolve().parent / "fmus" / "loop_element.py"
 CONNECTORS = [("u", "input", "Real"), ("y", "output", "Real"), ("x", "output", "Real")]
 H = 0.1  # macro step [s]
 RING = [("a.y", "b.u"), ("b.y", "a.u")]
-
-
-@pytest.fixture(scope="module")
-def state_fmu(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """LoopElement.fmu with canGetAndSetFMUstate="true" (pythonfmu saves and restores its variables)."""
-    out = tmp_path_factory.mktemp("state_fmu")
-    stage = out / "stage"
-    stage.mkdir()
-    shutil.copy2(SCRIPT, stage / SCRIPT.name)
-    code = ("import sys; from pythonfmu.builder import FmuBuilder; "
-            "print(FmuBuilder.build_FMU(sys.argv[1], dest=sys.argv[2], canGetAndSetFMUstate=True))")
-    proc = subprocess.run([sys.executable, "-c", code, str(stage / SCRIPT.name), str(out)], capture_output=True,
-                          text=True, check=True, cwd=out)
-    return Path(proc.stdout.strip().splitlines()[-1])
 
 
 def ring(folder: Path, fmu: Path, a: dict[str, float], b: dict[str, float]) -> Path:

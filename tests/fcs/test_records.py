@@ -101,7 +101,7 @@ def test_batched_get_set_match_pythonfmu_for_any_order() -> None:
     vr = {v.name: k for k, v in s.vars.items()}
     ins, outs = [vr[n] for n, _ in INPUTS], [vr[n] for n, _ in OUTPUTS]
     ints = [vr[n] for n in ("section_index", "fuel_limiter", "vnav_mode", "ils_phase")]
-    bools = [vr[n] for n in ("gear_down", "mission_completed")]
+    bools = [vr[n] for n in ("gear_down", "mission_completed", "on_ground")]  # outputs and an input
     rng = random.Random(1)
     for _ in range(20):
         for group, get, base in ((outs + ins, s.get_real, Fmi2Slave.get_real), (ints, s.get_integer, Fmi2Slave.get_integer),

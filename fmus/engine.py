@@ -22,6 +22,7 @@ import dataclasses
 import math
 from operator import itemgetter
 
+import numpy as np
 from pythonfmu import Fmi2Slave
 from pythonfmu.enums import Fmi2Status
 
@@ -119,6 +120,16 @@ class Engine(InitialOutputs, SignalIO, Fmi2Slave):
         self._model = m
         self._y, self._yb, self._yi = m.values, m.flags, [m.events]
 
+    def model_inputs(self) -> np.ndarray:
+        """The model's input array (:attr:`.EngineModel.input_array`) filled from the FMU's inputs."""
+        uin = self._model.input_array  # type: ignore[union-attr]
+        uin[:] = self._take(self._u)
+        for i, name in _BOOLS:
+            uin[i] = bool(getattr(self, name))
+        if self.use_ambient:
+            uin[_ALT], uin[_DT] = condition_from_ambient(self.p_amb_Pa, self.T_amb_K)
+        return uin
+
     def do_step(self, current_time: float, step_size: float) -> bool:
         """One step; a step the engine cannot compute (an input not finite, or, unless
         ``accept_solver_failure``, a gas path that cannot be matched) fails with the cause logged.
@@ -133,13 +144,7 @@ class Engine(InitialOutputs, SignalIO, Fmi2Slave):
                          "cannot compute its outputs", Fmi2Status.error, "logStatusError")
                 return False
         m = self._model
-        uin = m.input_array  # type: ignore[union-attr]
-        uin[:] = self._take(ins)
-        for i, name in _BOOLS:
-            uin[i] = bool(getattr(self, name))
-        if self.use_ambient:
-            uin[_ALT], uin[_DT] = condition_from_ambient(self.p_amb_Pa, self.T_amb_K)
-        m.step_array(step_size, uin)  # type: ignore[union-attr]
+        m.step_array(step_size, self.model_inputs())  # type: ignore[union-attr]
         if m.flags[SOLVER_FAILED] and not self.accept_solver_failure:  # type: ignore[union-attr]
             self.log(f"{m.message} (outside the engine's envelope; set engine.accept_solver_failure=true "  # type: ignore[union-attr]
                      "to fly on with the state held)", Fmi2Status.error, "logStatusError")

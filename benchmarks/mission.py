@@ -8,7 +8,8 @@ Runs ``ssp/`` (engine, airframe and FCS FMUs wired by the shipped SSD, the Munic
   (at least 100x, aiming at 200x), and the engine-less floor: the same system's cost without the
   engine's share, i.e. what the real-time factor would be with an engine that cost nothing;
 * per component: time in ``fmi2DoStep``, in the batched gets and sets (the FMI calls into
-  pythonfmu), µs per macro step and share of the wall time;
+  pythonfmu), µs per macro step and share of the wall time, and the batched sets the master left
+  out per step because their values were those it had sent last;
 * the orchestrator's own share: wall time minus everything spent inside the FMUs (transfers,
   recording, the loop itself);
 * the recorders' cost per macro step (sampling and writing, the end of the run included; their
@@ -167,17 +168,18 @@ def _report(stats: dict[str, dict[str, float]], sim_s: float, wall_s: float, set
           "not counted)")
     if error:
         print(f"the run stopped early: {error}")
-    print(f"\n{'where':<22}{'doStep s':>10}{'get+set s':>11}{'us/step':>10}{'share %':>9}")
-    print("-" * 62)
+    print(f"\n{'where':<22}{'doStep s':>10}{'get+set s':>11}{'us/step':>10}{'share %':>9}{'sets left out':>15}")
+    print("-" * 77)
     inside = 0.0
     for name, s in stats.items():
         fmi = s["do_step_s"] + s["get_s"] + s["set_s"]
         inside += fmi
         print(f"{name:<22}{s['do_step_s']:>10.3f}{s['get_s'] + s['set_s']:>11.3f}"
-              f"{1e6 * fmi / max(steps, 1):>10.1f}{100 * fmi / wall_s:>9.1f}")
+              f"{1e6 * fmi / max(steps, 1):>10.1f}{100 * fmi / wall_s:>9.1f}"
+              f"{s.get('sets_skipped', 0) / max(s['steps'], 1):>10.2f}/step")
     own = wall_s - inside
     print(f"{'orchestrator':<22}{'':>10}{'':>11}{1e6 * own / max(steps, 1):>10.1f}{100 * own / wall_s:>9.1f}")
-    print("-" * 62)
+    print("-" * 77)
     rtf = sim_s / wall_s if wall_s > 0 else float("inf")
     engine = sum(s["do_step_s"] + s["get_s"] + s["set_s"] for n, s in stats.items() if n == "engine")
     floor = sim_s / (wall_s - engine) if wall_s > engine else float("inf")

@@ -350,7 +350,8 @@ class Execution:
             raise finish_error
 
     def stats(self) -> dict[str, dict[str, float]]:
-        """Per component: steps and wall time [s] in doStep, get and set."""
+        """Per component: steps, wall time [s] in doStep, get and set, and the batched sets left out because
+        their values were those last sent (:meth:`.Slave.set_inputs`)."""
         return {s.name: {"steps": s.stats.steps, "do_step_s": s.stats.do_step_s, "get_s": s.stats.get_s,
-                         "set_s": s.stats.set_s} for s in self.slaves}
+                         "set_s": s.stats.set_s, "sets_skipped": s.stats.sets_skipped} for s in self.slaves}
 

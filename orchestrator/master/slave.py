@@ -186,6 +186,7 @@ class Slave:
             raise SlaveError(self.name, "fmi2Instantiate", None, self.log.last(self.name) or str(exc)) from None
         self._do_step_fn = self.fmu._functions["fmi2DoStep"]
         self._component = self.fmu.component
+        self._forget_sent()
 
     def _guard(self, call: str, fn, *args: object) -> None:  # type: ignore[no-untyped-def]
         """Run an fmpy call; turn its exception into a SlaveError naming this component."""

@@ -48,8 +48,9 @@ WAYS = ("model", "slave", "fmi2DoStep", "fmi2DoStep, caches flushed")
 def record_run(work: Path) -> Path:
     """Run the project's Munich mission (``emss run``); returns the run's folder."""
     out = work / "run"
-    proc = subprocess.run([sys.executable, "-m", "openemss.orchestrator.cli.main", "run", "--out", str(out)],
-                          cwd=ROOT, capture_output=True, text=True)
+    print("recording the mission: emss run ssp --no-post-run ...", flush=True)
+    proc = subprocess.run([sys.executable, "-m", "openemss.orchestrator.cli.main", "run", str(ROOT / "ssp"),
+                           "--out", str(out), "--no-post-run"], cwd=ROOT, capture_output=True, text=True)
     if proc.returncode != 0:
         raise SystemExit(f"bench_engine_replay: the recording run failed: {proc.stderr.strip()}")
     return out

@@ -13,12 +13,13 @@ mission:
   into its array as the FMU's ``do_step`` writes them;
 * ``slave``: the FMU slave's ``do_step`` (``fmus/engine.py``, the Python pythonfmu calls), without the
   FMI C layer;
-* ``fmi2DoStep``: through fmpy and pythonfmu's C layer, as our master calls it;
+* ``fmi2DoStep``: the master's ``Slave.do_step`` (fmi2DoStep through pythonfmu's C layer), as in a run;
 * ``fmi2DoStep, caches flushed``: the same, after touching ``--flush-mb`` MB of memory between two steps
   (untimed), the way the airframe and the FCS evict the engine's data between two of its steps in the
   coupled run.
 
-The inputs are set with fmi2SetReal before every step (untimed). The slave object is found in this
+The FMU is driven by the master's own :class:`.Slave` (its FMI calls); the inputs are set with one
+fmi2SetReal before every step (untimed). The slave object is found in this
 interpreter by its class (pythonfmu runs it here): a benchmark's reach into the FMU, never the master's.
 Columns: us per step (mean over the steps timed that way, best of ``--rounds``) and the ratio to
 ``model``. The coupled mission's own figure, the engine's ``doStep`` among the other FMUs, is
@@ -90,39 +91,35 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--rounds", type=int, default=2, help="replays of the whole mission (default 2)")
     ap.add_argument("--flush-mb", type=float, default=4.0, help="memory touched between steps (default 4 MB)")
     args = ap.parse_args(argv)
-    from fmpy.fmi2 import FMU2Slave
-
     from openemss.orchestrator.fmu.build import ensure_built
-    from openemss.orchestrator.master.slave import extracted
+    from openemss.orchestrator.master.slave import FmuLog, Slave
 
     ensure_built(ROOT / "fmus", ROOT / "ssp" / "resources")  # the shipped system's FMUs from today's sources
     with tempfile.TemporaryDirectory() as tmp:
         run = args.run or record_run(Path(tmp))
         model, inputs, u, params, fuel_run = engine_inputs(run, args.component)
-        md = model.model_description
+        kind = model.model_description.coSimulation.modelIdentifier
         junk = np.ones(max(1, int(args.flush_mb * 1e6) // 8))
         best = dict.fromkeys(WAYS, np.inf)
-        fuel_vr = model.variables["fuel_burned_kg"].vr
+        buf = np.empty(len(inputs))
         for r in range(args.rounds):
-            fmu = FMU2Slave(guid=md.guid, unzipDirectory=extracted(model.fmu_path),
-                            modelIdentifier=md.coSimulation.modelIdentifier, instanceName=f"{args.component}{r}")
+            before = {id(o) for o in gc.get_objects() if type(o).__name__ == kind}
+            fmu = Slave(model, FmuLog.shared())  # the master's own FMI calls
             fmu.instantiate()
-            fmu.setupExperiment(startTime=0.0)
-            setters = {"Real": fmu.setReal, "Integer": fmu.setInteger, "Boolean": fmu.setBoolean,
-                       "String": fmu.setString}
+            fmu.bind_io("Real", "set", inputs, buf)
+            fmu.setup_experiment(0.0, None)
             for p in params:
-                setters[p.variable.type_name]([p.variable.vr], [p.value])
-            vrs = [v.vr for v in inputs]
-            fmu.setReal(vrs, u[0].tolist())
-            fmu.enterInitializationMode()
-            fmu.exitInitializationMode()
-            slave = next(o for o in gc.get_objects()
-                         if type(o).__name__ == md.coSimulation.modelIdentifier and getattr(o, "instance_name", "")
-                         == f"{args.component}{r}")
+                fmu.set_value(p.variable, p.value)
+            buf[:] = u[0]
+            fmu.set_inputs()
+            fmu.enter_initialization_mode()
+            fmu.exit_initialization_mode()
+            slave = next(o for o in gc.get_objects() if type(o).__name__ == kind and id(o) not in before)
             total, count = np.zeros(len(WAYS)), np.zeros(len(WAYS))
             pc = time.perf_counter
             for k in range(u.shape[0] - 1):
-                fmu.setReal(vrs, u[k].tolist())
+                buf[:] = u[k]
+                fmu.set_inputs()
                 way = (k + r) % len(WAYS)
                 if way == 0:  # the slave's do_step without its checks and its event count
                     uin = slave.model_inputs()  # untimed
@@ -138,14 +135,15 @@ def main(argv: list[str] | None = None) -> int:
                     if way == 3:
                         junk.sum()
                     t0 = pc()
-                    fmu.doStep(k * H, H)
+                    fmu.do_step(k * H, H)
                     t1 = pc()
                 total[way] += t1 - t0
                 count[way] += 1
-            fuel = fmu.getReal([fuel_vr])[0]
+            fuel = fmu.get_value(model.variables["fuel_burned_kg"])
             for w, name in enumerate(WAYS):
                 best[name] = min(best[name], total[w] / count[w] * 1e6)
             fmu.terminate()
+            fmu.free()
         print(f"{args.component} FMU alone on the recorded inputs of {run}: {u.shape[0] - 1} steps of {H} s, "
               f"inputs {', '.join(v.name for v in inputs)}; best of {args.rounds} rounds")
         print(f"fuel burned at the end: replay {fuel!r} kg, the run {fuel_run!r} kg "

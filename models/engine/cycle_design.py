@@ -222,7 +222,7 @@ def _turbofan(p: TurbofanParams, W2: float, gas: GasModel) -> DesignPoint:
     """The turbofan's design point: the one gas path (:func:`.gas_path.turbofan`) in design mode, its two
     turbine pressure ratios matched to the spools' power balances (compressors, offtakes, mechanical losses)."""
     from .combustion import h_fuel_liquid
-    from .gas_path import MAX_BLEEDS, OUT, SINK, STATIONS, turbofan
+    from .gas_path import MAX_BLEEDS, OUT, SINK, STATIONS, turbofan, work_arrays
     from .newton import newton_solve
     if p.nozzle_type != "convergent":
         raise ModelError(f"{p.name}: the turbofan's nozzles are convergent (nozzle_type={p.nozzle_type!r} is for "
@@ -244,6 +244,7 @@ def _turbofan(p: TurbofanParams, W2: float, gas: GasModel) -> DesignPoint:
     dummy = (*(np.zeros(2),) * 4, np.zeros((1, 1, 3, 16)), np.zeros(8), np.ones(6), np.zeros(2), np.zeros(2))
     S, B, PW = np.empty((len(STATIONS), 5)), np.empty((MAX_BLEEDS, 6)), np.empty(len(PW_NAMES))
     r, o, err, dist = np.empty(12), np.empty(len(OUT)), np.zeros(2, np.int64), np.zeros((2, 4))
+    work = work_arrays()
     x = np.ones(9 + (p.PR_booster > 1.0))
     box = {"e": _turbofan_params(p, W2, 1.0, 1.0)}
 
@@ -251,7 +252,7 @@ def _turbofan(p: TurbofanParams, W2: float, gas: GasModel) -> DesignPoint:
         x[5], x[6] = prs
         err[:] = 0
         code = turbofan(x, fs, ctl, box["e"], gc, gs, bl, dummy, dummy, dummy, dummy, dummy, dist, S, B, PW, r, o,
-                        err, False)
+                        err, work, False)
         if code:
             from .gas_path import ERRORS, STAGES
             raise OutOfRangeError(f"{STAGES[int(err[1])] or 'gas path'}: {ERRORS.get(code, f'error {code}')}")

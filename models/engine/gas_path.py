@@ -54,7 +54,7 @@ from .bleed import bleed_state
 from .combustion import burner_exit_T, burner_far
 from .compressor import bled_power, compress_exit
 from .flow import P_STD_PA, T_STD_K, mix_state
-from .jit_kernels import jit, jit_inline
+from .jit_kernels import borrowed, jit, jit_inline
 from .nozzle import convergent_throat
 from .shaft import TERM_INDEX, TURBOFAN_SHAFTS, spool_balance, term_arrays
 from .turbine import turbine_stream as _turbine
@@ -117,6 +117,13 @@ _ST_INLET, _ST_FAN, _ST_BOO, _ST_HPC, _ST_BURN, _ST_HPT, _ST_LPT, _ST_BYP, _ST_N
 
 #: Rows of the evaluation's scratch arrays (:func:`turbofan`): of 3 (sector vectors...), of MAX_BLEEDS + 1 (bleeds).
 _N_T3, _N_TB = 35, 15
+
+
+def work_arrays() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The scratch arrays :func:`turbofan` works in (the small vectors of its stages, its bleeds' rows, the bleeds
+    per sector), allocated once by the caller: held there, the gas path reads them without reference counts
+    (:func:`.jit_kernels.borrowed`), and an allocation per evaluation costs more than the arithmetic around it."""
+    return np.empty((_N_T3, 3)), np.empty((_N_TB, MAX_BLEEDS + 1)), np.empty((4, MAX_BLEEDS, 2))
 
 _TERM_SPOOL, _TERM_KIND = term_arrays()
 _NTERM = len(TURBOFAN_SHAFTS)
@@ -286,7 +293,8 @@ def _nozzle(gc: np.ndarray, gs: np.ndarray, W: float, T: float, P: float, f: flo
 @jit
 def turbofan(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: np.ndarray, gs: np.ndarray,
              bl: np.ndarray, fan: Any, hpc: Any, hpt: Any, lpt: Any, boo: Any, dist: np.ndarray, S: np.ndarray,
-             B: np.ndarray, PW: np.ndarray, r: np.ndarray, o: np.ndarray, err: np.ndarray, with_sm: bool) -> int:
+             B: np.ndarray, PW: np.ndarray, r: np.ndarray, o: np.ndarray, err: np.ndarray, w: Any,
+             with_sm: bool) -> int:
     """The separate-flow turbofan at unknowns `x`: stations, bleeds, powers, residuals and outputs.
 
     Parameters
@@ -305,12 +313,16 @@ def turbofan(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: 
         shaft terms' powers (:data:`.shaft.TURBOFAN_SHAFTS`, then the HP and LP mechanical losses) [W],
         residuals, outputs (:data:`OUT`).
     err : (2,) int: error code and stage, zero on entry.
+    w : the scratch arrays (:func:`work_arrays`), overwritten.
     with_sm : compute the surge margins (outputs SM_*; NaN otherwise).
 
     Returns
     -------
     int : 0, or the error code (:data:`ERRORS`); the outputs are then incomplete.
     """
+    # the arguments, held by the caller for the call, as views without reference counts (jit_kernels.borrowed)
+    x, fs, ctl, e, gc, gs, bl, fan, hpc, hpt, lpt, boo = borrowed((x, fs, ctl, e, gc, gs, bl, fan, hpc, hpt, lpt, boo))
+    dist, S, B, PW, r, o, err, w = borrowed((dist, S, B, PW, r, o, err, w))
     design = e[EP.mode] == 1.0
     nb_on = e[EP.booster] != 0.0
     W2, bfan, bhpc = x[0] * e[EP.W2_ref], x[1], x[2]
@@ -334,12 +346,9 @@ def turbofan(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: 
         ix += 1
     if dist[1, 0] != 0.0:
         b_hpc_d = x[ix]
-    # the small vectors of the stages (per sector, a map's outputs and slopes, a spool's terms), rows of one array
-    # allocated once per evaluation, and the bleeds' likewise: an allocation costs more than the arithmetic
-    # around it, and some sixty of them did (about a third of an evaluation)
-    t3 = np.empty((_N_T3, 3))
-    tb = np.empty((_N_TB, MAX_BLEEDS + 1))
-    sb = np.empty((4, MAX_BLEEDS, 2))
+    # the small vectors of the stages (per sector, a map's outputs and slopes, a spool's terms) and the bleeds' are
+    # rows of the caller's scratch arrays: some sixty allocations per evaluation were a third of its time
+    t3, tb, sb = w
     v, gx, gy = t3[0], t3[1], t3[2]
     # free stream and inlet
     T2 = fs[0]

@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from . import jit_kernels as K
-from .gas_path import MAX_BLEEDS, OUT, SINK, STATIONS, pack_params, turbofan
+from .gas_path import MAX_BLEEDS, OUT, SINK, STATIONS, pack_params, turbofan, work_arrays
 from .jit_freestream import atm_array
 from .jit_freestream import free_stream as compiled_free_stream
 from .jit_kernels import jit_inline
@@ -31,11 +31,12 @@ _NST, _NPW = len(STATIONS), len(TURBOFAN_SHAFTS) + 2
 DEMAND = {"Wf_kg_s": 0, "N1_rpm": 1, "N1c_rpm": 2, "Tt4_K": 3, "Fn_N": 4}
 
 
-def scratch() -> tuple[np.ndarray, ...]:
+def scratch() -> tuple[Any, ...]:
     """The arrays :func:`cycle` evaluates the gas path into and discards (stations, bleeds, powers, a face without
-    distortion, error, with_sm flag), allocated once by the caller (:func:`.jit_solve.bundle`)."""
+    distortion, error, with_sm flag, the gas path's work arrays), and the free stream and control vector of
+    :func:`.jit_solve.chord_solve`, allocated once by the caller (:func:`.jit_solve.bundle`)."""
     return (np.empty((_NST, 5)), np.empty((MAX_BLEEDS, 6)), np.empty(_NPW), np.zeros((2, 4)),
-            np.zeros(2, np.int64), np.zeros(1, np.bool_))
+            np.zeros(2, np.int64), np.zeros(1, np.bool_), work_arrays(), np.empty(6), np.empty(6))
 
 
 @jit_inline
@@ -44,13 +45,13 @@ def cycle(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: np.
           with_sm: bool) -> int:
     """Residuals r (9) and outputs o (:data:`.gas_path.OUT`) of an engine without booster or distortion:
     :func:`.gas_path.turbofan` into the scratch arrays `scr` (:func:`scratch`); 0 or its error code."""
-    S, B, PW, dist, err, flag = scr
+    S, B, PW, dist, err, flag, w = scr[:7]
     err[0] = err[1] = 0
     # a plain bool: the gas path then has the argument types FastCycle.evaluate calls it with (the caller passes
     # contiguous arrays), and numba compiles it once for both (a literal False, or a slice's layout, is another
     # type: a second compilation of the largest kernel, some 25 s)
     flag[0] = with_sm
-    return turbofan(x, fs, ctl, e, gc, gs, bl, fan, hpc, hpt, lpt, fan, dist, S, B, PW, r, o, err, flag[0])
+    return turbofan(x, fs, ctl, e, gc, gs, bl, fan, hpc, hpt, lpt, fan, dist, S, B, PW, r, o, err, w, flag[0])
 
 
 def _maps(od: Any) -> tuple[Any, ...]:
@@ -115,6 +116,7 @@ class FastCycle:
         self.r, self.o = np.empty(9 + 3), np.empty(len(OUT))
         self.err = np.zeros(2, np.int64)
         self.dist = np.zeros((2, 4))
+        self._work = work_arrays()
         self._fs: tuple[tuple[float, float, float], np.ndarray] | None = None
         self._ctl = np.empty(6)
         self.atm = atm_array()                  # the ISA's constants, for the compiled free stream
@@ -156,7 +158,7 @@ class FastCycle:
         f, h, t, lp = self.maps
         return int(turbofan(x, fs, c, self.e, self.gc, self.gs, self.bl, f, h, t, lp, self.boo,
                             self.dist if dist is None else dist, self.S, self.B, self.PW, self.r, self.o, self.err,
-                            with_sm))
+                            self._work, with_sm))
 
     def __call__(self, x: np.ndarray, cond: tuple[float, float, float], demand: tuple[int, float],
                  extras: tuple[float, float, float], hb_frac: float | None, with_sm: bool = False) -> bool:

@@ -40,7 +40,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["AVAILABLE", "jit", "jit_inline", "T_MIN", "T_MAX"]
+__all__ = ["AVAILABLE", "borrowed", "jit", "jit_inline", "T_MIN", "T_MAX"]
 
 T_MIN = 200.0
 T_MAX = 2200.0
@@ -144,9 +144,49 @@ try:                                        # numba is a dependency; without it 
         caller and a large kernel: numba links a kernel's code into every compiled function above it and
         optimises and emits it again there, so each layer over the gas path cost seconds of compilation."""
         return _njit(cache=True, nogil=True, error_model="numpy", inline="always")(fn)
+
+    from numba.core import cgutils as _cgutils
+    from numba.core import types as _types
+    from numba.extending import intrinsic as _intrinsic
+
+    def _strip(context: Any, builder: Any, ty: Any, val: Any) -> Any:
+        """`val` of type `ty` with the meminfo of each array in it (in nested tuples too) set to null."""
+        if isinstance(ty, _types.Array):
+            view = context.make_array(ty)(context, builder, value=val)
+            view.meminfo = _cgutils.get_null_value(view.meminfo.type)
+            return view._getvalue()
+        if isinstance(ty, _types.BaseTuple):
+            for k, t in enumerate(ty):
+                if isinstance(t, (_types.Array, _types.BaseTuple)):
+                    val = builder.insert_value(val, _strip(context, builder, t, builder.extract_value(val, k)), k)
+        return val
+
+    @_intrinsic
+    def _borrowed(typingctx: Any, a: Any) -> Any:
+        def codegen(context: Any, builder: Any, sig: Any, args: Any) -> Any:
+            return _strip(context, builder, a, args[0])
+        return a(a), codegen
+
+    @jit_inline
+    def borrowed(a: Any) -> Any:
+        """The array `a` (or each array of a tuple, nested tuples too) without its reference count: the same data,
+        shape and strides, the same type.
+
+        numba counts the references of every array a compiled function binds, atomically, and its pruning pass
+        removes the pairs only where the function's control flow is simple; the gas path's kernels, with their
+        early returns and loops, kept them: some twenty atomic operations per call of a map table, about half the
+        time of an engine step. A view without the count (its ``meminfo`` null, which numba's increments and
+        decrements skip) costs none of them. Only for arrays whose owner outlives every use of the view: the
+        arguments of the compiled entry points, held by their Python caller for the call; never for an array
+        allocated in compiled code, which numba frees after its last use, nor to be stored or returned."""
+        return _borrowed(a)
 except ImportError:                         # pragma: no cover
     AVAILABLE = False
     jit = jit_inline = _plain
+
+    def borrowed(a: np.ndarray) -> np.ndarray:
+        """Without numba: `a` itself (see the compiled version)."""
+        return a
 
 
 # ---------------------------------------------------------------------- gas

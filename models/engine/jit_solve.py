@@ -35,7 +35,7 @@ from . import jit_kernels as K
 from .gas_path import OX
 from .jit_cycle import cycle, scratch
 from .jit_freestream import free_stream
-from .jit_kernels import jit, jit_inline
+from .jit_kernels import borrowed, jit, jit_inline
 
 __all__ = ["CONVERGED", "STALLED", "REFUSED", "FREE", "INPUTS", "bundle", "chord_solve", "free_stream_at"]
 
@@ -127,12 +127,19 @@ def chord_solve(xf: np.ndarray, u: np.ndarray, H0: np.ndarray, J_in: np.ndarray,
     (status, iterations) : status :data:`CONVERGED`, :data:`STALLED` or :data:`REFUSED`; the outputs are
         set only when converged.
     """
+    # the arrays held by the caller, as views without reference counts (numba's would cost half the match)
+    fcb, xf, u, H0, J_in, Js_free, Js_in = borrowed((fcb, xf, u, H0, J_in, Js_free, Js_in))
+    H, r, o, sens = borrowed((H, r, o, sens))
     fsc, _, e, gc, gs, bl, fan, hpc, hpt, lpt, scr = _open(fcb)
     xin, cond = u[0:3], u[3:6]
-    ctl = u[6:12].copy()        # contiguous, as fs below: the gas path is compiled once, for FastCycle's types
+    # ctl and fs copied into the scratch's contiguous vectors: the gas path is compiled once, for FastCycle's types
+    fs, ctl = scr[7], scr[8]
+    for k in range(6):
+        ctl[k] = u[6 + k]
     if free_stream_at(fcb, cond[0], cond[1], cond[2]) != 0:
         return REFUSED, 0
-    fs = fsc[3:].copy()         # contiguous: cycle then has the signature it is compiled for elsewhere (reused)
+    for k in range(6):
+        fs[k] = fsc[3 + k]
     din = np.empty(3)
     for k in range(3):
         din[k] = xin[k] - xf[INPUTS[k]]

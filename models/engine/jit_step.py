@@ -38,7 +38,7 @@ from numba.experimental import structref
 
 from .engine_signals import EO
 from .gas_path import OX
-from .jit_kernels import jit, jit_inline
+from .jit_kernels import borrowed, jit, jit_inline
 from .jit_solve import CONVERGED, chord_solve, free_stream_at
 from .shaft import spool_acceleration_of
 
@@ -157,8 +157,11 @@ def euler_step(dt_s: float, h: float, d: StepData, k_prev: int, tol: float) -> i
         :data:`REFUSED` (nothing written); else bits 0-5 the flags that rose (events), bits 8-13 the flags
         that changed.
     """
-    uin, st, par, vals, J_in, Js_free, Js_in, fcb = d.uin, d.state, d.par, d.vals, d.J_in, d.Js_free, d.Js_in, d.fcb
-    prev, new = d.buf[k_prev], d.buf[1 - k_prev]
+    # the model's arrays (held by the EngineModel), as views without reference counts (jit_kernels.borrowed)
+    uin, st, par, vals, J_in, Js_free, Js_in, fcb = borrowed((d.uin, d.state, d.par, d.vals, d.J_in, d.Js_free,
+                                                              d.Js_in, d.fcb))
+    buf = borrowed(d.buf)
+    prev, new = buf[k_prev], buf[1 - k_prev]
     n_out = int(par[_NOUT])
     _H = _O + n_out
     _S = _H + 36

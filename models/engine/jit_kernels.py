@@ -447,8 +447,17 @@ def surge_speed_at_flow(xg: np.ndarray, yg: np.ndarray, ihx: np.ndarray, ihy: np
     n = sw.shape[0]
     if not sw[0] <= w <= sw[n - 1]:
         return math.nan
-    err = np.zeros(1, np.int64)
-    t = np.empty((3, 3))                    # the table's values and slopes: one allocation, not three
+    # the table's values and slopes, and its error flag: allocated here, read without counts by the callee
+    return _surge_speed(xg, yg, ihx, ihy, cells, lim, sx, sw, w, np.empty((3, 3)), np.zeros(1, np.int64))
+
+
+@jit
+def _surge_speed(xg: np.ndarray, yg: np.ndarray, ihx: np.ndarray, ihy: np.ndarray, cells: np.ndarray,
+                 lim: np.ndarray, sx: np.ndarray, sw: np.ndarray, w: float, t: np.ndarray, err: np.ndarray) -> float:
+    """:func:`surge_speed_at_flow` for a flow `w` on the surge line, with the table's work arrays t (3, 3) and err
+    given (held by the caller: views without reference counts here, :func:`borrowed`)."""
+    xg, yg, ihx, ihy, cells, lim, sx, sw, t, err = borrowed((xg, yg, ihx, ihy, cells, lim, sx, sw, t, err))
+    n = sw.shape[0]
     v, gx, gy = t[0], t[1], t[2]
     k = 0                                   # bisect_right(sw, w) - 1, clipped to [0, n - 2]
     while k < n - 1 and sw[k] <= w:
@@ -477,14 +486,28 @@ def surge_margin(xg: np.ndarray, yg: np.ndarray, ihx: np.ndarray, ihy: np.ndarra
                  lim: np.ndarray, sx: np.ndarray, sw: np.ndarray, nc: float, beta: float, s_PR: float) -> float:
     """Flow-basis surge margin [-] (:meth:`.maps.CompressorMap.surge_margin`), PR_surge(Wc) / PR - 1 with the PR
     scaled as (PR - 1) s_PR + 1; NaN where it cannot be formed (off the map, or no surge line at that flow)."""
-    err = np.zeros(1, np.int64)
-    t = np.empty((3, 3))
+    return _surge_margin(xg, yg, ihx, ihy, cells, lim, sx, sw, nc, beta, s_PR, np.empty((3, 3)),
+                         np.zeros(1, np.int64))
+
+
+@jit
+def _surge_margin(xg: np.ndarray, yg: np.ndarray, ihx: np.ndarray, ihy: np.ndarray, cells: np.ndarray,
+                  lim: np.ndarray, sx: np.ndarray, sw: np.ndarray, nc: float, beta: float, s_PR: float, t: np.ndarray,
+                  err: np.ndarray) -> float:
+    """:func:`surge_margin` with the table's work arrays t (3, 3) and err given (as :func:`_surge_speed`)."""
+    xg, yg, ihx, ihy, cells, lim, sx, sw, t, err = borrowed((xg, yg, ihx, ihy, cells, lim, sx, sw, t, err))
     v, gx, gy = t[0], t[1], t[2]
     table(xg, yg, ihx, ihy, cells, lim, nc, beta, v, gx, gy, err)
     if err[0]:
         return math.nan
     w, pr = v[0], (v[1] - 1.0) * s_PR + 1.0
-    x = nc if beta == 0.0 else surge_speed_at_flow(xg, yg, ihx, ihy, cells, lim, sx, sw, w)
+    if beta == 0.0:
+        x = nc
+    elif not sw[0] <= w <= sw[sw.shape[0] - 1]:
+        return math.nan                     # (surge_speed_at_flow's NaN)
+    else:
+        x = _surge_speed(xg, yg, ihx, ihy, cells, lim, sx, sw, w, t, err)
+        err[0] = 0                          # (the surge line's own reads, never checked, as in surge_speed_at_flow)
     if not x == x:
         return math.nan
     table(xg, yg, ihx, ihy, cells, lim, x, 0.0, v, gx, gy, err)

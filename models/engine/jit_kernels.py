@@ -444,9 +444,6 @@ def surge_speed_at_flow(xg: np.ndarray, yg: np.ndarray, ihx: np.ndarray, ihy: np
     """Relative speed [-] where the surge line (beta = 0) passes corrected flow `w` (:meth:`.maps.CompressorMap.
     surge_nc_rel_at_flow`): Newton on the surge line safeguarded by bisection, started by linear interpolation
     between its nodes (sx, sw: speeds and flows, the flow rising with speed); NaN where `w` is not on it."""
-    n = sw.shape[0]
-    if not sw[0] <= w <= sw[n - 1]:
-        return math.nan
     # the table's values and slopes, and its error flag: allocated here, read without counts by the callee
     return _surge_speed(xg, yg, ihx, ihy, cells, lim, sx, sw, w, np.empty((3, 3)), np.zeros(1, np.int64))
 
@@ -454,10 +451,12 @@ def surge_speed_at_flow(xg: np.ndarray, yg: np.ndarray, ihx: np.ndarray, ihy: np
 @jit
 def _surge_speed(xg: np.ndarray, yg: np.ndarray, ihx: np.ndarray, ihy: np.ndarray, cells: np.ndarray,
                  lim: np.ndarray, sx: np.ndarray, sw: np.ndarray, w: float, t: np.ndarray, err: np.ndarray) -> float:
-    """:func:`surge_speed_at_flow` for a flow `w` on the surge line, with the table's work arrays t (3, 3) and err
-    given (held by the caller: views without reference counts here, :func:`borrowed`)."""
+    """:func:`surge_speed_at_flow` with the table's work arrays t (3, 3) and err given (held by the caller: views
+    without reference counts here, :func:`borrowed`)."""
     xg, yg, ihx, ihy, cells, lim, sx, sw, t, err = borrowed((xg, yg, ihx, ihy, cells, lim, sx, sw, t, err))
     n = sw.shape[0]
+    if not sw[0] <= w <= sw[n - 1]:
+        return math.nan
     v, gx, gy = t[0], t[1], t[2]
     k = 0                                   # bisect_right(sw, w) - 1, clipped to [0, n - 2]
     while k < n - 1 and sw[k] <= w:
@@ -503,8 +502,6 @@ def _surge_margin(xg: np.ndarray, yg: np.ndarray, ihx: np.ndarray, ihy: np.ndarr
     w, pr = v[0], (v[1] - 1.0) * s_PR + 1.0
     if beta == 0.0:
         x = nc
-    elif not sw[0] <= w <= sw[sw.shape[0] - 1]:
-        return math.nan                     # (surge_speed_at_flow's NaN)
     else:
         x = _surge_speed(xg, yg, ihx, ihy, cells, lim, sx, sw, w, t, err)
         err[0] = 0                          # (the surge line's own reads, never checked, as in surge_speed_at_flow)

@@ -128,8 +128,8 @@ def chord_solve(xf: np.ndarray, u: np.ndarray, H0: np.ndarray, J_in: np.ndarray,
         set only when converged.
     """
     # the arrays held by the caller, as views without reference counts (numba's would cost half the match)
-    fcb, xf, u, H0, J_in, Js_free, Js_in = borrowed((fcb, xf, u, H0, J_in, Js_free, Js_in))
-    H, r, o, sens = borrowed((H, r, o, sens))
+    fcb, xf, u, H0, J_in, Js_free, Js_in, H, r, o, sens = borrowed((fcb, xf, u, H0, J_in, Js_free, Js_in, H, r, o,
+                                                                    sens))
     fsc, _, e, gc, gs, bl, fan, hpc, hpt, lpt, scr = _open(fcb)
     xin, cond = u[0:3], u[3:6]
     # ctl and fs copied into the scratch's contiguous vectors: the gas path is compiled once, for FastCycle's types

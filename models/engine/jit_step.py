@@ -158,9 +158,8 @@ def euler_step(dt_s: float, h: float, d: StepData, k_prev: int, tol: float) -> i
         that changed.
     """
     # the model's arrays (held by the EngineModel), as views without reference counts (jit_kernels.borrowed)
-    uin, st, par, vals, J_in, Js_free, Js_in, fcb = borrowed((d.uin, d.state, d.par, d.vals, d.J_in, d.Js_free,
-                                                              d.Js_in, d.fcb))
-    buf = borrowed(d.buf)
+    uin, st, par, vals, J_in, Js_free, Js_in, fcb, buf = borrowed((d.uin, d.state, d.par, d.vals, d.J_in, d.Js_free,
+                                                                   d.Js_in, d.fcb, d.buf))
     prev, new = buf[k_prev], buf[1 - k_prev]
     n_out = int(par[_NOUT])
     _H = _O + n_out

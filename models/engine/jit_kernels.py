@@ -32,13 +32,11 @@ F. N. Fritsch, R. E. Carlson, SIAM J. Numer. Anal. 17(2), 1980 (the tables' slop
 
 from __future__ import annotations
 
-import hashlib
 import math
-import os
-from collections.abc import Callable
-from typing import Any
 
 import numpy as np
+
+from ..common.jit import AVAILABLE, borrowed, jit, jit_inline
 
 __all__ = ["AVAILABLE", "borrowed", "jit", "jit_inline", "T_MIN", "T_MAX"]
 
@@ -50,143 +48,6 @@ _STEP_TOL = 1e-5
 #: Most Newton steps of the gas inverses.
 MAX_ITER = 30
 _MAX_ITER = MAX_ITER
-
-
-def _plain(fn: Callable[..., Any]) -> Callable[..., Any]:
-    return fn
-
-
-def _cache_dir() -> str:
-    """Where compiled kernels are kept: $OPENEMSS_JIT_CACHE, else the user's cache folder."""
-    root = os.environ.get("OPENEMSS_JIT_CACHE") or os.path.join(
-        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "openemss", "numba")
-    here = os.path.dirname(os.path.abspath(__file__))
-    digest = hashlib.sha256(__name__.encode())            # compiled code refers to its module by name
-    # a kernel embeds the kernels it calls and the constants it reads (IntEnum indices of other modules, the
-    # common atmosphere): hash every module of the package and of models/common, so that no change to what a
-    # compiled kernel embeds can leave a stale one in the cache (any change recompiles, once)
-    common = os.path.join(here, "..", "common")
-    for folder in (here, common):
-        for name in sorted(os.listdir(folder)):
-            if name.endswith(".py"):
-                with open(os.path.join(folder, name), "rb") as fh:
-                    digest.update(name.encode() + fh.read())
-    return os.path.join(root, digest.hexdigest()[:20])
-
-
-def _install_locator(numba_caching: Any) -> None:
-    """Cache the kernels by content, not by path.
-
-    numba keeps compiled functions beside their source (``__pycache__``), keyed by the
-    file's path. An FMU is extracted to a new temporary folder by every importer, so
-    that cache would never be found again and each process would compile the kernels
-    anew (10 to 20 s). This locator keeps them in one folder per content of the three
-    kernel modules and the package's import name (:func:`_cache_dir`), wherever the
-    modules were unpacked; numba checks the source's content hash as well.
-    """
-    base = numba_caching._CacheLocator
-    impl = getattr(numba_caching, "CacheImpl", None) or numba_caching._CacheImpl
-    path = _cache_dir()
-
-    class _ContentLocator(base):  # type: ignore[misc, valid-type]
-        def __init__(self, py_func: Any, py_file: str) -> None:
-            self._py_file, self._lineno = py_file, py_func.__code__.co_firstlineno
-
-        def get_cache_path(self) -> str:
-            return path
-
-        def get_source_stamp(self) -> Any:
-            with open(self._py_file, "rb") as fh:
-                return hashlib.sha256(fh.read()).hexdigest()
-
-        def get_disambiguator(self) -> str:
-            return str(self._lineno)
-
-        @classmethod
-        def from_function(cls, py_func: Any, py_file: str) -> Any:
-            if os.path.dirname(os.path.abspath(py_file)) != os.path.dirname(os.path.abspath(__file__)):
-                return None
-            self = cls(py_func, py_file)
-            try:
-                self.ensure_cache_path()
-            except OSError:
-                return None                     # not writable: numba's own locators
-            return self
-
-    if not any(c.__name__ == "_ContentLocator" and getattr(c, "_path", None) == path
-               for c in impl._locator_classes):
-        _ContentLocator._path = path            # type: ignore[attr-defined]
-        impl._locator_classes.insert(0, _ContentLocator)
-
-
-try:                                        # numba is a dependency; without it the Python path is used
-    if os.environ.get("OPENEMSS_NO_JIT"):
-        raise ImportError("OPENEMSS_NO_JIT is set")
-    from numba import njit as _njit
-    AVAILABLE = True
-    try:
-        from numba.core import caching as _caching
-        _install_locator(_caching)
-    except Exception:                       # pragma: no cover - a numba without this internal API: path cache
-        pass
-
-    def jit(fn: Callable[..., Any]) -> Callable[..., Any]:
-        """numba ``njit``, cached on disk (fastmath off: results equal the Python ones to rounding).
-
-        NumPy's error model: a division by zero gives inf or NaN, as in NumPy, instead of raising, which spares
-        every division a test and an exception path (and the reference counting such paths keep alive). The
-        kernels never rely on the exception: a non-finite residual or output is refused by the iterations and
-        the checks above them, and the plain-Python path (OPENEMSS_NO_JIT) raises where it did."""
-        return _njit(cache=True, nogil=True, error_model="numpy")(fn)
-
-    def jit_inline(fn: Callable[..., Any]) -> Callable[..., Any]:
-        """:func:`jit` inlined into its compiled callers (numba ``inline="always"``), for a thin layer between a
-        caller and a large kernel: numba links a kernel's code into every compiled function above it and
-        optimises and emits it again there, so each layer over the gas path cost seconds of compilation."""
-        return _njit(cache=True, nogil=True, error_model="numpy", inline="always")(fn)
-
-    from numba.core import cgutils as _cgutils
-    from numba.core import types as _types
-    from numba.extending import intrinsic as _intrinsic
-
-    def _strip(context: Any, builder: Any, ty: Any, val: Any) -> Any:
-        """`val` of type `ty` with the meminfo of each array in it (in nested tuples too) set to null."""
-        if isinstance(ty, _types.Array):
-            view = context.make_array(ty)(context, builder, value=val)
-            view.meminfo = _cgutils.get_null_value(view.meminfo.type)
-            return view._getvalue()
-        if isinstance(ty, _types.BaseTuple):
-            for k, t in enumerate(ty):
-                if isinstance(t, (_types.Array, _types.BaseTuple)):
-                    val = builder.insert_value(val, _strip(context, builder, t, builder.extract_value(val, k)), k)
-        return val
-
-    @_intrinsic
-    def _borrowed(typingctx: Any, a: Any) -> Any:
-        def codegen(context: Any, builder: Any, sig: Any, args: Any) -> Any:
-            return _strip(context, builder, a, args[0])
-        return a(a), codegen
-
-    @jit_inline
-    def borrowed(a: Any) -> Any:
-        """The array `a` (or each array of a tuple, nested tuples too) without its reference count: the same data,
-        shape and strides, the same type.
-
-        numba counts the references of every array a compiled function binds, atomically, and its pruning pass
-        removes the pairs only where the function's control flow is simple; the gas path's kernels, with their
-        early returns and loops, kept them: some twenty atomic operations per call of a map table, about half the
-        time of an engine step. A view without the count (its ``meminfo`` null, which numba's increments and
-        decrements skip) costs none of them. Only for arrays whose owner outlives every use of the view: the
-        arguments of the compiled entry points, held by their Python caller for the call; never for an array
-        allocated in compiled code, which numba frees after its last use, nor to be stored or returned."""
-        return _borrowed(a)
-except ImportError:                         # pragma: no cover
-    AVAILABLE = False
-    jit = jit_inline = _plain
-
-    def borrowed(a: np.ndarray) -> np.ndarray:
-        """Without numba: `a` itself (see the compiled version)."""
-        return a
 
 
 # ---------------------------------------------------------------------- gas

@@ -74,7 +74,9 @@ def air_path_direction(phi_rad: float, theta_rad: float, psi_rad: float, beta_ra
     # B sin(alpha) - A cos(alpha) = K  <=>  R sin(alpha - delta) = K
     A, B = st, cf * ct
     K = (-math.sin(gamma_rad) - sb * sf * ct) / (1e-6 if 1e-6 > cb else cb)  # max(cb, 1e-6)
-    R = math.hypot(A, B)
+    # sqrt of the sum of squares, not math.hypot: CPython's hypot and the C library's (which compiled code calls)
+    # differ in the last bit for about one argument pair in 160, and the compiled FCS must equal the plain one
+    R = math.sqrt(A * A + B * B)
     if R > 1e-9:
         s = K / R  # max(-1, min(1, K / R)), written out (NaN gives 1, as there)
         s = s if s < 1.0 else 1.0

@@ -47,7 +47,7 @@ from openemss.models.fcs.geo import LatLon, local_ne_m
 from openemss.models.fcs.mission import Mission, departure_runway, load_mission
 from openemss.models.fcs.state import AircraftState, EngineState
 
-REQUIREMENTS = ["pyyaml>=6.0"]
+REQUIREMENTS = ["pyyaml>=6.0", "numpy>=1.24", "numba>=0.59"]
 DATA_FILES = ["missions/munich.yaml", "missions/README.md"]
 
 DEFAULT_MISSION = next(s.start for s in SIGNALS if s.name == "mission_file")

@@ -11,7 +11,8 @@ that of the standard at the same (pressure) altitude, the convention of engine p
 (hot and cold days).
 
 :func:`isa_T_p` is written on plain floats with no exception, so that the engine's compiled path
-compiles this same source with numba (``jit(isa_T_p)``); the range checks are :func:`check`'s.
+compiles this same source with numba (``jit(isa_T_p)``), and the FCS's compiled laws call it
+(``jitable``); the range checks are :func:`check`'s.
 
 References
 ----------
@@ -24,6 +25,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from .jit import jitable
 from .records import fast_init
 
 __all__ = ["G0_M_S2", "R_AIR_J_KG_K", "GAMMA_AIR", "T0_K", "P0_PA", "RHO0_KG_M3", "A0_M_S", "ALT_MIN_M",
@@ -65,6 +67,7 @@ RHO0_KG_M3: float = P0_PA / (R_AIR_J_KG_K * T0_K)
 A0_M_S: float = math.sqrt(GAMMA_AIR * R_AIR_J_KG_K * T0_K)
 
 
+@jitable
 def isa_T_p(alt_m: float, dT_isa_K: float) -> tuple[float, float]:
     """Static temperature [K] and pressure [Pa] at geopotential altitude ``alt_m`` [m] with the ISA
     deviation ``dT_isa_K`` [K]. No range check (see :func:`check`); plain floats, so numba compiles it."""

@@ -1,9 +1,11 @@
 """Compiled kernels with numba, cached on disk by content: the one mechanism of the model packages.
 
 A kernel is a plain-Python function on floats and arrays that numba compiles (:func:`jit`,
-:func:`jit_inline`); without numba, or with ``OPENEMSS_NO_JIT`` set, the same function runs as
-Python (the decorators return it unchanged). The engine's gas path (``models/engine``) and the
-flight control's inner loops (``models/fcs``) use it.
+:func:`jit_inline`); a function decorated :func:`jitable` stays plain Python for Python callers
+and is compiled into the kernels that call it (numba's ``register_jitable``). Without numba, or
+with ``OPENEMSS_NO_JIT`` set, the same functions run as Python (the decorators return them
+unchanged). The engine's gas path (``models/engine``) and the flight control's inner loops
+(``models/fcs``) use it.
 
 Compiled code is cached on disk under ``$OPENEMSS_JIT_CACHE`` (else the user's cache folder), in
 one folder per kernel package and content of its modules and of ``models/common`` (an FMU
@@ -23,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["AVAILABLE", "borrowed", "jit", "jit_inline"]
+__all__ = ["AVAILABLE", "borrowed", "jit", "jit_inline", "jitable"]
 
 #: Source folder of each package with kernels -> its cache folder (filled by :func:`jit`).
 _FOLDERS: dict[str, str] = {}
@@ -130,6 +132,16 @@ try:                                        # numba is a dependency; without it 
         _register(fn)
         return _njit(cache=True, nogil=True, error_model="numpy", inline="always")(fn)
 
+    from numba.extending import register_jitable as _register_jitable
+
+    def jitable(fn: Callable[..., Any]) -> Callable[..., Any]:
+        """``fn`` itself for Python callers, compiled into the compiled functions that call it (numba
+        ``register_jitable``): for a law that the compiled step and plain Python callers share, where a
+        compiled dispatch from Python (0.2 us and more) would cost more than the law. Its cache is its
+        compiled callers', whose folder hashes every module of the package (:func:`_cache_dir`)."""
+        _register(fn)
+        return _register_jitable(fn)
+
     from numba.core import cgutils as _cgutils
     from numba.core import types as _types
     from numba.extending import intrinsic as _intrinsic
@@ -167,7 +179,7 @@ try:                                        # numba is a dependency; without it 
         return _borrowed(a)
 except ImportError:                         # pragma: no cover
     AVAILABLE = False
-    jit = jit_inline = _plain
+    jit = jit_inline = jitable = _plain
 
     def borrowed(a: np.ndarray) -> np.ndarray:
         """Without numba: `a` itself (see the compiled version)."""

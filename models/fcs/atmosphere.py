@@ -20,11 +20,12 @@ from __future__ import annotations
 import math
 
 from ..common import atmosphere as _atm
-from ..common.atmosphere import Atmosphere
+from ..common.atmosphere import GAMMA_AIR, R_AIR_J_KG_K, T_MAX_K, T_MIN_K, Atmosphere, isa_T_p
+from ..common.jit import jitable
 from .errors import FcsError
 
-__all__ = ["Atmosphere", "isa", "tas_from_mach", "mach_from_tas", "tas_from_cas", "cas_from_tas",
-           "G0_M_S2", "ALT_MAX_M"]
+__all__ = ["Atmosphere", "isa", "isa_values", "tas_from_mach", "mach_from_tas", "tas_from_cas", "cas_from_tas",
+           "tas_from_cas_values", "cas_from_tas_values", "G0_M_S2", "ALT_MAX_M"]
 
 G0_M_S2: float = _atm.G0_M_S2
 _P0_PA = _atm.P0_PA
@@ -55,6 +56,17 @@ def isa(alt_m: float, dT_isa_K: float = 0.0) -> Atmosphere:
     return atm
 
 
+@jitable
+def isa_values(alt_m: float, dT_isa_K: float) -> tuple[float, float, float, float, bool]:
+    """:func:`isa` on plain floats for the compiled laws: (T [K], p [Pa], rho [kg/m^3], a [m/s], in range); out
+    of :func:`isa`'s range the last is False (the caller raises :func:`isa`'s error) and the values are finite."""
+    ok = ALT_MIN_M <= alt_m <= ALT_MAX_M
+    T, p = isa_T_p(alt_m if ok else 0.0, dT_isa_K)
+    if not (T_MIN_K <= T <= T_MAX_K):           # also a NaN deviation
+        ok, T = False, 288.15
+    return T, p, p / (R_AIR_J_KG_K * T), math.sqrt(GAMMA_AIR * R_AIR_J_KG_K * T), ok
+
+
 #: The last (altitude, deviation, atmosphere) of :func:`isa` (an Atmosphere is frozen: it may be shared).
 _LAST: list = [math.nan, math.nan, None]
 
@@ -69,21 +81,35 @@ def mach_from_tas(tas_m_s: float, atm: Atmosphere) -> float:
     return tas_m_s / atm.a_m_s
 
 
+@jitable
 def _qc_from_mach(mach: float, p_Pa: float) -> float:
     return p_Pa * ((1.0 + 0.2 * mach * mach) ** 3.5 - 1.0)
 
 
+@jitable
 def _mach_from_qc(qc_Pa: float, p_Pa: float) -> float:
     return math.sqrt(5.0 * ((qc_Pa / p_Pa + 1.0) ** (2.0 / 7.0) - 1.0))
 
 
 def tas_from_cas(cas_m_s: float, atm: Atmosphere) -> float:
     """True airspeed for calibrated airspeed ``cas_m_s`` (subsonic) [m/s]."""
-    qc = _qc_from_mach(cas_m_s / _A0_M_S, _P0_PA)
-    return _mach_from_qc(qc, atm.p_Pa) * atm.a_m_s
+    return tas_from_cas_values(cas_m_s, atm.p_Pa, atm.a_m_s)
 
 
 def cas_from_tas(tas_m_s: float, atm: Atmosphere) -> float:
     """Calibrated airspeed for true airspeed ``tas_m_s`` (subsonic) [m/s]."""
-    qc = _qc_from_mach(tas_m_s / atm.a_m_s, atm.p_Pa)
+    return cas_from_tas_values(tas_m_s, atm.p_Pa, atm.a_m_s)
+
+
+@jitable
+def tas_from_cas_values(cas_m_s: float, p_Pa: float, a_m_s: float) -> float:
+    """:func:`tas_from_cas` at static pressure ``p_Pa`` [Pa] and speed of sound ``a_m_s`` [m/s]."""
+    qc = _qc_from_mach(cas_m_s / _A0_M_S, _P0_PA)
+    return _mach_from_qc(qc, p_Pa) * a_m_s
+
+
+@jitable
+def cas_from_tas_values(tas_m_s: float, p_Pa: float, a_m_s: float) -> float:
+    """:func:`cas_from_tas` at static pressure ``p_Pa`` [Pa] and speed of sound ``a_m_s`` [m/s]."""
+    qc = _qc_from_mach(tas_m_s / a_m_s, p_Pa)
     return _mach_from_qc(qc, _P0_PA) * _A0_M_S

@@ -8,9 +8,12 @@ second is smaller.
 """
 from __future__ import annotations
 
+from ..common.jit import jitable
+
 __all__ = ["clip"]
 
 
+@jitable
 def clip(x: float, lo: float, hi: float) -> float:
     """``min(max(x, lo), hi)``: ``x`` limited to [lo, hi] (NaN stays NaN) [unit of x]."""
     x = lo if lo > x else x

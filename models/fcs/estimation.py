@@ -46,9 +46,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
+from ..common.jit import jitable
 from .tunable import Tunable, load_params
 
-__all__ = ["EstimationParams", "AirspeedRateEstimator", "air_path_direction"]
+__all__ = ["EstimationParams", "AirspeedRateEstimator", "air_path_direction", "estimator_law"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -63,6 +66,7 @@ class EstimationParams:
         return load_params(cls, "estimation.yaml", "estimation", **overrides)
 
 
+@jitable
 def air_path_direction(phi_rad: float, theta_rad: float, psi_rad: float, beta_rad: float,
                        gamma_rad: float) -> tuple[float, float, float]:
     """Unit vector of the air-relative velocity (north, east, up) from the attitude, sideslip and
@@ -109,18 +113,18 @@ class AirspeedRateEstimator(Tunable[EstimationParams]):
         elif not isinstance(params, EstimationParams):
             params = EstimationParams(float(params))
         self._params = params
-        self._v_est: float | None = None
-        self._vg_prev: tuple[float, float, float] | None = None
-        self._path_prev = (1.0, 0.0, 0.0)  # air path direction (north, east, up) of the previous step [-]
+        # the state of estimator_law: 1 once a step was taken, the airspeed estimate V_e [m/s], the previous
+        # step's ground velocity (north, east, up) [m/s] and air path direction (north, east, up) [-]
+        self._s = np.array([0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0])
 
     @property
     def tas_m_s(self) -> float | None:
         """The filtered true airspeed V_e [m/s] (None before the first step)."""
-        return self._v_est
+        return float(self._s[1]) if self._s[0] != 0.0 else None
 
     def reset(self) -> None:
         """Forget the history (the next step starts from the measured airspeed, rate 0)."""
-        self._v_est, self._vg_prev = None, None
+        self._s[0] = 0.0
 
     def step(self, dt_s: float, tas_m_s: float, vn_m_s: float, ve_m_s: float, vu_m_s: float, phi_rad: float,
              theta_rad: float, psi_rad: float, beta_rad: float, gamma_rad: float) -> float:
@@ -138,24 +142,33 @@ class AirspeedRateEstimator(Tunable[EstimationParams]):
         beta_rad, gamma_rad : float
             Sideslip and air-relative flight-path angle [rad].
         """
-        vg = (vn_m_s, ve_m_s, vu_m_s)
-        u_now = air_path_direction(phi_rad, theta_rad, psi_rad, beta_rad, gamma_rad)
-        v_est, prev = self._v_est, self._vg_prev  # (each read once: the estimator runs every FCS step)
-        if v_est is None or prev is None or dt_s <= 0.0:
-            self._v_est, self._vg_prev, self._path_prev = tas_m_s, vg, u_now
-            return 0.0
-        # the difference of two step-averaged velocities is the acceleration about one step ago: projected
-        # on the air path of then (with the path of now, the turn rate times a step would turn some of a
-        # turn's centripetal acceleration into a speed change)
-        (pn, pe, pu), (un, ue, uu) = prev, self._path_prev
-        # summed from 0.0 as sum() did (the same rounding, the sign of a zero included)
-        vdot_i = (0.0 + (vn_m_s - pn) * un + (ve_m_s - pe) * ue + (vu_m_s - pu) * uu) / dt_s
-        self._vg_prev, self._path_prev = vg, u_now
-        tau = self._params.tau_cross_s
-        if tau <= 0.0:
-            vdot = (tas_m_s - v_est) / dt_s
-            self._v_est = tas_m_s
-            return vdot
-        vdot = vdot_i + (tas_m_s - v_est) / tau
-        self._v_est = v_est + vdot * dt_s
+        return float(estimator_law(self._params.tau_cross_s, self._s, dt_s, tas_m_s, vn_m_s, ve_m_s, vu_m_s, phi_rad,
+                                   theta_rad, psi_rad, beta_rad, gamma_rad))
+
+
+@jitable
+def estimator_law(tau_cross_s: float, s: np.ndarray, dt_s: float, tas_m_s: float, vn_m_s: float, ve_m_s: float,
+                  vu_m_s: float, phi_rad: float, theta_rad: float, psi_rad: float, beta_rad: float,
+                  gamma_rad: float) -> float:
+    """One step of the complementary filter on plain values (:meth:`AirspeedRateEstimator.step`'s arguments after
+    its crossover time constant [s]), its state ``s`` updated in place; returns the airspeed rate [m/s^2]. The one
+    implementation of the estimator."""
+    un_now, ue_now, uu_now = air_path_direction(phi_rad, theta_rad, psi_rad, beta_rad, gamma_rad)
+    v_est = s[1]
+    if s[0] == 0.0 or dt_s <= 0.0:
+        s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7] = 1.0, tas_m_s, vn_m_s, ve_m_s, vu_m_s, un_now, ue_now, uu_now
+        return 0.0
+    # the difference of two step-averaged velocities is the acceleration about one step ago: projected
+    # on the air path of then (with the path of now, the turn rate times a step would turn some of a
+    # turn's centripetal acceleration into a speed change)
+    # summed from 0.0 as sum() did (the same rounding, the sign of a zero included)
+    vdot_i = (0.0 + (vn_m_s - s[2]) * s[5] + (ve_m_s - s[3]) * s[6] + (vu_m_s - s[4]) * s[7]) / dt_s
+    s[2], s[3], s[4], s[5], s[6], s[7] = vn_m_s, ve_m_s, vu_m_s, un_now, ue_now, uu_now
+    tau = tau_cross_s
+    if tau <= 0.0:
+        vdot = (tas_m_s - v_est) / dt_s
+        s[1] = tas_m_s
         return vdot
+    vdot = vdot_i + (tas_m_s - v_est) / tau
+    s[1] = v_est + vdot * dt_s
+    return vdot

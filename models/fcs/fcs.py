@@ -14,22 +14,25 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from ..common.records import fast_init
 from .approach import APPROACH_PHASES, ApproachParams
-from .atmosphere import G0_M_S2
+from .atmosphere import G0_M_S2, isa
 from .clip import clip
-from .errors import ParameterError
+from .errors import FcsError, ParameterError
 from .estimation import AirspeedRateEstimator
-from .fuel_control import FuelController
+from .fuel_control import FUEL_LIMITERS, FuelController
 from .geo import wrap_pi
 from .guidance import L1Guidance
+from .inner_loops import PERF_VALUES, inner_step
 from .lateral import LateralController
 from .mission import Mission
 from .performance import Performance
-from .pitch import PitchController, turn_pitch_rate
+from .pitch import PitchController
 from .state import AircraftState, EngineState, Targets
 from .state_machine import MissionRunner
-from .tecs import Tecs
+from .tecs import Tecs, priority_code, speed_kind_code
 from .tunable import Tunable
 from .vertical import VNAV_MODES
 from .vnav import Vnav
@@ -66,8 +69,6 @@ OUTPUT_SIGNALS: dict[str, str] = {
 #: Period of the performance model's table look-ups in the energy-rate limits [s] (the polar and the
 #: thrusts change slowly with altitude and Mach; the drag is recomputed every step).
 PERF_REFRESH_S = 0.5
-#: Codes of :attr:`FcsOutput.fuel_limiter`.
-FUEL_LIMITERS = ("demand", "Tt41", "N1")
 
 
 class _ParamHolder(Tunable[ApproachParams]):
@@ -186,9 +187,9 @@ class FlightControlSystem:
         self._lever: float | None = None
         self._estimator = AirspeedRateEstimator()
         self.controllers["estimation"] = self._estimator
-        self._vdot_f: float | None = None  # low-passed airspeed rate estimate [m/s^2]
+        self._vdot_f = np.zeros(2)  # the low-passed airspeed rate estimate: (1 once set, the rate [m/s^2])
         self._perf_t = -math.inf  # time of the last look-up of the performance tables [s]
-        self._perf = (0.0, 0.0, 0.0, 0.0)  # CD0, k, idle and maximum thrust [N] there
+        self._perf_v = np.zeros(len(PERF_VALUES))  # the look-up there and the airbrake's constants (PERF_VALUES)
 
     # -- parameters -----------------------------------------------------------------------
     def parameter_names(self) -> tuple[str, ...]:
@@ -228,24 +229,11 @@ class FlightControlSystem:
         (:class:`~.estimation.AirspeedRateEstimator`, crossover ``estimation.tau_cross_s``), the rate
         low-passed with ``tecs.tau_Vdot_s``; the TECS flies the estimated airspeed.
         """
-        vdot, tas = x.Vdot_m_s2, x.tas_m_s
-        if vdot != vdot:  # NaN (not a dataclasses.replace of the state: a third of this step's cost)
-            est, gamma = self._estimator, x.gamma_rad
-            raw = est.step(dt_s, tas, x.vn_m_s, x.ve_m_s, tas * math.sin(gamma), x.phi_rad, x.theta_rad, x.psi_rad,
-                           x.beta_rad, gamma)
-            tau = self.tecs.parameters.tau_Vdot_s   # first-order low-pass of the estimate
-            vf = self._vdot_f
-            vdot = self._vdot_f = raw if vf is None else vf + (raw - vf) * dt_s / (tau + dt_s)
-            v_e = est.tas_m_s
-            if v_e is not None:
-                tas = v_e
         runner = self.runner
         tg = runner.step(t_s, dt_s, x)
-        tas_cmd = math.nan
-        airbrake = 0.0
-        if tg.theta_cmd_rad is not None:
-            theta_c = tg.theta_cmd_rad
-            lever = tg.lever if tg.lever is not None else 0.0
+        tecs_on = tg.theta_cmd_rad is None
+        alt_cmd, gamma_cmd = tg.alt_cmd_m, tg.gamma_cmd_rad
+        if not tecs_on:
             self._tecs_engaged = False
         else:
             tecs = self.tecs
@@ -255,52 +243,46 @@ class FlightControlSystem:
                     clip(eng.N1c_pct / max(self.fuel.parameters.k_delta_pct, 1e-6), 0.0, 1.0)
                 tecs.reset(lever0 * tecs.available_thrust_N(x.alt_m, x.dT_isa_K), x.mass_kg * G0_M_S2, x.theta_rad)
                 self._tecs_engaged = True
-            if tg.gamma_cmd_rad is None:
-                alt_cmd, gamma_cmd = tg.alt_cmd_m, None
-                if alt_cmd is not None and tg.hdot_ff_m_s != 0.0:  # held targets: the path's altitude moves on
+            if tg.speed is None:
+                raise FcsError(f"fcs: section {tg.section_name!r} asks for energy control without a speed target")
+            if gamma_cmd is None:
+                if alt_cmd is None:
+                    raise FcsError("tecs.step: give alt_cmd_m (altitude mode) or gamma_cmd_rad (path mode)")
+                if tg.hdot_ff_m_s != 0.0:  # held targets: the path's altitude moves on
                     alt_cmd += tg.hdot_ff_m_s * (t_s - runner.targets_time_s)
             else:
-                alt_cmd, gamma_cmd = None, tg.gamma_cmd_rad
-            e_min, e_max, ab_max = self._energy_rates(t_s, x, tg)
-            out = tecs.step_values(dt_s, x.alt_m, tas, vdot, x.gamma_rad, x.mass_kg, x.dT_isa_K, e_min, e_max,
-                                   tg.speed, alt_cmd, gamma_cmd, tg.lever, tg.hdot_ff_m_s, tg.priority, ab_max)
-            # (the fields of TecsOutput: thrust, lever, theta_cmd, gamma_cmd, Vdot_cmd, tas_cmd, ..., airbrake)
-            lever, theta_c, tas_cmd = out[1], out[2], out[5]
-            if out[10] > 0.0:
-                airbrake = self.perf.airbrake_position(out[10], x.qbar_Pa)
-        self._lever = lever
-        on_ground = x.on_ground
-        q_turn = 0.0 if on_ground else turn_pitch_rate(x.phi_rad, x.tas_m_s)
-        # The ground gains act on the runway and until the climb law takes over after lift-off, so that
-        # the gains do not switch while the aircraft leaves the ground.
-        elevator = self.pitch.step(dt_s, theta_c, x.theta_rad, x.q_rad_s, x.qbar_Pa, q_turn,
-                                   on_ground or tg.phase in _GROUND_PITCH_PHASES)
-        # (no track command: the track, the fourth argument, is not used)
-        aileron, rudder, phi_cmd = self.lateral.step_values(dt_s, x.phi_rad, x.theta_rad, x.psi_rad, math.nan,
-                                                            x.p_rad_s, x.r_rad_s, x.beta_rad, x.tas_m_s, x.qbar_Pa,
-                                                            tg.phi_cmd_rad, tg.heading_cmd_rad)
+                alt_cmd = None
+            if not (x.on_ground or x.tas_m_s < 30.0) and (t_s - self._perf_t >= PERF_REFRESH_S or t_s < self._perf_t):
+                # the performance model's table look-ups, every PERF_REFRESH_S (they change slowly)
+                perf = self.perf
+                self._perf_v = np.concatenate((perf.lookup(x.alt_m, perf.mach(x.alt_m, x.tas_m_s, x.dT_isa_K)),
+                                               perf.airbrake_values()))
+                self._perf_t = t_s
+        speed, lever_cmd, phi_cmd, heading_cmd = tg.speed, tg.lever, tg.phi_cmd_rad, tg.heading_cmd_rad
+        o = inner_step(self._estimator.parameters.tau_cross_s, self._estimator._s, self._vdot_f, self.tecs.values(),
+                       self.tecs._s, self.pitch.values(), self.pitch._s, self.lateral.values(), self.lateral._s,
+                       self.fuel.values(), self.fuel._s, self._perf_v, dt_s, x.alt_m, x.tas_m_s, x.Vdot_m_s2,
+                       x.gamma_rad, x.vn_m_s, x.ve_m_s, x.psi_rad, x.phi_rad, x.theta_rad, x.p_rad_s, x.q_rad_s,
+                       x.r_rad_s, x.beta_rad, x.qbar_Pa, x.mass_kg, x.dT_isa_K, x.on_ground, eng.N1c_pct, eng.N1_pct,
+                       eng.Tt41_K, tecs_on, math.nan if tecs_on else tg.theta_cmd_rad,
+                       math.nan if lever_cmd is None else lever_cmd, lever_cmd is not None,
+                       math.nan if speed is None else speed.value, 2 if speed is None else speed_kind_code(speed.kind),
+                       math.nan if alt_cmd is None else alt_cmd, alt_cmd is not None,
+                       math.nan if gamma_cmd is None else gamma_cmd, tg.hdot_ff_m_s, priority_code(tg.priority),
+                       tg.gear_down, tg.airbrake, x.on_ground or tg.phase in _GROUND_PITCH_PHASES,
+                       math.nan if phi_cmd is None else phi_cmd, phi_cmd is not None,
+                       math.nan if heading_cmd is None else heading_cmd, heading_cmd is not None)
+        if not o[10]:
+            isa(x.alt_m, x.dT_isa_K)  # raises the atmosphere's error, which names the altitude
+        lever = self._lever = o[3]
+        rudder = o[2]
         if tg.align_heading_rad is not None:
             ap = runner.approach_params
             rudder = clip(-ap.k_psi_steer_1_rad * wrap_pi(x.psi_rad - tg.align_heading_rad), -1.0, 1.0)
-        f = self.fuel.step_values(dt_s, lever, eng.N1c_pct, eng.N1_pct, eng.Tt41_K)
-        return FcsOutput.make(elevator, aileron, rudder, tg.steer, tg.brake, tg.gear_down, lever, f[0],
-                              theta_c, phi_cmd, tg, tas_cmd, _LIMITER_CODE[f[4]], airbrake,
-                              _MODE_CODE.get(tg.vnav_mode, 0),
+        return FcsOutput.make(o[0], o[1], rudder, tg.steer, tg.brake, tg.gear_down, lever, o[4], o[5], o[6], tg,
+                              o[7], o[8], o[9], _MODE_CODE.get(tg.vnav_mode, 0),
                               _PHASE_CODE.get(tg.phase, 0) if tg.section_type == "Landing" else 0)
-
-    def _energy_rates(self, t_s: float, x: AircraftState, tg: Targets) -> tuple[float, float, float]:
-        """(E_rate_min, E_rate_max, airbrake drag available [N]) from the performance model
-        (:meth:`.performance.Performance.energy_rates`; its table look-ups every PERF_REFRESH_S);
-        NaN below 30 m/s."""
-        if x.on_ground or x.tas_m_s < 30.0:
-            return math.nan, math.nan, 0.0
-        perf = self.perf
-        if t_s - self._perf_t >= PERF_REFRESH_S or t_s < self._perf_t:
-            self._perf = perf.lookup(x.alt_m, perf.mach(x.alt_m, x.tas_m_s, x.dT_isa_K))
-            self._perf_t = t_s
-        return perf.energy_rates(self._perf, x.qbar_Pa, x.mass_kg, x.phi_rad, tg.gear_down, tg.airbrake)
 
 
 _MODE_CODE = {m: i for i, m in enumerate(VNAV_MODES)}
-_LIMITER_CODE = {m: i for i, m in enumerate(FUEL_LIMITERS)}
 _PHASE_CODE = {m: i for i, m in enumerate(APPROACH_PHASES)}

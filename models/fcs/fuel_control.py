@@ -52,9 +52,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
+from ..common.jit import jitable
 from ..common.records import fast_init
 from .errors import ParameterError
-from .tunable import Tunable, load_params
+from .tunable import Tunable, field_index, load_params
 
 __all__ = ["FuelControlParams", "FuelControlOutput", "FuelController"]
 
@@ -149,8 +152,9 @@ class FuelController(Tunable[FuelControlParams]):
     def __init__(self, params: FuelControlParams | None = None, Wf0_kg_s: float | None = None) -> None:
         self._params = params if params is not None else FuelControlParams.from_file()
         self._check_consistent()
-        self._Wf = self._params.Wf_min_kg_s if Wf0_kg_s is None else float(Wf0_kg_s)
-        self._e_prev: tuple[float, float, float] | None = None
+        # the state of fuel_law: the command [kg/s], 1 once the errors of a step are held, those errors (N1c
+        # demand [%], Tt41 [K], N1 [%])
+        self._s = np.array([self._params.Wf_min_kg_s if Wf0_kg_s is None else float(Wf0_kg_s), 0.0, 0.0, 0.0, 0.0])
 
     def _on_parameters_changed(self) -> None:
         self._check_consistent()
@@ -164,12 +168,11 @@ class FuelController(Tunable[FuelControlParams]):
     @property
     def Wf_cmd_kg_s(self) -> float:
         """Current fuel-flow command [kg/s]."""
-        return self._Wf
+        return float(self._s[0])
 
     def reset(self, Wf_kg_s: float) -> None:
         """Restart from fuel flow ``Wf_kg_s`` [kg/s] (e.g. the engine's trimmed value)."""
-        self._Wf = float(Wf_kg_s)
-        self._e_prev = None
+        self._s[:2] = (float(Wf_kg_s), 0.0)
 
     def step(self, dt_s: float, delta: float, N1c_pct: float, N1_pct: float, Tt41_K: float) -> FuelControlOutput:
         """One controller step.
@@ -197,35 +200,53 @@ class FuelController(Tunable[FuelControlParams]):
                     Tt41_K: float) -> tuple[float, float, float, float, str]:
         """:meth:`step` returning the fields of :class:`FuelControlOutput` in their order, as a tuple (the
         FCS's per-step path, which builds no records). The one implementation of the controller."""
-        p = self._params
-        # clip(v, lo, hi) written out as its two comparisons on this per-step path (as in pitch.py)
-        d = 0.0 if 0.0 > delta else delta
-        d = 1.0 if 1.0 < d else d
-        N1c_dem = p.k_delta_pct * d
-        if p.N1c_idle_pct > N1c_dem:  # max(k_delta d, N1c_idle)
-            N1c_dem = p.N1c_idle_pct
-        e0_, e1_, e2_ = e = (N1c_dem - N1c_pct, p.Tt41_max_K - Tt41_K, p.N1_max_pct - N1_pct)
-        p0, p1, p2 = e if self._e_prev is None else self._e_prev
-        dWf, limiter = p.kp_kg_s_pct * (e0_ - p0) + p.ki_kg_s2_pct * dt_s * e0_, "demand"
-        d_T = p.kp_T_kg_s_K * (e1_ - p1) + p.ki_T_kg_s2_K * dt_s * e1_
-        if d_T < dWf:
-            dWf, limiter = d_T, "Tt41"
-        d_N = p.kp_N1_kg_s_pct * (e2_ - p2) + p.ki_N1_kg_s2_pct * dt_s * e2_
-        if d_N < dWf:
-            dWf, limiter = d_N, "N1"
-        stp = p.stp_max_kg_s
-        dWf = -stp if -stp > dWf else dWf
-        dWf = stp if stp < dWf else dWf
-        # bounds, approached at the same limited rate if the command was outside them
-        Wf = self._Wf
-        target = Wf + dWf
-        target = p.Wf_min_kg_s if p.Wf_min_kg_s > target else target
-        target = p.Wf_max_kg_s if p.Wf_max_kg_s < target else target
-        dWf = target - Wf
-        dWf = -stp if -stp > dWf else dWf
-        dWf = stp if stp < dWf else dWf
-        Wf_new = Wf + dWf
-        self._Wf = Wf_new
-        self._e_prev = e
-        N1c_lim = N1c_dem if limiter == "demand" else N1c_pct
-        return Wf_new, dWf, N1c_dem, N1c_lim, limiter
+        f = fuel_law(self.values(), self._s, dt_s, delta, N1c_pct, N1_pct, Tt41_K)
+        return float(f[0]), float(f[1]), float(f[2]), float(f[3]), FUEL_LIMITERS[f[4]]
+
+
+#: The regulators of :func:`fuel_law`, by its code.
+FUEL_LIMITERS = ("demand", "Tt41", "N1")
+#: Index of each field of FuelControlParams in :meth:`FuelController.values`.
+FP = field_index(FuelControlParams)
+
+
+@jitable
+def fuel_law(p: np.ndarray, s: np.ndarray, dt_s: float, delta: float, N1c_pct: float, N1_pct: float,
+             Tt41_K: float) -> tuple[float, float, float, float, int]:
+    """One step of the controller on plain values (:meth:`FuelController.step`'s arguments): parameters ``p``
+    (:meth:`FuelController.values`, indexed by :data:`FP`), the state ``s`` (updated in place: the command, the
+    flag and the errors of the previous step); returns the fields of :class:`FuelControlOutput` in their order, the
+    limiter as its index in :data:`FUEL_LIMITERS`. The one implementation of the controller."""
+    # clip(v, lo, hi) written out as its two comparisons (as in pitch.py)
+    d = 0.0 if 0.0 > delta else delta
+    d = 1.0 if 1.0 < d else d
+    N1c_dem = p[FP.k_delta_pct] * d
+    if p[FP.N1c_idle_pct] > N1c_dem:  # max(k_delta d, N1c_idle)
+        N1c_dem = p[FP.N1c_idle_pct]
+    e0_, e1_, e2_ = N1c_dem - N1c_pct, p[FP.Tt41_max_K] - Tt41_K, p[FP.N1_max_pct] - N1_pct
+    if s[1] == 0.0:  # the first step: no previous errors
+        p0, p1, p2 = e0_, e1_, e2_
+    else:
+        p0, p1, p2 = s[2], s[3], s[4]
+    dWf, limiter = p[FP.kp_kg_s_pct] * (e0_ - p0) + p[FP.ki_kg_s2_pct] * dt_s * e0_, 0
+    d_T = p[FP.kp_T_kg_s_K] * (e1_ - p1) + p[FP.ki_T_kg_s2_K] * dt_s * e1_
+    if d_T < dWf:
+        dWf, limiter = d_T, 1
+    d_N = p[FP.kp_N1_kg_s_pct] * (e2_ - p2) + p[FP.ki_N1_kg_s2_pct] * dt_s * e2_
+    if d_N < dWf:
+        dWf, limiter = d_N, 2
+    stp = p[FP.stp_max_kg_s]
+    dWf = -stp if -stp > dWf else dWf
+    dWf = stp if stp < dWf else dWf
+    # bounds, approached at the same limited rate if the command was outside them
+    Wf = s[0]
+    target = Wf + dWf
+    target = p[FP.Wf_min_kg_s] if p[FP.Wf_min_kg_s] > target else target
+    target = p[FP.Wf_max_kg_s] if p[FP.Wf_max_kg_s] < target else target
+    dWf = target - Wf
+    dWf = -stp if -stp > dWf else dWf
+    dWf = stp if stp < dWf else dWf
+    Wf_new = Wf + dWf
+    s[0], s[1], s[2], s[3], s[4] = Wf_new, 1.0, e0_, e1_, e2_
+    N1c_lim = N1c_dem if limiter == 0 else N1c_pct
+    return Wf_new, dWf, N1c_dem, N1c_lim, limiter

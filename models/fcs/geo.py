@@ -29,6 +29,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..common.jit import jitable
 from ..common.records import fast_init
 from .errors import GeometryError
 
@@ -82,6 +83,7 @@ class LatLon:
         return math.degrees(self.lon_rad)
 
 
+@jitable
 def wrap_pi(angle_rad: float) -> float:
     """Angle wrapped to [-pi, pi) [rad]."""
     return (angle_rad + math.pi) % _TWO_PI - math.pi

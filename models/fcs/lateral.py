@@ -23,11 +23,14 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
+from ..common.jit import jitable
 from ..common.records import fast_init
 from .atmosphere import G0_M_S2
 from .clip import clip
 from .geo import wrap_pi
-from .tunable import Tunable, load_params
+from .tunable import Tunable, field_index, load_params
 
 __all__ = ["LateralParams", "LateralState", "LateralOutput", "LateralController"]
 
@@ -116,11 +119,11 @@ class LateralController(Tunable[LateralParams]):
 
     def __init__(self, params: LateralParams | None = None) -> None:
         self._params = params if params is not None else LateralParams.from_file()
-        self._i_phi = 0.0
+        self._s = np.zeros(1)  # the state of lateral_law: the bank-error integral [-]
 
     def reset(self) -> None:
         """Clear the bank-error integral."""
-        self._i_phi = 0.0
+        self._s[0] = 0.0
 
     def phi_for_heading(self, psi_cmd_rad: float, psi_rad: float, phi_max_rad: float | None = None) -> float:
         """Bank command that turns the shorter way to heading (or track) ``psi_cmd_rad`` [rad]."""
@@ -158,29 +161,52 @@ class LateralController(Tunable[LateralParams]):
         """:meth:`step` on plain values (the fields of :class:`LateralState` in their order, then the
         commands); returns (aileron, rudder, phi_cmd_rad), the fields of :class:`LateralOutput` (the FCS's
         per-step path, which builds no records). The one implementation of the loops."""
-        p = self._params
-        if phi_cmd_rad is None:
-            if track_cmd_rad is not None:
-                phi_cmd_rad = self.phi_for_heading(track_cmd_rad, chi_rad)
-            elif heading_cmd_rad is not None:
-                phi_cmd_rad = self.phi_for_heading(heading_cmd_rad, psi_rad)
-            else:
-                phi_cmd_rad = 0.0
-        # clip(v, lo, hi) written out as its two comparisons on this per-step path (as in pitch.py)
-        s = p.qbar_ref_Pa / (1.0 if 1.0 > qbar_Pa else qbar_Pa)
-        s = p.gain_sched_min if p.gain_sched_min > s else s
-        s = p.gain_sched_max if p.gain_sched_max < s else s
-        e = phi_cmd_rad - phi_rad
-        u_p = s * (p.k_phi_1_rad * e - p.k_p_s_rad * p_rad_s)
-        u = u_p + self._i_phi
-        if abs(e) < p.phi_i_band_rad and (-1.0 < u < 1.0 or (u >= 1.0) != (e > 0)):
-            i, lim = self._i_phi + s * p.k_phi_i_1_rad_s * e * dt_s, p.phi_i_limit
-            i = -lim if -lim > i else i
-            self._i_phi = lim if lim < i else i
-        aileron = u_p + self._i_phi
-        aileron = -1.0 if -1.0 > aileron else aileron
-        aileron = 1.0 if 1.0 < aileron else aileron
-        r_c = G0_M_S2 * math.sin(phi_rad) * math.cos(theta_rad) / (1.0 if 1.0 > tas_m_s else tas_m_s)
-        rudder = s * (p.k_beta_1_rad * beta_rad - p.k_r_s_rad * (r_rad_s - r_c))
-        rudder = -1.0 if -1.0 > rudder else rudder
-        return aileron, 1.0 if 1.0 < rudder else rudder, phi_cmd_rad
+        a, r, phi_c = lateral_law(self.values(), self._s, dt_s, phi_rad, theta_rad, psi_rad, chi_rad, p_rad_s,
+                                  r_rad_s, beta_rad, tas_m_s, qbar_Pa,
+                                  math.nan if phi_cmd_rad is None else phi_cmd_rad, phi_cmd_rad is not None,
+                                  math.nan if heading_cmd_rad is None else heading_cmd_rad,
+                                  heading_cmd_rad is not None, math.nan if track_cmd_rad is None else track_cmd_rad,
+                                  track_cmd_rad is not None)
+        return float(a), float(r), float(phi_c)
+
+
+#: Index of each field of LateralParams in :meth:`LateralController.values`.
+LP = field_index(LateralParams)
+
+
+@jitable
+def lateral_law(p: np.ndarray, s: np.ndarray, dt_s: float, phi_rad: float, theta_rad: float, psi_rad: float,
+                chi_rad: float, p_rad_s: float, r_rad_s: float, beta_rad: float, tas_m_s: float, qbar_Pa: float,
+                phi_cmd_rad: float, has_phi: bool, heading_cmd_rad: float, has_heading: bool, track_cmd_rad: float,
+                has_track: bool) -> tuple[float, float, float]:
+    """One step of the lateral loops on plain values (:meth:`LateralController.step_values`'s arguments, each
+    command with its flag): parameters ``p`` (:meth:`LateralController.values`, indexed by :data:`LP`), the
+    bank-error integral in ``s[0]`` (updated in place); returns (aileron, rudder, phi_cmd_rad). The one
+    implementation of the loops."""
+    if not has_phi:
+        lim = p[LP.phi_max_rad]
+        if has_track:
+            phi_cmd_rad = clip(p[LP.k_psi_1_s] * wrap_pi(track_cmd_rad - chi_rad), -lim, lim)
+        elif has_heading:
+            phi_cmd_rad = clip(p[LP.k_psi_1_s] * wrap_pi(heading_cmd_rad - psi_rad), -lim, lim)
+        else:
+            phi_cmd_rad = 0.0
+    # clip(v, lo, hi) written out as its two comparisons (as in pitch.py)
+    s_min, s_max = p[LP.gain_sched_min], p[LP.gain_sched_max]
+    g = p[LP.qbar_ref_Pa] / (1.0 if 1.0 > qbar_Pa else qbar_Pa)
+    g = s_min if s_min > g else g
+    g = s_max if s_max < g else g
+    e = phi_cmd_rad - phi_rad
+    u_p = g * (p[LP.k_phi_1_rad] * e - p[LP.k_p_s_rad] * p_rad_s)
+    u = u_p + s[0]
+    if abs(e) < p[LP.phi_i_band_rad] and (-1.0 < u < 1.0 or (u >= 1.0) != (e > 0)):
+        i, lim = s[0] + g * p[LP.k_phi_i_1_rad_s] * e * dt_s, p[LP.phi_i_limit]
+        i = -lim if -lim > i else i
+        s[0] = lim if lim < i else i
+    aileron = u_p + s[0]
+    aileron = -1.0 if -1.0 > aileron else aileron
+    aileron = 1.0 if 1.0 < aileron else aileron
+    r_c = G0_M_S2 * math.sin(phi_rad) * math.cos(theta_rad) / (1.0 if 1.0 > tas_m_s else tas_m_s)
+    rudder = g * (p[LP.k_beta_1_rad] * beta_rad - p[LP.k_r_s_rad] * (r_rad_s - r_c))
+    rudder = -1.0 if -1.0 > rudder else rudder
+    return aileron, 1.0 if 1.0 < rudder else rudder, phi_cmd_rad

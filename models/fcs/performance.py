@@ -38,12 +38,16 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from importlib import resources
 
+import numpy as np
+
+from ..common.jit import jitable
 from .atmosphere import G0_M_S2, isa, mach_from_tas
 from .clip import clip
 from .errors import FcsError
 from .tunable import Tunable, load_params
 
-__all__ = ["PerformanceData", "PerformanceParams", "Performance", "load_performance_data", "DATA_FILE"]
+__all__ = ["PerformanceData", "PerformanceParams", "Performance", "load_performance_data", "DATA_FILE",
+           "airbrake_drag_law", "airbrake_position_law", "energy_rates_law"]
 
 #: The generated database, in the package's data folder.
 DATA_FILE = "performance.json"
@@ -195,24 +199,27 @@ class Performance(Tunable[PerformanceParams]):
         f = self._params.drag_factor
         return f * _bilinear(d.cd0, ia, wa, im, wm), f * _bilinear(d.k, ia, wa, im, wm)
 
+    def airbrake_full_N_Pa(self) -> float:
+        """Drag of the fully extended airbrake per dynamic pressure, before its blow-back [N/Pa]."""
+        d = self.data
+        return d.cd_airbrake * self._params.airbrake_factor * d.S_m2
+
     def airbrake_drag_N(self, qbar_Pa: float, position: float = 1.0) -> float:
         """Drag of the airbrake at ``position`` [0, 1] and dynamic pressure [Pa], blow-back included [N]."""
         d = self.data
-        p = clip(position, 0.0, 1.0)
-        full = d.cd_airbrake * self._params.airbrake_factor * d.S_m2
-        # min written out (the builtin costs ~0.1 us a call, and the FCS asks at every step of a descent)
-        drag = full * qbar_Pa * math.sin(p * d.airbrake_max_rad) / math.sin(d.airbrake_max_rad)
-        blown = full * d.airbrake_blowback_qbar_Pa
-        return blown if blown < drag else drag
+        return airbrake_drag_law(self.airbrake_full_N_Pa(), d.airbrake_max_rad, d.airbrake_blowback_qbar_Pa, qbar_Pa,
+                                 position)
 
     def airbrake_position(self, drag_N: float, qbar_Pa: float) -> float:
         """Airbrake position [0, 1] that gives ``drag_N`` [N] at ``qbar_Pa`` [Pa] (1 if it cannot)."""
+        return airbrake_position_law(self.airbrake_full_N_Pa(), self.data.airbrake_max_rad, drag_N, qbar_Pa)
+
+    def airbrake_values(self) -> np.ndarray:
+        """(S [m^2], CD of the gear [-], :meth:`airbrake_full_N_Pa`, airbrake's deflection at full extension [rad],
+        blow-back dynamic pressure [Pa]): the constants of :func:`energy_rates_law` and
+        :func:`airbrake_position_law`, for the FCS's compiled step."""
         d = self.data
-        full = d.cd_airbrake * self._params.airbrake_factor * d.S_m2 * (1.0 if 1.0 > qbar_Pa else qbar_Pa)
-        if drag_N <= 0.0:
-            return 0.0
-        x = drag_N / full * math.sin(d.airbrake_max_rad)
-        return 1.0 if x >= math.sin(d.airbrake_max_rad) else math.asin(x) / d.airbrake_max_rad
+        return np.array([d.S_m2, d.cd_gear, self.airbrake_full_N_Pa(), d.airbrake_max_rad, d.airbrake_blowback_qbar_Pa])
 
     def drag_N(self, alt_m: float, tas_m_s: float, mass_kg: float, airbrake: float = 0.0, gear: bool = False,
                load_factor: float = 1.0, gamma_rad: float = 0.0, dT_isa_K: float = 0.0) -> float:
@@ -273,19 +280,51 @@ class Performance(Tunable[PerformanceParams]):
         ``airbrake``, and at maximum thrust [-], with the drag of the lift of a level turn at ``bank_rad``
         (load factor 1/cos, at most 3.3) at ``qbar_Pa`` [Pa]; ``lookup`` from :meth:`lookup`. These bound the
         energy rate the thrust can give, the limits of TECS's commands (:mod:`.tecs`)."""
-        cd0, k, t_idle, t_max = lookup
-        # max(qbar, 1) and max(cos(bank), 0.3) written out (the builtins cost ~0.1 us a call; the same values)
-        q, S = (1.0 if 1.0 > qbar_Pa else qbar_Pa), self.data.S_m2
-        W = mass_kg * G0_M_S2
-        c = math.cos(bank_rad)
-        cl = W / (q * S * (0.3 if 0.3 > c else c))
-        drag = q * S * (cd0 + k * cl * cl + (self.data.cd_gear if gear else 0.0))
-        ab = self.airbrake_drag_N(q) if airbrake else 0.0
-        return (t_idle - drag - ab) / W, (t_max - drag) / W, ab
+        d = self.data
+        return energy_rates_law(*lookup, d.S_m2, d.cd_gear, self.airbrake_full_N_Pa(), d.airbrake_max_rad,
+                                d.airbrake_blowback_qbar_Pa, qbar_Pa, mass_kg, bank_rad, gear, airbrake)
 
     def mach(self, alt_m: float, tas_m_s: float, dT_isa_K: float = 0.0) -> float:
         """Mach number of a true airspeed at altitude [-]."""
         return mach_from_tas(tas_m_s, isa(alt_m, dT_isa_K))
+
+
+@jitable
+def airbrake_drag_law(full_N_Pa: float, max_rad: float, blowback_qbar_Pa: float, qbar_Pa: float,
+                      position: float) -> float:
+    """:meth:`Performance.airbrake_drag_N` on plain values: the full airbrake's drag per dynamic pressure [N/Pa],
+    its deflection at full extension [rad] and blow-back dynamic pressure [Pa], then the arguments [N]."""
+    p = clip(position, 0.0, 1.0)
+    # min written out (the builtin costs ~0.1 us a call, and the FCS asks at every step of a descent)
+    drag = full_N_Pa * qbar_Pa * math.sin(p * max_rad) / math.sin(max_rad)
+    blown = full_N_Pa * blowback_qbar_Pa
+    return blown if blown < drag else drag
+
+
+@jitable
+def airbrake_position_law(full_N_Pa: float, max_rad: float, drag_N: float, qbar_Pa: float) -> float:
+    """:meth:`Performance.airbrake_position` on plain values (the first two as :func:`airbrake_drag_law`'s) [-]."""
+    full = full_N_Pa * (1.0 if 1.0 > qbar_Pa else qbar_Pa)
+    if drag_N <= 0.0:
+        return 0.0
+    x = drag_N / full * math.sin(max_rad)
+    return 1.0 if x >= math.sin(max_rad) else math.asin(x) / max_rad
+
+
+@jitable
+def energy_rates_law(cd0: float, k: float, t_idle_N: float, t_max_N: float, S_m2: float, cd_gear: float,
+                     full_N_Pa: float, max_rad: float, blowback_qbar_Pa: float, qbar_Pa: float, mass_kg: float,
+                     bank_rad: float, gear: bool, airbrake: bool) -> tuple[float, float, float]:
+    """:meth:`Performance.energy_rates` on plain values: the look-up's four values, the wing area [m^2], the gear's
+    CD [-], the airbrake's constants (as :func:`airbrake_drag_law`'s), then the arguments."""
+    # max(qbar, 1) and max(cos(bank), 0.3) written out (the builtins cost ~0.1 us a call; the same values)
+    q, S = (1.0 if 1.0 > qbar_Pa else qbar_Pa), S_m2
+    W = mass_kg * G0_M_S2
+    c = math.cos(bank_rad)
+    cl = W / (q * S * (0.3 if 0.3 > c else c))
+    drag = q * S * (cd0 + k * cl * cl + (cd_gear if gear else 0.0))
+    ab = airbrake_drag_law(full_N_Pa, max_rad, blowback_qbar_Pa, q, 1.0) if airbrake else 0.0
+    return (t_idle_N - drag - ab) / W, (t_max_N - drag) / W, ab
 
 
 _SHIPPED: list[PerformanceData] = []

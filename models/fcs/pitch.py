@@ -21,10 +21,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .atmosphere import G0_M_S2
-from .tunable import Tunable, load_params
+import numpy as np
 
-__all__ = ["PitchParams", "PitchController", "turn_pitch_rate"]
+from ..common.jit import jitable
+from .atmosphere import G0_M_S2
+from .tunable import Tunable, field_index, load_params
+
+__all__ = ["PitchParams", "PitchController", "pitch_law", "turn_pitch_rate"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -55,11 +58,11 @@ class PitchController(Tunable[PitchParams]):
 
     def __init__(self, params: PitchParams | None = None) -> None:
         self._params = params if params is not None else PitchParams.from_file()
-        self._integ = 0.0
+        self._s = np.zeros(1)  # the state of pitch_law: the integral (trim) [-]
 
     def reset(self, elevator_trim: float = 0.0) -> None:
         """Start from elevator ``elevator_trim`` [-] (bumpless engagement)."""
-        self._integ = -elevator_trim
+        self._s[0] = -elevator_trim
 
     def step(self, dt_s: float, theta_cmd_rad: float, theta_rad: float, q_rad_s: float,
              qbar_Pa: float, q_turn_rad_s: float = 0.0, on_ground: bool = False) -> float:
@@ -84,28 +87,42 @@ class PitchController(Tunable[PitchParams]):
             and the attitude answers the elevator only through the rotation about the main wheels
             (gain switching on weight on wheels).
         """
-        p = self._params
-        # clip(v, lo, hi) written out as its two comparisons on this per-step path (clip.py: the same value,
-        # NaN included; a call costs about 25 ns more, and the FCS clips some fifteen values a step)
-        s = p.qbar_ref_Pa / (1.0 if 1.0 > qbar_Pa else qbar_Pa)
-        s = p.gain_sched_min if p.gain_sched_min > s else s
-        s = p.gain_sched_max if p.gain_sched_max < s else s
-        e = theta_cmd_rad - theta_rad
-        if on_ground:
-            k_th, k_q, k_i = p.k_theta_ground_1_rad, p.k_q_ground_s_rad, p.k_theta_i_ground_1_rad_s
-        else:
-            k_th, k_q, k_i = p.k_theta_1_rad, p.k_q_s_rad, p.k_theta_i_1_rad_s
-        u_p = s * (k_th * e - k_q * (q_rad_s - q_turn_rad_s))
-        u = u_p + self._integ
-        if -1.0 < u < 1.0 or (u >= 1.0) != (e > 0):
-            i, lim = self._integ + s * k_i * e * dt_s, p.trim_limit
-            i = -lim if -lim > i else i
-            self._integ = lim if lim < i else i
-        u = u_p + self._integ
-        u = -1.0 if -1.0 > u else u
-        return -(1.0 if 1.0 < u else u)
+        return float(pitch_law(self.values(), self._s, dt_s, theta_cmd_rad, theta_rad, q_rad_s, qbar_Pa, q_turn_rad_s,
+                               on_ground))
 
 
+#: Index of each field of PitchParams in :meth:`PitchController.values`.
+PP = field_index(PitchParams)
+
+
+@jitable
+def pitch_law(p: np.ndarray, s: np.ndarray, dt_s: float, theta_cmd_rad: float, theta_rad: float, q_rad_s: float,
+              qbar_Pa: float, q_turn_rad_s: float, on_ground: bool) -> float:
+    """One step of the pitch loop on plain values (:meth:`PitchController.step`'s arguments): parameters ``p``
+    (:meth:`PitchController.values`, indexed by :data:`PP`), the integral in ``s[0]`` (updated in place); returns
+    the elevator [-1, 1] (> 0 nose down). The one implementation of the loop."""
+    # clip(v, lo, hi) written out as its two comparisons (clip.py: the same value, NaN included)
+    s_min, s_max = p[PP.gain_sched_min], p[PP.gain_sched_max]
+    g = p[PP.qbar_ref_Pa] / (1.0 if 1.0 > qbar_Pa else qbar_Pa)
+    g = s_min if s_min > g else g
+    g = s_max if s_max < g else g
+    e = theta_cmd_rad - theta_rad
+    if on_ground:
+        k_th, k_q, k_i = p[PP.k_theta_ground_1_rad], p[PP.k_q_ground_s_rad], p[PP.k_theta_i_ground_1_rad_s]
+    else:
+        k_th, k_q, k_i = p[PP.k_theta_1_rad], p[PP.k_q_s_rad], p[PP.k_theta_i_1_rad_s]
+    u_p = g * (k_th * e - k_q * (q_rad_s - q_turn_rad_s))
+    u = u_p + s[0]
+    if -1.0 < u < 1.0 or (u >= 1.0) != (e > 0):
+        i, lim = s[0] + g * k_i * e * dt_s, p[PP.trim_limit]
+        i = -lim if -lim > i else i
+        s[0] = lim if lim < i else i
+    u = u_p + s[0]
+    u = -1.0 if -1.0 > u else u
+    return -(1.0 if 1.0 < u else u)
+
+
+@jitable
 def turn_pitch_rate(phi_rad: float, tas_m_s: float) -> float:
     """Body pitch rate of a steady, level, coordinated turn at bank ``phi_rad`` [rad/s].
 

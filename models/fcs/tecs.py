@@ -79,14 +79,26 @@ import math
 from dataclasses import dataclass
 from enum import StrEnum
 
+import numpy as np
+
+from ..common.jit import jitable
 from ..common.records import fast_init
-from .atmosphere import G0_M_S2, Atmosphere, cas_from_tas, isa, tas_from_cas, tas_from_mach
+from .atmosphere import (
+    G0_M_S2,
+    Atmosphere,
+    cas_from_tas_values,
+    isa,
+    isa_values,
+    tas_from_cas,
+    tas_from_cas_values,
+    tas_from_mach,
+)
 from .clip import clip
 from .errors import FcsError
-from .tunable import Tunable, load_params
+from .tunable import Tunable, field_index, load_params
 
-__all__ = ["TecsParams", "SpeedKind", "SpeedCommand", "TecsInput", "TecsOutput", "Tecs",
-           "specific_energy_rate_m_s", "RHO0_KG_M3"]
+__all__ = ["TecsParams", "SpeedKind", "SpeedCommand", "TecsInput", "TecsOutput", "Tecs", "tecs_law",
+           "specific_energy_rate_m_s", "RHO0_KG_M3", "PRIORITIES", "SPEED_KINDS"]
 
 RHO0_KG_M3 = 1.225
 
@@ -248,19 +260,11 @@ class Tecs(Tunable[TecsParams]):
 
     def __init__(self, params: TecsParams | None = None) -> None:
         self._params = params if params is not None else TecsParams.from_file()
-        self._iT = 0.0
-        self._iL = 0.0
-        self._sigma = 0.0  # blend of the weights towards the priority's [0, 1]
-        self._a_c = 0.0  # acceleration command of the previous step [m/s^2]
-        self._ab = 0.0  # airbrake drag command, filtered [N]
+        self._s = np.zeros(5)  # the state of tecs_law (_I_T, _I_L, _SIGMA, _A_C, _AB)
 
     def reset(self, thrust_N: float, weight_N: float, theta_rad: float, gamma_rad: float = 0.0) -> None:
         """Bumpless engagement from the current thrust [N], weight [N], pitch and path angles [rad]."""
-        self._iT = thrust_N / weight_N
-        self._iL = theta_rad
-        self._sigma = 0.0
-        self._a_c = 0.0
-        self._ab = 0.0
+        self._s[:] = (thrust_N / weight_N, theta_rad, 0.0, 0.0, 0.0)
 
     def available_thrust_N(self, alt_m: float, dT_isa_K: float = 0.0) -> float:
         """Estimate of the maximum thrust at altitude, thrust_sls (rho/rho0)^n [N]."""
@@ -312,136 +316,194 @@ class Tecs(Tunable[TecsParams]):
                     lever_fixed: float | None = None, hdot_ff_m_s: float = 0.0, priority: str | None = None,
                     airbrake_max_N: float = 0.0) -> tuple:
         """:meth:`step` on plain values: the fields of :class:`TecsInput` in their order, then :meth:`step`'s
-        arguments; returns the fields of :class:`TecsOutput` in their order, as a tuple (the FCS's per-step
-        path, which builds no records). The one implementation of the loops."""
-        p = self._params
+        arguments; returns the fields of :class:`TecsOutput` in their order, as a tuple (:func:`tecs_law`,
+        the one implementation of the loops, which the FCS's compiled step calls too)."""
         if alt_cmd_m is None and gamma_cmd_rad is None:
             raise FcsError("tecs.step: give alt_cmd_m (altitude mode) or gamma_cmd_rad (path mode)")
-        sin = math.sin
-        V = 1.0 if 1.0 > tas_m_s else tas_m_s  # max(tas, 1.0), NaN kept
-        atm = isa(alt_m, dT_isa_K)
-        W = mass_kg * G0_M_S2
-        V_c = speed.tas_m_s(alt_m, dT_isa_K, atm)
-        V_max = p.mach_max * atm.a_m_s
-        if V_max < V_c:
-            V_c = V_max
-        underspeed = cas_from_tas(V, atm) < p.V_min_cas_m_s
-        if underspeed:
-            V_c = max(V_c, tas_from_cas(p.V_min_cas_m_s * p.underspeed_margin, atm))
-        if alt_cmd_m is not None:
-            ff = clip(hdot_ff_m_s / V, -1.0, 1.0)
-            g_raw = math.asin(ff) + p.k_h_1_s * (alt_cmd_m - alt_m) / V
-        else:
-            g_raw = float(gamma_cmd_rad)  # type: ignore[arg-type]
-        # clip(v, lo, hi) written out as its two comparisons where every step passes (clip.py: the same value,
-        # NaN included; a call costs about 25 ns more)
-        g_c = p.gamma_min_rad if p.gamma_min_rad > g_raw else g_raw
-        g_c = p.gamma_max_rad if p.gamma_max_rad < g_c else g_c
-        a_max = p.Vdot_max_m_s2
-        a_c = p.k_V_1_s * (V_c - V)
-        a_c = -a_max if -a_max > a_c else a_c
-        a_c = a_max if a_max < a_c else a_c
-        if not underspeed and p.jerk_max_m_s3 > 0.0:
-            da = p.jerk_max_m_s3 * dt_s
-            lo = self._a_c - da
-            a_c = lo if lo > a_c else a_c
-            hi = self._a_c + da
-            a_c = hi if hi < a_c else a_c
-        strict = priority == "path_only"
-        if priority is None:
-            priority = "speed" if g_raw != g_c else "path"
-        elif strict:
-            priority = "path"
-        limited = False
-        s_gc = sin(g_c)
-        if lever_fixed is None and not underspeed:
-            # energy-rate command limiting: cut the channel without priority back to what the thrust gives
-            # the margin shrinks with the headroom over the path's own need, so a small but feasible speed
-            # change is still flown (slowly) rather than cut to nothing
-            demand = s_gc + a_c / G0_M_S2
-            lim = math.nan
-            margin = p.energy_margin
-            # min(margin, 0.25 max(room, 0)) written out (the builtins cost ~0.1 us a call; the same values)
-            room = E_rate_max - s_gc
-            room = 0.25 * (0.0 if 0.0 > room else room)
-            hi = E_rate_max - (room if room < margin else margin)
-            room = s_gc - E_rate_min
-            room = 0.25 * (0.0 if 0.0 > room else room)
-            lo = E_rate_min + (room if room < margin else margin)
-            if demand > hi:
-                lim = hi
-            elif demand < lo:
-                lim = lo
-            if lim == lim:  # not NaN
-                limited = True
-                if priority == "path":
-                    a_c = clip(G0_M_S2 * (lim - s_gc), -a_max, a_max)
-                else:
-                    # the flight path is cut, but a climb is not turned into a descent (nor a descent into a
-                    # climb) to pay for a speed change: beyond level flight the acceleration is cut instead
-                    sg = lim - a_c / G0_M_S2
-                    if (g_c > 0.0 and sg < 0.0) or (g_c < 0.0 and sg > 0.0):
-                        sg = 0.0
-                        a_c = clip(G0_M_S2 * lim, -a_max, a_max)
-                    g_c = math.asin(clip(sg, sin(p.gamma_min_rad), sin(p.gamma_max_rad)))
-                    s_gc = sin(g_c)
-        self._a_c = a_c
-        e_g = s_gc - sin(gamma_rad)
-        e_v = (a_c - Vdot_m_s2) / G0_M_S2
-        E_err = e_g + e_v
+        out = tecs_law(self.values(), self._s, dt_s, alt_m, tas_m_s, Vdot_m_s2, gamma_rad, mass_kg, dT_isa_K,
+                       E_rate_min, E_rate_max, speed.value, speed_kind_code(speed.kind),
+                       math.nan if alt_cmd_m is None else alt_cmd_m, alt_cmd_m is not None,
+                       math.nan if gamma_cmd_rad is None else gamma_cmd_rad,
+                       math.nan if lever_fixed is None else lever_fixed, lever_fixed is not None, hdot_ff_m_s,
+                       priority_code(priority), airbrake_max_N)
+        if not out[12]:
+            isa(alt_m, dT_isa_K)  # raises the atmosphere's error, which names the altitude
+        return (*(float(v) for v in out[:8]), PRIORITIES[out[8]], bool(out[9]), float(out[10]), bool(out[11]))
 
-        T_avail = p.thrust_sls_N * (atm.rho_kg_m3 / RHO0_KG_M3) ** p.thrust_lapse_exp  # available_thrust_N
-        T_idle = p.lever_min * T_avail
-        airbrake = 0.0
-        if lever_fixed is not None:
-            lever = clip(lever_fixed, 0.0, 1.0)
-            T_c = lever * T_avail
-            prio = "path" if alt_cmd_m is None else "speed"
-            self._iT = T_c / W  # tracks, for a bumpless return to energy control
-            self._sigma = 1.0
-        else:
-            T_c = W * (p.k_TP * E_err + self._iT)
-            T_lo = T_idle - (0.0 if 0.0 > airbrake_max_N else airbrake_max_N)  # max(airbrake_max_N, 0)
-            T_hi = p.lever_max * T_avail
-            sat_hi = T_c >= T_hi or underspeed
-            sat_lo = T_c <= T_lo
-            saturated = (sat_hi and E_err > 0) or (sat_lo and E_err < 0)
-            if not saturated:
-                self._iT += p.k_TI_1_s * E_err * dt_s
-            if underspeed:
-                T_c = T_hi
-            else:  # clip(T_c, T_lo, T_hi)
-                T_c = T_lo if T_lo > T_c else T_c
-                T_c = T_hi if T_hi < T_c else T_c
-            if T_c < T_idle:
-                airbrake, T_c = T_idle - T_c, T_idle
-            # the airbrake acts at once on the drag (the engine's thrust with its spool lag): filtered to the
-            # thrust's pace, or the proportional gain k_TP closes a one-step loop through it and chatters
-            tau = p.tau_airbrake_s
-            self._ab = airbrake if tau <= 0.0 else self._ab + (airbrake - self._ab) * dt_s / (tau + dt_s)
-            airbrake = self._ab
-            lever = T_c / T_avail
-            prio = "speed" if underspeed else (priority if saturated else "normal")
-            sigma_target = 1.0 if saturated or strict else 0.0
-            if underspeed:
-                self._sigma = 1.0
-            elif p.tau_priority_s > 0.0:
-                f = dt_s / p.tau_priority_s
-                self._sigma += (sigma_target - self._sigma) * (1.0 if 1.0 < f else f)  # min(f, 1)
+
+#: Codes of the priorities in :func:`tecs_law`: in its ``priority`` argument 0 is the default (``None``: chosen
+#: from the altitude command), in its result "normal" (none favoured).
+PRIORITIES = ("normal", "path", "speed", "path_only")
+_AUTO = _NORMAL = 0
+_PATH, _SPEED, _PATH_ONLY = 1, 2, 3
+#: Codes of the speed kinds in :func:`tecs_law`.
+SPEED_KINDS = (SpeedKind.MACH, SpeedKind.CAS, SpeedKind.TAS)
+_KIND_MACH, _KIND_CAS = 0, 1
+_KIND_CODE = {k: i for i, k in enumerate(SPEED_KINDS)}
+_PRIORITY_CODE = {None: _AUTO, "path": _PATH, "speed": _SPEED, "path_only": _PATH_ONLY}
+#: Index of each field of TecsParams in :meth:`Tecs.values`.
+TP = field_index(TecsParams)
+#: The TECS's state, ``Tecs._s``: thrust integral [-] (T/W), pitch integral [rad], blend of the weights towards
+#: the priority's [0, 1], acceleration command of the previous step [m/s^2], filtered airbrake drag [N].
+_I_T, _I_L, _SIGMA, _A_C, _AB = range(5)
+
+
+def speed_kind_code(kind: SpeedKind) -> int:
+    """The code of a speed kind in :func:`tecs_law`."""
+    return _KIND_CODE[kind]
+
+
+def priority_code(priority: str | None) -> int:
+    """The code of a priority argument of :meth:`Tecs.step` in :func:`tecs_law`."""
+    code = _PRIORITY_CODE.get(priority)
+    if code is None:
+        raise FcsError(f"tecs.step: priority {priority!r} must be one of None, 'path', 'speed', 'path_only'")
+    return code
+
+
+@jitable
+def tecs_law(p: np.ndarray, s: np.ndarray, dt_s: float, alt_m: float, tas_m_s: float, Vdot_m_s2: float,
+             gamma_rad: float, mass_kg: float, dT_isa_K: float, E_rate_min: float, E_rate_max: float, speed: float,
+             speed_kind: int, alt_cmd_m: float, has_alt: bool, gamma_cmd_rad: float, lever_fixed: float,
+             has_lever: bool, hdot_ff_m_s: float, priority: int, airbrake_max_N: float) -> tuple:
+    """One step of the energy loops on plain values (see :meth:`Tecs.step` for the arguments; the module for the
+    law): parameters ``p`` (:meth:`Tecs.values`, indexed by :data:`TP`) and the state ``s`` (updated in place),
+    the speed target's value and kind code, the altitude target (``has_alt``; else the path angle's), the fixed
+    lever (``has_lever``) and the priority's code (:data:`PRIORITIES`, 0 for the default). Returns the fields of
+    :class:`TecsOutput` in their order (the priority as its code), then False if the altitude or the ISA
+    deviation is outside the atmosphere's range (the other values are then not to be used)."""
+    V = 1.0 if 1.0 > tas_m_s else tas_m_s  # max(tas, 1.0), NaN kept
+    T_K, p_Pa, rho, a, ok = isa_values(alt_m, dT_isa_K)
+    W = mass_kg * G0_M_S2
+    if speed_kind == _KIND_MACH:
+        V_c = speed * a
+    elif speed_kind == _KIND_CAS:
+        V_c = tas_from_cas_values(speed, p_Pa, a)
+    else:
+        V_c = speed
+    V_max = p[TP.mach_max] * a
+    if V_max < V_c:
+        V_c = V_max
+    underspeed = cas_from_tas_values(V, p_Pa, a) < p[TP.V_min_cas_m_s]
+    if underspeed:  # max(V_c, V at the margin over the minimum)
+        v = tas_from_cas_values(p[TP.V_min_cas_m_s] * p[TP.underspeed_margin], p_Pa, a)
+        V_c = v if v > V_c else V_c
+    if has_alt:
+        ff = clip(hdot_ff_m_s / V, -1.0, 1.0)
+        g_raw = math.asin(ff) + p[TP.k_h_1_s] * (alt_cmd_m - alt_m) / V
+    else:
+        g_raw = gamma_cmd_rad
+    # clip(v, lo, hi) written out as its two comparisons (clip.py: the same value, NaN included)
+    g_min, g_max = p[TP.gamma_min_rad], p[TP.gamma_max_rad]
+    g_c = g_min if g_min > g_raw else g_raw
+    g_c = g_max if g_max < g_c else g_c
+    a_max = p[TP.Vdot_max_m_s2]
+    a_c = p[TP.k_V_1_s] * (V_c - V)
+    a_c = -a_max if -a_max > a_c else a_c
+    a_c = a_max if a_max < a_c else a_c
+    jerk = p[TP.jerk_max_m_s3]
+    if not underspeed and jerk > 0.0:
+        da = jerk * dt_s
+        lo = s[_A_C] - da
+        a_c = lo if lo > a_c else a_c
+        hi = s[_A_C] + da
+        a_c = hi if hi < a_c else a_c
+    strict = priority == _PATH_ONLY
+    if priority == _AUTO:
+        priority = _SPEED if g_raw != g_c else _PATH
+    elif strict:
+        priority = _PATH
+    limited = False
+    s_gc = math.sin(g_c)
+    if not has_lever and not underspeed:
+        # energy-rate command limiting: cut the channel without priority back to what the thrust gives
+        # the margin shrinks with the headroom over the path's own need, so a small but feasible speed
+        # change is still flown (slowly) rather than cut to nothing
+        demand = s_gc + a_c / G0_M_S2
+        lim = math.nan
+        margin = p[TP.energy_margin]
+        # min(margin, 0.25 max(room, 0)) written out (the same values)
+        room = E_rate_max - s_gc
+        room = 0.25 * (0.0 if 0.0 > room else room)
+        hi = E_rate_max - (room if room < margin else margin)
+        room = s_gc - E_rate_min
+        room = 0.25 * (0.0 if 0.0 > room else room)
+        lo = E_rate_min + (room if room < margin else margin)
+        if demand > hi:
+            lim = hi
+        elif demand < lo:
+            lim = lo
+        if lim == lim:  # not NaN
+            limited = True
+            if priority == _PATH:
+                a_c = clip(G0_M_S2 * (lim - s_gc), -a_max, a_max)
             else:
-                self._sigma = sigma_target
-        sg = self._sigma
-        if prio == "path" or (prio == "normal" and priority == "path"):  # weights (w_g, w_v) -> (2, 0)
-            w_g, w_v = 1.0 + sg * (2.0 - 1.0), 1.0 + sg * (0.0 - 1.0)
-        else:  # -> (0, 2)
-            w_g, w_v = 1.0 + sg * (0.0 - 1.0), 1.0 + sg * (2.0 - 1.0)
-        L_err = w_g * e_g - w_v * e_v
-        k_EP = p.k_EP
-        theta_c = k_EP * L_err + self._iL
-        th_max = p.theta_max_rad
-        if p.theta_min_rad < theta_c < th_max or (theta_c >= th_max) != (L_err > 0):
-            self._iL += p.k_EI_1_s * L_err * dt_s
-        theta_c = k_EP * L_err + self._iL  # clip(theta_c, theta_min_rad, th_max)
-        theta_c = p.theta_min_rad if p.theta_min_rad > theta_c else theta_c
-        theta_c = th_max if th_max < theta_c else theta_c
-        return T_c, lever, theta_c, g_c, a_c, V_c, E_err, L_err, prio, underspeed, airbrake, limited
+                # the flight path is cut, but a climb is not turned into a descent (nor a descent into a
+                # climb) to pay for a speed change: beyond level flight the acceleration is cut instead
+                sg = lim - a_c / G0_M_S2
+                if (g_c > 0.0 and sg < 0.0) or (g_c < 0.0 and sg > 0.0):
+                    sg = 0.0
+                    a_c = clip(G0_M_S2 * lim, -a_max, a_max)
+                g_c = math.asin(clip(sg, math.sin(g_min), math.sin(g_max)))
+                s_gc = math.sin(g_c)
+    s[_A_C] = a_c
+    e_g = s_gc - math.sin(gamma_rad)
+    e_v = (a_c - Vdot_m_s2) / G0_M_S2
+    E_err = e_g + e_v
+
+    T_avail = p[TP.thrust_sls_N] * (rho / RHO0_KG_M3) ** p[TP.thrust_lapse_exp]  # available_thrust_N
+    T_idle = p[TP.lever_min] * T_avail
+    airbrake = 0.0
+    if has_lever:
+        lever = clip(lever_fixed, 0.0, 1.0)
+        T_c = lever * T_avail
+        prio = _SPEED if has_alt else _PATH
+        s[_I_T] = T_c / W  # tracks, for a bumpless return to energy control
+        s[_SIGMA] = 1.0
+    else:
+        T_c = W * (p[TP.k_TP] * E_err + s[_I_T])
+        T_lo = T_idle - (0.0 if 0.0 > airbrake_max_N else airbrake_max_N)  # max(airbrake_max_N, 0)
+        T_hi = p[TP.lever_max] * T_avail
+        sat_hi = T_c >= T_hi or underspeed
+        sat_lo = T_c <= T_lo
+        saturated = (sat_hi and E_err > 0) or (sat_lo and E_err < 0)
+        if not saturated:
+            s[_I_T] += p[TP.k_TI_1_s] * E_err * dt_s
+        if underspeed:
+            T_c = T_hi
+        else:  # clip(T_c, T_lo, T_hi)
+            T_c = T_lo if T_lo > T_c else T_c
+            T_c = T_hi if T_hi < T_c else T_c
+        if T_c < T_idle:
+            airbrake, T_c = T_idle - T_c, T_idle
+        # the airbrake acts at once on the drag (the engine's thrust with its spool lag): filtered to the
+        # thrust's pace, or the proportional gain k_TP closes a one-step loop through it and chatters
+        tau = p[TP.tau_airbrake_s]
+        s[_AB] = airbrake if tau <= 0.0 else s[_AB] + (airbrake - s[_AB]) * dt_s / (tau + dt_s)
+        airbrake = s[_AB]
+        lever = T_c / T_avail
+        prio = _SPEED if underspeed else (priority if saturated else _NORMAL)
+        sigma_target = 1.0 if saturated or strict else 0.0
+        tau_p = p[TP.tau_priority_s]
+        if underspeed:
+            s[_SIGMA] = 1.0
+        elif tau_p > 0.0:
+            f = dt_s / tau_p
+            s[_SIGMA] += (sigma_target - s[_SIGMA]) * (1.0 if 1.0 < f else f)  # min(f, 1)
+        else:
+            s[_SIGMA] = sigma_target
+    sg = s[_SIGMA]
+    if prio == _PATH or (prio == _NORMAL and priority == _PATH):  # weights (w_g, w_v) -> (2, 0)
+        w_g, w_v = 1.0 + sg * (2.0 - 1.0), 1.0 + sg * (0.0 - 1.0)
+    else:  # -> (0, 2)
+        w_g, w_v = 1.0 + sg * (0.0 - 1.0), 1.0 + sg * (2.0 - 1.0)
+    L_err = w_g * e_g - w_v * e_v
+    k_EP = p[TP.k_EP]
+    theta_c = k_EP * L_err + s[_I_L]
+    th_min, th_max = p[TP.theta_min_rad], p[TP.theta_max_rad]
+    if th_min < theta_c < th_max or (theta_c >= th_max) != (L_err > 0):
+        s[_I_L] += p[TP.k_EI_1_s] * L_err * dt_s
+    theta_c = k_EP * L_err + s[_I_L]  # clip(theta_c, theta_min_rad, th_max)
+    theta_c = th_min if th_min > theta_c else theta_c
+    theta_c = th_max if th_max < theta_c else theta_c
+    return T_c, lever, theta_c, g_c, a_c, V_c, E_err, L_err, prio, underspeed, airbrake, limited, ok

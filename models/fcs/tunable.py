@@ -18,14 +18,17 @@ bounds are checked on load and on every ``set_parameter``.
 from __future__ import annotations
 
 import dataclasses
+import enum
 import math
 from importlib import resources
 from typing import Any, ClassVar, Generic, TypeVar
 
+import numpy as np
+
 from ..common import safe_yaml
 from .errors import ParameterError
 
-__all__ = ["Tunable", "load_params", "param_bounds", "DATA_PACKAGE"]
+__all__ = ["Tunable", "load_params", "param_bounds", "field_index", "DATA_PACKAGE"]
 
 #: Package holding the parameter files (relative to this package).
 DATA_PACKAGE = "data"
@@ -120,6 +123,12 @@ def _check(cls: type, name: str, value: Any, where: str) -> None:
         raise ParameterError(f"{where}.{name} = {value!r} is outside the allowed range [{lo}, {hi}]")
 
 
+def field_index(cls: type) -> type[enum.IntEnum]:
+    """An IntEnum of the fields of the parameter-set class ``cls``, each its index in :meth:`Tunable.values`
+    (the compiled laws read their parameters as ``p[I.name]``; numba reads an IntEnum member as a constant)."""
+    return enum.IntEnum(f"{cls.__name__}Index", [(f.name, i) for i, f in enumerate(dataclasses.fields(cls))])
+
+
 class Tunable(Generic[P]):
     """Mixin giving a controller scriptable access to its frozen parameter set.
 
@@ -128,6 +137,16 @@ class Tunable(Generic[P]):
     """
 
     _params: P
+    _values_of: object = None  # the parameter set that _values holds
+
+    def values(self) -> np.ndarray:
+        """The parameter set as floats in its fields' order (:func:`field_index`), for the compiled laws; built
+        again whenever ``_params`` is another set (a set is frozen: the same object, the same values)."""
+        p = self._params
+        if self._values_of is not p:
+            self._values = np.array([float(getattr(p, f.name)) for f in dataclasses.fields(p)])  # type: ignore[arg-type]
+            self._values_of = p
+        return self._values
     #: Name used in error messages.
     tunable_name: ClassVar[str] = "controller"
 

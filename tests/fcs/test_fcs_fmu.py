@@ -429,7 +429,8 @@ def test_fmu_is_self_contained(fmus: Path, tmp_path: Path) -> None:
     import zipfile
 
     z = zipfile.ZipFile(fmus / "Fcs.fmu")
-    assert z.read("resources/requirements.txt").decode().split() == ["pyyaml>=6.0", "pythonfmu>=0.6.5"]
+    assert z.read("resources/requirements.txt").decode().split() == ["pyyaml>=6.0", "numpy>=1.24", "numba>=0.59",
+                                                                     "pythonfmu>=0.6.5"]
     assert "resources/missions/munich.yaml" in z.namelist()
     code = ("import os, sys\n"
             "sys.modules['openemss'] = None\n"

@@ -25,7 +25,7 @@ from .estimation import AirspeedRateEstimator
 from .fuel_control import FUEL_LIMITERS, FuelController
 from .geo import wrap_pi
 from .guidance import L1Guidance
-from .inner_loops import PERF_VALUES, inner_step
+from .inner_loops import PARAM_BLOCKS, STATE_BLOCKS, blocks, inner_step
 from .lateral import LateralController
 from .mission import Mission
 from .performance import Performance
@@ -187,9 +187,19 @@ class FlightControlSystem:
         self._lever: float | None = None
         self._estimator = AirspeedRateEstimator()
         self.controllers["estimation"] = self._estimator
-        self._vdot_f = np.zeros(2)  # the low-passed airspeed rate estimate: (1 once set, the rate [m/s^2])
         self._perf_t = -math.inf  # time of the last look-up of the performance tables [s]
-        self._perf_v = np.zeros(len(PERF_VALUES))  # the look-up there and the airbrake's constants (PERF_VALUES)
+        # the inner loops' buffers (inner_loops.STATE_BLOCKS, PARAM_BLOCKS): each controller keeps its state in a
+        # view of its block of the one state buffer; the parameter buffer holds copies of their values()
+        self._state = np.zeros(sum(n for _, n in STATE_BLOCKS))
+        self._tuned = {"estimation": self._estimator, "tecs": self.tecs, "pitch": self.pitch,
+                       "lateral": self.lateral, "fuel_control": self.fuel}
+        where = blocks(STATE_BLOCKS)
+        for name, ctl in self._tuned.items():
+            a, b = where[name]
+            self._state[a:b] = ctl._s
+            ctl._s = self._state[a:b]
+        self._params = np.zeros(sum(n for _, n in PARAM_BLOCKS))
+        self._params_of: tuple = ()  # the parameter sets the buffer holds
 
     # -- parameters -----------------------------------------------------------------------
     def parameter_names(self) -> tuple[str, ...]:
@@ -255,13 +265,15 @@ class FlightControlSystem:
             if not (x.on_ground or x.tas_m_s < 30.0) and (t_s - self._perf_t >= PERF_REFRESH_S or t_s < self._perf_t):
                 # the performance model's table look-ups, every PERF_REFRESH_S (they change slowly)
                 perf = self.perf
-                self._perf_v = np.concatenate((perf.lookup(x.alt_m, perf.mach(x.alt_m, x.tas_m_s, x.dT_isa_K)),
-                                               perf.airbrake_values()))
+                self._params[_PERF_BLOCK] = (*perf.lookup(x.alt_m, perf.mach(x.alt_m, x.tas_m_s, x.dT_isa_K)),
+                                             *perf.airbrake_values())
                 self._perf_t = t_s
+        tuned = (self._estimator._params, self.tecs._params, self.pitch._params, self.lateral._params,
+                 self.fuel._params)
+        if tuned != self._params_of:  # a parameter set was replaced (set_parameter)
+            self._load_params()
         speed, lever_cmd, phi_cmd, heading_cmd = tg.speed, tg.lever, tg.phi_cmd_rad, tg.heading_cmd_rad
-        o = inner_step(self._estimator.parameters.tau_cross_s, self._estimator._s, self._vdot_f, self.tecs.values(),
-                       self.tecs._s, self.pitch.values(), self.pitch._s, self.lateral.values(), self.lateral._s,
-                       self.fuel.values(), self.fuel._s, self._perf_v, dt_s, x.alt_m, x.tas_m_s, x.Vdot_m_s2,
+        o = inner_step(self._state, self._params, dt_s, x.alt_m, x.tas_m_s, x.Vdot_m_s2,
                        x.gamma_rad, x.vn_m_s, x.ve_m_s, x.psi_rad, x.phi_rad, x.theta_rad, x.p_rad_s, x.q_rad_s,
                        x.r_rad_s, x.beta_rad, x.qbar_Pa, x.mass_kg, x.dT_isa_K, x.on_ground, eng.N1c_pct, eng.N1_pct,
                        eng.Tt41_K, tecs_on, math.nan if tecs_on else tg.theta_cmd_rad,
@@ -283,6 +295,16 @@ class FlightControlSystem:
                               o[7], o[8], o[9], _MODE_CODE.get(tg.vnav_mode, 0),
                               _PHASE_CODE.get(tg.phase, 0) if tg.section_type == "Landing" else 0)
 
+    def _load_params(self) -> None:
+        """Copy the controllers' parameters into the inner loops' parameter buffer."""
+        where = blocks(PARAM_BLOCKS)
+        for name, ctl in self._tuned.items():
+            a, b = where[name]
+            self._params[a:b] = ctl.values()
+        self._params_of = (self._estimator._params, self.tecs._params, self.pitch._params, self.lateral._params,
+                           self.fuel._params)
 
+
+_PERF_BLOCK = slice(*blocks(PARAM_BLOCKS)["performance"])
 _MODE_CODE = {m: i for i, m in enumerate(VNAV_MODES)}
 _PHASE_CODE = {m: i for i, m in enumerate(APPROACH_PHASES)}

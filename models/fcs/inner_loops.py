@@ -6,8 +6,9 @@ their targets. It calls the laws' one implementation (:func:`.estimation.estimat
 :func:`.performance.energy_rates_law`, :func:`.tecs.tecs_law`, :func:`.performance.airbrake_position_law`,
 :func:`.pitch.pitch_law`, :func:`.lateral.lateral_law`, :func:`.fuel_control.fuel_law`), which the
 controllers' own ``step`` methods call as plain Python; numba compiles them into this one function
-(``jitable``), so that a step is one compiled call on plain floats and the controllers' parameter and
-state arrays, which it borrows (:func:`..common.jit.borrowed`).
+(``jitable``), so that a step is one compiled call on plain floats and two buffers, the controllers'
+states and parameters (:data:`STATE_BLOCKS`, :data:`PARAM_BLOCKS`), which it borrows
+(:func:`..common.jit.borrowed`).
 
 Why compiled: in the whole mission the FCS's Python step cost two and a half times what it costs alone,
 the engine and the airframe evicting its code and objects from the caches between two steps; the
@@ -17,30 +18,63 @@ runs as Python.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 
 from ..common.jit import borrowed, jit
-from .estimation import estimator_law
-from .fuel_control import fuel_law
-from .lateral import lateral_law
+from .estimation import EstimationParams, estimator_law
+from .fuel_control import FuelControlParams, fuel_law
+from .lateral import LateralParams, lateral_law
 from .performance import airbrake_position_law, energy_rates_law
-from .pitch import pitch_law, turn_pitch_rate
-from .tecs import TP, tecs_law
+from .pitch import PitchParams, pitch_law, turn_pitch_rate
+from .tecs import TP, TecsParams, tecs_law
 
-__all__ = ["inner_step", "PERF_VALUES"]
+__all__ = ["inner_step", "PERF_VALUES", "STATE_BLOCKS", "PARAM_BLOCKS", "blocks"]
 
-#: The layout of ``perf_v``: the performance model's look-up (CD0, k, idle and maximum thrust [N]) then
-#: :meth:`.performance.Performance.airbrake_values`.
+#: The performance model's values in its block of the parameter buffer: the look-up (CD0, k, idle and maximum
+#: thrust [N]) then :meth:`.performance.Performance.airbrake_values`.
 PERF_VALUES = ("cd0", "k", "t_idle_N", "t_max_N", "S_m2", "cd_gear", "airbrake_full_N_Pa", "airbrake_max_rad",
                "airbrake_blowback_qbar_Pa")
+#: The blocks of the state buffer, (name, size): each controller's state array (``_s``) is a view of its block,
+#: ``rate_filter`` the FCS's low-passed airspeed rate (1 once set, the rate [m/s^2]). One buffer, not one array per
+#: controller: numba wraps every array argument of a call from Python in a new reference-counted record.
+STATE_BLOCKS = (("estimation", 8), ("rate_filter", 2), ("tecs", 5), ("pitch", 1), ("lateral", 1),
+                ("fuel_control", 5))
+#: The blocks of the parameter buffer, (name, size): the controllers' ``values()`` and the performance model's.
+PARAM_BLOCKS = tuple((name, len(dataclasses.fields(cls))) for name, cls in (
+    ("estimation", EstimationParams), ("tecs", TecsParams), ("pitch", PitchParams), ("lateral", LateralParams),
+    ("fuel_control", FuelControlParams))) + (("performance", len(PERF_VALUES)),)
+
+
+def blocks(layout: tuple[tuple[str, int], ...]) -> dict[str, tuple[int, int]]:
+    """(start, end) of each block of a buffer's layout."""
+    out, start = {}, 0
+    for name, size in layout:
+        out[name] = (start, start + size)
+        start += size
+    return out
+
+
+_SB, _PB = blocks(STATE_BLOCKS), blocks(PARAM_BLOCKS)
+# the blocks' bounds as module constants, which numba compiles in
+_S_EST0, _S_EST1 = _SB["estimation"]
+_S_RATE = _SB["rate_filter"][0]
+_S_TECS0, _S_TECS1 = _SB["tecs"]
+_S_PITCH0, _S_PITCH1 = _SB["pitch"]
+_S_LAT0, _S_LAT1 = _SB["lateral"]
+_S_FUEL0, _S_FUEL1 = _SB["fuel_control"]
+_P_EST = _PB["estimation"][0]
+_P_TECS0, _P_TECS1 = _PB["tecs"]
+_P_PITCH0, _P_PITCH1 = _PB["pitch"]
+_P_LAT0, _P_LAT1 = _PB["lateral"]
+_P_FUEL0, _P_FUEL1 = _PB["fuel_control"]
+_P_PERF = _PB["performance"][0]
 
 
 @jit
-def inner_step(tau_cross_s: float, est_s: np.ndarray, fcs_s: np.ndarray, tecs_p: np.ndarray, tecs_s: np.ndarray,
-               pitch_p: np.ndarray, pitch_s: np.ndarray, lat_p: np.ndarray, lat_s: np.ndarray, fuel_p: np.ndarray,
-               fuel_s: np.ndarray, perf_v: np.ndarray, dt_s: float, alt_m: float, tas_m_s: float, Vdot_m_s2: float,
+def inner_step(state: np.ndarray, params: np.ndarray, dt_s: float, alt_m: float, tas_m_s: float, Vdot_m_s2: float,
                gamma_rad: float, vn_m_s: float, ve_m_s: float, psi_rad: float, phi_rad: float, theta_rad: float,
                p_rad_s: float, q_rad_s: float, r_rad_s: float, beta_rad: float, qbar_Pa: float, mass_kg: float,
                dT_isa_K: float, on_ground: bool, N1c_pct: float, N1_pct: float, Tt41_K: float, tecs_on: bool,
@@ -52,14 +86,8 @@ def inner_step(tau_cross_s: float, est_s: np.ndarray, fcs_s: np.ndarray, tecs_p:
 
     Parameters
     ----------
-    tau_cross_s, est_s : float, array
-        The estimator's crossover time constant [s] and state (:class:`.estimation.AirspeedRateEstimator`).
-    fcs_s : array
-        The FCS's low-passed airspeed rate: (1 once set, the rate [m/s^2]).
-    tecs_p, tecs_s, pitch_p, pitch_s, lat_p, lat_s, fuel_p, fuel_s : array
-        Parameters (``values()``) and state of the TECS, pitch, lateral and fuel controllers.
-    perf_v : array
-        The performance model's values, :data:`PERF_VALUES`.
+    state, params : array
+        The state buffer (:data:`STATE_BLOCKS`, updated in place) and the parameter buffer (:data:`PARAM_BLOCKS`).
     dt_s, ... Tt41_K : float
         The step [s] and the measured state (:class:`.state.AircraftState`, :class:`.state.EngineState`); a NaN
         ``Vdot_m_s2`` is estimated.
@@ -76,16 +104,18 @@ def inner_step(tau_cross_s: float, est_s: np.ndarray, fcs_s: np.ndarray, tecs_p:
         as true airspeed [m/s] (NaN without energy control), fuel limiter's code, airbrake position [0, 1], and
         False if the altitude was outside the atmosphere's range (then the FCS raises its error).
     """
-    est_s, fcs_s, tecs_p, tecs_s = borrowed((est_s, fcs_s, tecs_p, tecs_s))
-    pitch_p, pitch_s, lat_p, lat_s, fuel_p, fuel_s, perf_v = borrowed((pitch_p, pitch_s, lat_p, lat_s, fuel_p,
-                                                                      fuel_s, perf_v))
+    state, params = borrowed((state, params))
+    est_s, tecs_s, fuel_s = state[_S_EST0:_S_EST1], state[_S_TECS0:_S_TECS1], state[_S_FUEL0:_S_FUEL1]
+    tecs_p = params[_P_TECS0:_P_TECS1]
+    perf_v = params[_P_PERF:]
     vdot, tas = Vdot_m_s2, tas_m_s
     if vdot != vdot:  # NaN: estimated, then low-passed (tecs.tau_Vdot_s)
-        raw = estimator_law(tau_cross_s, est_s, dt_s, tas_m_s, vn_m_s, ve_m_s, tas_m_s * math.sin(gamma_rad),
+        raw = estimator_law(params[_P_EST], est_s, dt_s, tas_m_s, vn_m_s, ve_m_s, tas_m_s * math.sin(gamma_rad),
                             phi_rad, theta_rad, psi_rad, beta_rad, gamma_rad)
         tau = tecs_p[TP.tau_Vdot_s]
-        vdot = raw if fcs_s[0] == 0.0 else fcs_s[1] + (raw - fcs_s[1]) * dt_s / (tau + dt_s)
-        fcs_s[0], fcs_s[1] = 1.0, vdot
+        vf = state[_S_RATE + 1]
+        vdot = raw if state[_S_RATE] == 0.0 else vf + (raw - vf) * dt_s / (tau + dt_s)
+        state[_S_RATE], state[_S_RATE + 1] = 1.0, vdot
         if est_s[0] != 0.0:
             tas = est_s[1]
     tas_cmd = math.nan
@@ -109,10 +139,12 @@ def inner_step(tau_cross_s: float, est_s: np.ndarray, fcs_s: np.ndarray, tecs_p:
         if out[10] > 0.0:
             airbrake = airbrake_position_law(perf_v[6], perf_v[7], out[10], qbar_Pa)
     q_turn = 0.0 if on_ground else turn_pitch_rate(phi_rad, tas_m_s)
-    elevator = pitch_law(pitch_p, pitch_s, dt_s, theta_c, theta_rad, q_rad_s, qbar_Pa, q_turn, ground_gains)
+    elevator = pitch_law(params[_P_PITCH0:_P_PITCH1], state[_S_PITCH0:_S_PITCH1], dt_s, theta_c, theta_rad, q_rad_s,
+                         qbar_Pa, q_turn, ground_gains)
     # (no track command: the track, the fourth argument, is not used)
-    aileron, rudder, phi_cmd = lateral_law(lat_p, lat_s, dt_s, phi_rad, theta_rad, psi_rad, math.nan, p_rad_s,
-                                           r_rad_s, beta_rad, tas_m_s, qbar_Pa, phi_cmd_rad, has_phi,
-                                           heading_cmd_rad, has_heading, math.nan, False)
-    f = fuel_law(fuel_p, fuel_s, dt_s, lever, N1c_pct, N1_pct, Tt41_K)
+    aileron, rudder, phi_cmd = lateral_law(params[_P_LAT0:_P_LAT1], state[_S_LAT0:_S_LAT1], dt_s, phi_rad,
+                                           theta_rad, psi_rad, math.nan, p_rad_s, r_rad_s, beta_rad, tas_m_s,
+                                           qbar_Pa, phi_cmd_rad, has_phi, heading_cmd_rad, has_heading, math.nan,
+                                           False)
+    f = fuel_law(params[_P_FUEL0:_P_FUEL1], fuel_s, dt_s, lever, N1c_pct, N1_pct, Tt41_K)
     return elevator, aileron, rudder, lever, f[0], theta_c, phi_cmd, tas_cmd, f[4], airbrake, ok

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..common.jit import entry_point
 from ..common.records import fast_init
 from .approach import APPROACH_PHASES, ApproachParams
 from .atmosphere import G0_M_S2, isa
@@ -200,6 +201,7 @@ class FlightControlSystem:
             ctl._s = self._state[a:b]
         self._params = np.zeros(sum(n for _, n in PARAM_BLOCKS))
         self._params_of: tuple = ()  # the parameter sets the buffer holds
+        self._inner = self._first_inner_step  # then inner_step's compiled entry point for the types of the call
 
     # -- parameters -----------------------------------------------------------------------
     def parameter_names(self) -> tuple[str, ...]:
@@ -273,7 +275,7 @@ class FlightControlSystem:
         if tuned != self._params_of:  # a parameter set was replaced (set_parameter)
             self._load_params()
         speed, lever_cmd, phi_cmd, heading_cmd = tg.speed, tg.lever, tg.phi_cmd_rad, tg.heading_cmd_rad
-        o = inner_step(self._state, self._params, dt_s, x.alt_m, x.tas_m_s, x.Vdot_m_s2,
+        o = self._inner(self._state, self._params, dt_s, x.alt_m, x.tas_m_s, x.Vdot_m_s2,
                        x.gamma_rad, x.vn_m_s, x.ve_m_s, x.psi_rad, x.phi_rad, x.theta_rad, x.p_rad_s, x.q_rad_s,
                        x.r_rad_s, x.beta_rad, x.qbar_Pa, x.mass_kg, x.dT_isa_K, x.on_ground, eng.N1c_pct, eng.N1_pct,
                        eng.Tt41_K, tecs_on, math.nan if tecs_on else tg.theta_cmd_rad,
@@ -294,6 +296,12 @@ class FlightControlSystem:
         return FcsOutput.make(o[0], o[1], rudder, tg.steer, tg.brake, tg.gear_down, lever, o[4], o[5], o[6], tg,
                               o[7], o[8], o[9], _MODE_CODE.get(tg.vnav_mode, 0),
                               _PHASE_CODE.get(tg.phase, 0) if tg.section_type == "Landing" else 0)
+
+    def _first_inner_step(self, *args: object) -> tuple:
+        """:func:`.inner_loops.inner_step` through its entry point for these arguments' types, kept for the next
+        steps (:func:`..common.jit.entry_point`)."""
+        self._inner = entry_point(inner_step, args)
+        return self._inner(*args)
 
     def _load_params(self) -> None:
         """Copy the controllers' parameters into the inner loops' parameter buffer."""

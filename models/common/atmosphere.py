@@ -29,7 +29,7 @@ from .jit import jitable
 from .records import fast_init
 
 __all__ = ["G0_M_S2", "R_AIR_J_KG_K", "GAMMA_AIR", "T0_K", "P0_PA", "RHO0_KG_M3", "A0_M_S", "ALT_MIN_M",
-           "ALT_MAX_M", "T_MIN_K", "T_MAX_K", "Atmosphere", "AtmosphereRangeError", "isa_T_p", "check", "isa",
+           "ALT_MAX_M", "T_MIN_K", "T_MAX_K", "Atmosphere", "AtmosphereRangeError", "isa_T_p", "rho_a", "check", "isa",
            "sutherland_viscosity"]
 
 G0_M_S2: float = 9.80665
@@ -123,7 +123,14 @@ def isa(alt_m: float, dT_isa_K: float = 0.0) -> Atmosphere:
     T, p = isa_T_p(alt_m, dT_isa_K)
     if not (T_MIN_K <= T <= T_MAX_K):           # also a NaN deviation
         raise AtmosphereRangeError(f"isa: {check(alt_m, dT_isa_K)}")
-    return Atmosphere.make(T, p, p / (R_AIR_J_KG_K * T), math.sqrt(GAMMA_AIR * R_AIR_J_KG_K * T))
+    return Atmosphere.make(T, p, *rho_a(T, p))
+
+
+@jitable
+def rho_a(T_K: float, p_Pa: float) -> tuple[float, float]:
+    """Density [kg/m^3] (ideal gas, R of dry air) and speed of sound [m/s] (gamma 1.4) at ``T_K`` [K], ``p_Pa``
+    [Pa]: the standard's, for :func:`isa` and the FCS's compiled laws."""
+    return p_Pa / (R_AIR_J_KG_K * T_K), math.sqrt(GAMMA_AIR * R_AIR_J_KG_K * T_K)
 
 
 def sutherland_viscosity(T_K: float) -> float:

@@ -138,7 +138,10 @@ try:                                        # numba is a dependency; without it 
         """The compiled ``fn`` (a :func:`jit` kernel) for the types of ``args``, compiled or loaded from the cache
         now, as its compiled entry point: a call of it converts the arguments to those types without the
         dispatcher's type resolution (0.4 against 1.0 us for a call of forty arguments, and less of the caches
-        touched). For a caller that always passes the same types, as the FCS's step does."""
+        touched). For a caller that always passes the same types, as the FCS's step does. A ``fn`` that is not a
+        compiled kernel is returned as it is."""
+        if not hasattr(fn, "typeof_pyval"):     # not a compiled kernel (e.g. a wrapper of one): itself
+            return fn
         sig = tuple(fn.typeof_pyval(a) for a in args)
         fn.compile(sig)
         try:

@@ -20,7 +20,7 @@ from __future__ import annotations
 import math
 
 from ..common import atmosphere as _atm
-from ..common.atmosphere import GAMMA_AIR, R_AIR_J_KG_K, T_MAX_K, T_MIN_K, Atmosphere, isa_T_p
+from ..common.atmosphere import T_MAX_K, T_MIN_K, Atmosphere, isa_T_p, rho_a
 from ..common.jit import jitable
 from .errors import FcsError
 
@@ -64,7 +64,8 @@ def isa_values(alt_m: float, dT_isa_K: float) -> tuple[float, float, float, floa
     T, p = isa_T_p(alt_m if ok else 0.0, dT_isa_K)
     if not (T_MIN_K <= T <= T_MAX_K):           # also a NaN deviation
         ok, T = False, 288.15
-    return T, p, p / (R_AIR_J_KG_K * T), math.sqrt(GAMMA_AIR * R_AIR_J_KG_K * T), ok
+    rho, a = rho_a(T, p)
+    return T, p, rho, a, ok
 
 
 #: The last (altitude, deviation, atmosphere) of :func:`isa` (an Atmosphere is frozen: it may be shared).

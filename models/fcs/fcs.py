@@ -273,7 +273,7 @@ class FlightControlSystem:
         tuned = (self._estimator._params, self.tecs._params, self.pitch._params, self.lateral._params,
                  self.fuel._params)
         if tuned != self._params_of:  # a parameter set was replaced (set_parameter)
-            self._load_params()
+            self._load_params(tuned)
         speed, lever_cmd, phi_cmd, heading_cmd = tg.speed, tg.lever, tg.phi_cmd_rad, tg.heading_cmd_rad
         o = self._inner(self._state, self._params, dt_s, x.alt_m, x.tas_m_s, x.Vdot_m_s2,
                        x.gamma_rad, x.vn_m_s, x.ve_m_s, x.psi_rad, x.phi_rad, x.theta_rad, x.p_rad_s, x.q_rad_s,
@@ -303,14 +303,14 @@ class FlightControlSystem:
         self._inner = entry_point(inner_step, args)
         return self._inner(*args)
 
-    def _load_params(self) -> None:
-        """Copy the controllers' parameters into the inner loops' parameter buffer."""
+    def _load_params(self, tuned: tuple) -> None:
+        """Copy the controllers' parameters into the inner loops' parameter buffer; ``tuned`` their parameter
+        sets, which the buffer then holds."""
         where = blocks(PARAM_BLOCKS)
         for name, ctl in self._tuned.items():
             a, b = where[name]
             self._params[a:b] = ctl.values()
-        self._params_of = (self._estimator._params, self.tecs._params, self.pitch._params, self.lateral._params,
-                           self.fuel._params)
+        self._params_of = tuned
 
 
 _PERF_BLOCK = slice(*blocks(PARAM_BLOCKS)["performance"])

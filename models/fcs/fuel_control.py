@@ -59,7 +59,7 @@ from ..common.records import fast_init
 from .errors import ParameterError
 from .tunable import Tunable, field_index, load_params
 
-__all__ = ["FuelControlParams", "FuelControlOutput", "FuelController"]
+__all__ = ["FuelControlParams", "FuelControlOutput", "FuelController", "FUEL_LIMITERS", "fuel_law"]
 
 PARAM_FILE = "fuel_control.yaml"
 

@@ -15,6 +15,7 @@ the same code that vendors an FMU's packages), so nothing else of this environme
 """
 from __future__ import annotations
 
+import json
 import os
 import shutil
 import subprocess
@@ -28,7 +29,7 @@ import pytest
 from fmpy import read_model_description
 
 from openemss.orchestrator.fmu.build import ensure_built
-from openemss.orchestrator.fmu.fmu_deps import vendor_packages
+from openemss.orchestrator.fmu.fmu_deps import import_name, vendor_packages
 
 ROOT = Path(__file__).resolve().parent.parent
 HEADERS = Path(__import__("fmpy").__file__).parent / "c-code"
@@ -67,8 +68,6 @@ os._exit(0)
 
 
 def _simulate(py: Path, fmu: Path, outputs: list[str]) -> tuple[dict, str]:  # type: ignore[type-arg]
-    import json
-
     proc = subprocess.run([str(py), "-c", _SIMULATE, str(fmu), *outputs], capture_output=True, text=True,
                           cwd=fmu.parent)
     assert "@@" in proc.stdout, proc.stderr[-2000:]
@@ -82,10 +81,21 @@ def test_missing_packages_fail_with_one_clear_line(only_fmpy: Path, tmp_path: Pa
     lines = [ln for ln in stderr.splitlines() if ln.startswith("Fcs.fmu: cannot run")]
     assert len(lines) == 1, stderr
     line = lines[0]
-    assert "package(s) pyyaml>=6.0 cannot be imported" in line and "pip install -r " in line
-    assert line.rstrip().endswith("(or use an FMU built with build-fmus --vendor)")
+    assert "pip install -r " in line and line.rstrip().endswith("(or use an FMU built with build-fmus --vendor)")
     req = Path(line.split("pip install -r ", 1)[1].split(" ", 1)[0])
-    assert req.name == "requirements.txt" and "pyyaml>=6.0" in req.read_text()
+    assert req.name == "requirements.txt"
+    # the line names exactly those of the FMU's requirements its interpreter cannot find, found here by
+    # asking that interpreter with the FMU's resources (which carry pythonfmu) on its path
+    resources = tmp_path / "unzipped"
+    zipfile.ZipFile(fmu).extractall(resources)
+    wanted = zipfile.ZipFile(fmu).read("resources/requirements.txt").decode().split()
+    probe = ("import importlib.util as u, json, sys; sys.path.insert(0, sys.argv[1]); "
+             "print(json.dumps([r for r, m in zip(sys.argv[2::2], sys.argv[3::2]) if u.find_spec(m) is None]))")
+    args = [x for r in wanted for x in (r, import_name(r))]
+    missing = json.loads(subprocess.run([str(only_fmpy), "-c", probe, str(resources / "resources"), *args],
+                                        check=True, capture_output=True, text=True).stdout)
+    assert "pyyaml>=6.0" in missing  # the fixture's interpreter has fmpy alone
+    assert f"package(s) {', '.join(missing)} cannot be imported" in line, (missing, line)
     assert any(line in m for m in result["log"]), result["log"]  # the FMI logger got it too
 
 

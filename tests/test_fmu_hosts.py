@@ -100,7 +100,7 @@ def test_missing_packages_fail_with_one_clear_line(only_fmpy: Path, tmp_path: Pa
 
 
 def test_vendored_fmu_runs_where_only_fmpy_is(only_fmpy: Path, tmp_path: Path) -> None:
-    """The FCS FMU with its packages inside (pyyaml, pythonfmu) runs in the venv of fmpy alone and gives the
+    """The FCS FMU with its packages inside (pyyaml, pythonfmu, numpy, numba) runs in the venv of fmpy alone and gives the
     outputs the plain FMU gives here; its size is stated in the README."""
     plain = ensure_built(ROOT / "fmus", tmp_path / "plain", names=["fcs"])[0]
     vendored = ensure_built(ROOT / "fmus", tmp_path / "vendored", names=["fcs"], vendor=True)[0]

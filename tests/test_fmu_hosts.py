@@ -87,8 +87,9 @@ def test_missing_packages_fail_with_one_clear_line(only_fmpy: Path, tmp_path: Pa
     # the line names exactly those of the FMU's requirements its interpreter cannot find, found here by
     # asking that interpreter with the FMU's resources (which carry pythonfmu) on its path
     resources = tmp_path / "unzipped"
-    zipfile.ZipFile(fmu).extractall(resources)
-    wanted = zipfile.ZipFile(fmu).read("resources/requirements.txt").decode().split()
+    with zipfile.ZipFile(fmu) as z:
+        z.extractall(resources)
+    wanted = (resources / "resources" / "requirements.txt").read_text().split()
     probe = ("import importlib.util as u, json, sys; sys.path.insert(0, sys.argv[1]); "
              "print(json.dumps([r for r, m in zip(sys.argv[2::2], sys.argv[3::2]) if u.find_spec(m) is None]))")
     args = [x for r in wanted for x in (r, import_name(r))]
@@ -100,8 +101,8 @@ def test_missing_packages_fail_with_one_clear_line(only_fmpy: Path, tmp_path: Pa
 
 
 def test_vendored_fmu_runs_where_only_fmpy_is(only_fmpy: Path, tmp_path: Path) -> None:
-    """The FCS FMU with its packages inside (pyyaml, pythonfmu, numpy, numba) runs in the venv of fmpy alone and gives the
-    outputs the plain FMU gives here; its size is stated in the README."""
+    """The FCS FMU with its packages inside (pyyaml, pythonfmu, numpy, numba) runs in the venv of fmpy alone and
+    gives the outputs the plain FMU gives here; its size is stated in the README."""
     plain = ensure_built(ROOT / "fmus", tmp_path / "plain", names=["fcs"])[0]
     vendored = ensure_built(ROOT / "fmus", tmp_path / "vendored", names=["fcs"], vendor=True)[0]
     names = zipfile.ZipFile(vendored).namelist()

@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from enum import StrEnum
 from pathlib import Path
 
 import numpy as np
@@ -299,6 +300,20 @@ def check_window(runs: Sequence[PlotRun], window: tuple[float, float] | None) ->
             raise ReportError(f"--window {t0:g} {t1:g}: outside run {r.label} ({t[0]:g} to {t[-1]:g} s)")
 
 
+class FigureFile(StrEnum):
+    """The files of :func:`plot_runs`, by what they show (the report plugin names them before a run)."""
+
+    GROUND_TRACK = "ground_track.png"
+    ALTITUDE_MACH = "altitude_mach.png"
+    FUEL_BURNED = "fuel_burned.png"
+    FUEL_FLOW_TT4 = "fuel_flow_tt4.png"
+    THRUST = "thrust.png"
+    SPOOL_SPEEDS = "spool_speeds.png"
+    SFC_SURGE_MARGIN = "sfc_surge_margin.png"
+    ATTITUDE = "attitude.png"
+    ELECTRIC = "electric.png"
+
+
 def plot_runs(runs: Sequence[PlotRun], out: Path, window: tuple[float, float] | None = None) -> list[Path]:
     """Draw every figure the runs' signals allow into ``out``; returns the files written.
 
@@ -314,40 +329,40 @@ def plot_runs(runs: Sequence[PlotRun], out: Path, window: tuple[float, float] | 
     check_window(runs, window)
     out.mkdir(parents=True, exist_ok=True)
     figures = [
-        ground_track(runs, out / "ground_track.png"),
-        _lines(runs, out / "altitude_mach.png", "Altitude and Mach, flown and commanded", [
+        ground_track(runs, out / FigureFile.GROUND_TRACK),
+        _lines(runs, out / FigureFile.ALTITUDE_MACH, "Altitude and Mach, flown and commanded", [
             ("altitude MSL [m]", [("airframe", "alt_msl_m", "flown", _ident), ("fcs", "alt_cmd_m", "commanded",
                                                                                  _ident)]),
             ("Mach [-]", [("airframe", "mach", "flown", _ident), ("fcs", "mach_cmd", "commanded", _ident)]),
             ("airbrake, lever [-]", [("airframe", "airbrake_pos_norm", "airbrake", _ident),
                                      ("fcs", "lever_norm", "thrust lever", _ident)]),
         ], shade=True, decorate=constraint_markers),
-        _lines(runs, out / "fuel_burned.png", "Burned fuel", [
+        _lines(runs, out / FigureFile.FUEL_BURNED, "Burned fuel", [
             ("burned fuel [kg]", [("engine", "fuel_burned_kg", "burned fuel", _from_start)])], shade=True),
-        _lines(runs, out / "fuel_flow_tt4.png", "Fuel flow and Tt4" + (
+        _lines(runs, out / FigureFile.FUEL_FLOW_TT4, "Fuel flow and Tt4" + (
             f", {window[0]:g} to {window[1]:g} s" if window is not None else ""), [
             ("fuel flow [kg/s]", [("engine", "fuel_flow_kg_s", "fuel flow", _ident),
                                   ("fcs", "fuel_flow_cmd_kg_s", "fuel flow command", _ident)]),
             ("temperature [K]", [("engine", "Tt4_K", "Tt4 burner exit", _ident),
                                  ("engine", "Tt41_K", "Tt41 HPT rotor inlet", _ident)]),
         ], window=window, limits=((), ("Tt41_max",))),
-        _lines(runs, out / "thrust.png", "Thrust", [
+        _lines(runs, out / FigureFile.THRUST, "Thrust", [
             ("thrust [kN]", [("engine", "thrust_N", "net thrust", _kilo), ("engine", "gross_thrust_N", "gross thrust",
                                                                           _kilo)])], shade=True),
-        _lines(runs, out / "spool_speeds.png", "Spool speeds", [
+        _lines(runs, out / FigureFile.SPOOL_SPEEDS, "Spool speeds", [
             ("spool speed [%]", [("engine", "N1_pct", "N1 fan", _ident), ("engine", "N2_pct", "N2 core", _ident),
                                  ("engine", "N1c_pct", "N1c corrected fan speed", _ident)])], shade=True,
             limits=(("N1_max",),)),
-        _lines(runs, out / "sfc_surge_margin.png", "SFC and surge margins", [
+        _lines(runs, out / FigureFile.SFC_SURGE_MARGIN, "SFC and surge margins", [
             ("SFC [mg/(N s)]", [("engine", "SFC_kg_N_s", "SFC", _sfc)]),
             ("surge margin [-]", [("engine", "SM_fan", "fan", _ident), ("engine", "SM_hpc", "HPC", _ident)]),
         ], shade=True),
-        _lines(runs, out / "attitude.png", "Attitude", [
+        _lines(runs, out / FigureFile.ATTITUDE, "Attitude", [
             ("roll phi [deg]", [("airframe", "phi_rad", "phi", _deg)]),
             ("pitch theta [deg]", [("airframe", "theta_rad", "theta", _deg)]),
             ("heading psi [deg]", [("airframe", "psi_rad", "psi", _heading_deg)]),
         ], shade=True),
-        _lines(runs, out / "electric.png", "Electrical system", [
+        _lines(runs, out / FigureFile.ELECTRIC, "Electrical system", [
             ("state of charge [-]", [("electric", "soc", "SOC", _ident)]),
             ("power [kW]", [("electric", "battery_W", "battery to bus", _kilo),
                             ("electric", "offtake_lp_W", "LP shaft offtake (< 0 boost)", _kilo),

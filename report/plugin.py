@@ -19,17 +19,17 @@ from collections.abc import Sequence
 from pathlib import Path, PurePosixPath
 
 from openemss.orchestrator.cli.main import finite_number, folder_name
-from openemss.orchestrator.results import atomic_write
+from openemss.orchestrator.results import ResultsFolder, atomic_write
 
 from . import mission_check
 from .errors import ReportError
 from .html import REPORT, write_html_report, write_variables_html
 from .mission_check import pre_run
-from .plots import PlotRun, plot_runs, plot_variables
+from .plots import FigureFile, PlotRun, plot_runs, plot_variables
 from .rundata import MISSION_COPY, find_roles, load_mission, load_run, read_header
 from .summary import summarize
 
-__all__ = ["pre_run", "post_run", "status_variable", "stop_condition", "register", "write_report"]
+__all__ = ["pre_run", "post_run", "output_files", "status_variable", "stop_condition", "register", "write_report"]
 
 SUMMARY = "summary.json"
 MAX_RUNS = len(("-", "--", ":", "-."))
@@ -54,6 +54,11 @@ def stop_condition(variables: Sequence[str]) -> str | None:
         if var == "mission_completed" and f"{comp}.section_index" in names:
             return f"{path} == 1"
     return None
+
+
+def output_files() -> list[str]:
+    """The files :func:`post_run` may write into a results folder (checked free before a run)."""
+    return [SUMMARY, REPORT, *FigureFile]
 
 
 def _has_mission_signals(run_dir: Path) -> bool:
@@ -160,6 +165,19 @@ def cmd_plot(args: argparse.Namespace) -> int:
         folders[0] if len(folders) == 1 else folders[0] / ("compare_" + "_".join(r.label.replace("/", "-")
                                                                                 for r in runs[1:])))
     window = tuple(args.window) if args.window is not None else None
+    with ResultsFolder(out, "--out" if args.out is not None else "RUN_DIR", names=output_files(), clear=False):
+        files = _plot(runs, folders, names, out, window)
+    if args.json:
+        print(json.dumps([str(f) for f in files], indent=2))
+    else:
+        print(f"{len(files)} file(s) of {', '.join(r.label for r in runs)} in {out}: "
+              f"{', '.join(f.name for f in files)}")
+    return 0
+
+
+def _plot(runs: list[PlotRun], folders: list[Path], names: list[str], out: Path,
+          window: tuple[float, float] | None) -> list[Path]:
+    """The files of ``emss plot`` written into ``out`` (a folder held by the caller)."""
     mission_run = runs[0].data.roles.fcs is not None and runs[0].data.roles.engine is not None
     if not names and not mission_run:
         names = [n for n in runs[0].data.columns if n != "time_s"]
@@ -178,12 +196,7 @@ def cmd_plot(args: argparse.Namespace) -> int:
     if not files:
         raise ReportError(f"nothing to plot in {', '.join(map(str, folders))}: no mission signals recorded "
                           "(position, altitude, engine)")
-    if args.json:
-        print(json.dumps([str(f) for f in files], indent=2))
-    else:
-        print(f"{len(files)} file(s) of {', '.join(r.label for r in runs)} in {out}: "
-              f"{', '.join(f.name for f in files)}")
-    return 0
+    return files
 
 
 def cmd_summary(args: argparse.Namespace) -> int:
@@ -191,7 +204,8 @@ def cmd_summary(args: argparse.Namespace) -> int:
     if run.roles.fcs is None or run.roles.engine is None:
         raise ReportError(f"{args.run_dir}: no mission run (needs an FCS section_index and an engine's "
                           "fuel_flow_kg_s and fuel_burned_kg)")
-    write_report(args.run_dir, plots=False)
+    with ResultsFolder(args.run_dir, "RUN_DIR", names=[SUMMARY], clear=False):
+        write_report(args.run_dir, plots=False)
     summary = json.loads((args.run_dir / SUMMARY).read_text(encoding="utf-8"))
     if args.json:
         print(json.dumps(summary, indent=2))

@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 from openemss.orchestrator.cli.main import main
-from openemss.orchestrator.results import ResultsFolder
+from openemss.orchestrator.results import ResultsFolder, atomic_write
 from openemss.orchestrator.scenarios.timeseries import FILE_NAMES, read_timeseries
 from systems import GAIN_CONNECTORS, Comp, write_system
 
@@ -234,44 +234,42 @@ def test_scenario_integer_beyond_32_bits(system: Path, tmp_path: Path, capsys: p
 
 
 # -- the results folder --------------------------------------------------------------------------
-def test_symlinks_in_the_results_folder_are_not_followed(system: Path, tmp_path: Path,
-                                                         capsys: pytest.CaptureFixture[str]) -> None:
+def test_links_in_the_results_folder_are_neither_followed_nor_replaced(system: Path, tmp_path: Path,
+                                                                      capsys: pytest.CaptureFixture[str]) -> None:
+    """Links of the user's where a run writes: refused before the run (one line naming them); the links and
+    the files they point to are left as they were."""
     out = tmp_path / "out"
     out.mkdir()
     precious = {}
-    for name in ("timeseries.csv", "run.json", "summary.json", "cli_parameters.ssv", ".emss-reserve"):
+    for name in ("timeseries.csv", "run.json", "cli_parameters.ssv"):
         target = tmp_path / f"precious-{name}"
         target.write_text(f"do not overwrite {name}\n")
         precious[target] = target.read_bytes()
         (out / name).symlink_to(target)
     rc, err = run_cli(capsys, "run", str(system), "--out", str(out), "--set", "a.k=2.0", "--format", "csv")
-    assert rc == 0, err
+    assert_one_line(rc, err, str(out), "timeseries.csv", "run.json", "cli_parameters.ssv", "not written by a run")
     for target, content in precious.items():
         assert target.read_bytes() == content, target
-    assert not (out / "timeseries.csv").is_symlink() and not (out / "run.json").is_symlink()
-    assert len(complete_rows(out / "timeseries.csv")) == 21  # 0 to 1 s at 20 Hz
-    assert json.loads((out / "run.json").read_text())["status"] == "completed"
+        assert (out / target.name.removeprefix("precious-")).is_symlink()
 
 
-def test_reused_folder_holds_nothing_stale(system: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_a_second_run_replaces_only_what_the_first_wrote(system: Path, tmp_path: Path,
+                                                         capsys: pytest.CaptureFixture[str]) -> None:
     out = tmp_path / "out"
-    out.mkdir()
-    (out / "run.json").write_text(json.dumps({"status": "completed", "files": ["run.json", "extra_plot.svg"]}))
-    stale = ["summary.json", "ground_track.png", "mission.yaml", "extra_plot.svg", ".timeseries.csv.x1.tmp"]
-    for name in stale:
-        (out / name).write_text("from an earlier run\n")
-    (out / "notes.txt").write_text("the user's own file\n")
     rc, err = run_cli(capsys, "run", str(system), "--out", str(out), "--format", "csv")
     assert rc == 0, err
-    assert not [n for n in stale if (out / n).exists()]
+    (out / "notes.txt").write_text("the user's own file\n")
+    rc, err = run_cli(capsys, "run", str(system), "--out", str(out), "--format", "parquet")
+    assert rc == 0, err
+    assert not (out / "timeseries.csv").exists()  # the first run's time series, in another format: removed
     assert (out / "notes.txt").read_text() == "the user's own file\n"
-    assert json.loads((out / "run.json").read_text())["files"] == ["timeseries.csv", "run.json"]
+    assert json.loads((out / "run.json").read_text())["files"] == ["timeseries.parquet", "run.json"]
 
 
 def test_a_folder_in_use_is_refused(system: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     out = tmp_path / "out"
     with ResultsFolder(out):  # the lock another run holds (flock: per open file, so this process counts too)
-        (out / "timeseries.csv").write_text("time_s\n0\n")
+        atomic_write(out / "timeseries.csv", "time_s\n0\n")  # written by that run (recorded as its own)
         rc, err = run_cli(capsys, "run", str(system), "--out", str(out))
         assert_one_line(rc, err, str(out), "in use by another run", f"pid {os.getpid()}")
         assert (out / "timeseries.csv").read_text() == "time_s\n0\n"  # the other run's file is untouched

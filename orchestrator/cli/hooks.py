@@ -86,6 +86,15 @@ def pre_run(bound: BoundSystem) -> list[str]:
     return lines
 
 
+def output_files() -> list[str]:
+    """The names of the files the plugins' post-run hooks may write into a results folder (a plugin that
+    fails to say is left out: its files are still never written over anything of the user's)."""
+    names: list[str] = []
+    for result, _failure in each_hook("output_files"):
+        names.extend(str(n) for n in result)
+    return names
+
+
 def post_run(out: Path, error: BaseException | None) -> tuple[list[Path], list[str]]:
     """Every plugin's post-run hook on the results folder: (files written, one line per failure)."""
     written: list[Path] = []

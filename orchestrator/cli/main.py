@@ -85,8 +85,8 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--step-multiple", nargs="+", action="extend", default=[], metavar="COMPONENT=N",
                      help="let a component step every N-th macro step")
     run.add_argument("--out", type=folder_name, help="output folder (default: results/<system>-<time>); one run at a "
-                                                 "time: a folder another run is writing is refused, and an earlier "
-                                                 "run's files in it are removed first")
+                                                 "time: a folder another run is writing is refused; what earlier "
+                                                 "runs wrote there is removed first, nothing else")
     run.add_argument("--record", nargs="+", action="extend", metavar="VARS",
                      help="variables to record, component.variable, wildcards and commas allowed "
                           "(default: every connector)")

@@ -18,6 +18,9 @@ A plugin is a module named by an entry point of the group ``openemss.plugins`` (
     value (``component.variable``, after the SSD, the parameter sets and ``--set``); returns
     warning lines to print (e.g. the sections of a mission its aircraft cannot fly), nothing when
     the system is not its business; the run goes ahead whatever it says;
+``output_files() -> Sequence[str]``
+    the names of the files ``post_run`` may write into a results folder; a run refuses, before it
+    starts, a folder where a file of these names stands that no run wrote;
 ``post_run(run_dir: Path, error: BaseException | None) -> Sequence[Path]``
     called after every ``emss run`` (also a failed one, once what was recorded is on
     disk) with the results folder; returns the files it wrote, nothing when the run is

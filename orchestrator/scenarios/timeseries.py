@@ -39,7 +39,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import ConfigurationError, EmssError
-from ..results import ResultsError, atomic_write, os_reason
+from ..results import ResultsError, atomic_write, os_reason, record_written
 from .observers import CsvRecorder, EveryNth
 
 if TYPE_CHECKING:
@@ -202,7 +202,7 @@ class ParquetRecorder(EveryNth):
     Parameters
     ----------
     path : Path
-        The folder (``timeseries.parquet``); created anew (an earlier run's parts are removed first).
+        The folder (``timeseries.parquet``); created anew (refused if something is in its place).
     every : int
         Record every n-th macro step.
     flush_interval_s : float
@@ -236,11 +236,12 @@ class ParquetRecorder(EveryNth):
         self._sampler.attach(execution)
         self._schema = arrow_schema(self._sampler.columns)
         pa.Table.from_arrays([pa.array([], type=f.type) for f in self._schema], schema=self._schema)  # lazy init
-        remove_timeseries(self.path)
+        claim_timeseries(self.path)
         try:
             self.path.mkdir(parents=True)
         except OSError as exc:
             raise ResultsError(f"cannot write {self.path}: {os_reason(exc)}") from None
+        record_written(self.path)
         self._parts = 0
         self._open = True
         self._last_flush = time.perf_counter()
@@ -299,6 +300,7 @@ class ParquetRecorder(EveryNth):
                                use_dictionary=[c.name for c in s.columns if c.type_name != "Real"],
                                row_group_size=rows)
             os.replace(tmp, final)
+            record_written(final)
         except (OSError, pa.ArrowException) as exc:
             with contextlib.suppress(OSError):
                 tmp.unlink()
@@ -331,7 +333,7 @@ class MatRecorder(ParquetRecorder):
         super().__init__(self.mat_path.parent / MAT_STAGING, every, flush_interval_s)
 
     def start(self, execution: Execution) -> None:
-        remove_timeseries(self.mat_path)
+        claim_timeseries(self.mat_path)
         super().start(execution)
 
     def finish(self, execution: Execution, error: BaseException | None) -> None:
@@ -357,31 +359,23 @@ def recorder(fmt: str, out: Path, every: int = 1) -> ParquetRecorder | UnitsCsvR
     """The recorder of format ``fmt`` (:data:`FORMATS`) writing into the results folder ``out``."""
     if fmt not in FORMATS:
         raise ConfigurationError(f"--format {fmt!r}: not a time series format (allowed: {', '.join(FORMATS)})")
-    for name in (*FILE_NAMES.values(), MAT_STAGING):  # an earlier run's, in any format: one time series per folder
-        remove_timeseries(Path(out) / name)
+    for name in (*FILE_NAMES.values(), MAT_STAGING):  # one time series per folder, and nothing replaced
+        claim_timeseries(Path(out) / name)
     path = Path(out) / FILE_NAMES[fmt]
     if fmt == "csv":
         return UnitsCsvRecorder(path, every=every)
     return MatRecorder(path, every=every) if fmt == "mat" else ParquetRecorder(path, every=every)
 
 
-def remove_timeseries(path: Path) -> None:
-    """Remove a time series an earlier run left at ``path``: a file, a link, or a parts folder (its part
-    files and hidden temporaries only; a folder holding anything else is refused)."""
+def claim_timeseries(path: Path) -> None:
+    """Refuse a time series at ``path`` when something is in its place: the results folder
+    (:class:`~openemss.orchestrator.results.ResultsFolder`) has removed what an earlier run of ours wrote,
+    so whatever is left there is not ours to remove."""
     path = Path(path)
-    if path.is_symlink() or path.is_file():
-        path.unlink()
-        return
-    if not path.is_dir():
-        return
-    for f in path.iterdir():
-        if f.is_file() and not f.is_symlink() and (f.match(PART_GLOB) or f.name.endswith(".tmp")):
-            f.unlink()
-    try:
-        path.rmdir()
-    except OSError:
-        raise ResultsError(f"cannot replace {path}: it holds files other than an earlier run's parts; "
-                           "move them away") from None
+    if os.path.lexists(path):
+        raise ResultsError(f"cannot write {path}: something of that name is in the way (not written by a run "
+                           "of openEMSS, or changed since; it is left as it is); move it away or give another "
+                           "folder")
 
 
 # -- reading ------------------------------------------------------------------------------------

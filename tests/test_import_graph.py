@@ -17,7 +17,7 @@ ORCHESTRATOR = Path(__file__).resolve().parents[1] / "orchestrator"
 #: a sub-package; "" is the package root, the shared modules (SHARED). A module imports modules of its own part
 #: or of lower parts only; fmu/ and scenarios/ are side by side.
 PART_LEVEL = {"": 0, "ssp": 1, "master": 2, "fmu": 3, "scenarios": 3, "cli": 4}
-SHARED = {"__init__", "errors", "results"}
+SHARED = {"__init__", "errors", "results", "interrupt"}
 
 
 def _runtime_nodes(tree: ast.AST) -> list[ast.AST]:

@@ -10,12 +10,13 @@ import contextlib
 import csv
 import io
 import os
+import shutil
 import tempfile
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
 
-__all__ = ["atomic_write", "csv_text", "figure_bytes"]
+__all__ = ["atomic_write", "atomic_copy", "csv_text", "figure_bytes"]
 
 
 def atomic_write(path: str | Path, data: str | bytes) -> Path:
@@ -26,20 +27,46 @@ def atomic_write(path: str | Path, data: str | bytes) -> Path:
     OSError
         When it cannot be written (the temporary file is removed; ``filename`` is ``path``).
     """
-    path = Path(path)
     raw = data.encode("utf-8") if isinstance(data, str) else data
-    tmp = None
+    return _replace(Path(path), lambda f: f.write(raw))
+
+
+def atomic_copy(source: str | Path, path: str | Path) -> Path:
+    """Copy the file ``source`` to ``path`` whole, as :func:`atomic_write` (an FMU built elsewhere, maybe on
+    another file system, replacing the one a run may be reading).
+
+    Raises
+    ------
+    OSError
+        When it cannot be read or written (the temporary file is removed; ``path`` is left as it was).
+    """
+    def copy(f: IO[bytes]) -> None:
+        with open(source, "rb") as src:
+            shutil.copyfileobj(src, f, 1 << 20)
+
+    return _replace(Path(path), copy)
+
+
+def _replace(path: Path, write: Callable[[IO[bytes]], object]) -> Path:
+    """A temporary file beside ``path`` filled by ``write``, flushed to the disk (a full disk fails here, not
+    later), then renamed over ``path``; removed on any failure or interruption."""
+    tmp: str | None = None
     try:
         fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
         with os.fdopen(fd, "wb") as f:
-            f.write(raw)
+            write(f)
+            f.flush()
+            os.fsync(f.fileno())
         os.chmod(tmp, 0o644)
         os.replace(tmp, path)
+        tmp = None
     except OSError as exc:
+        where = exc.filename if exc.filename not in (None, tmp) else str(path)
+        raise OSError(exc.errno, exc.strerror, where) from None
+    finally:
         if tmp is not None:
             with contextlib.suppress(OSError):
                 os.unlink(tmp)
-        raise OSError(exc.errno, exc.strerror, str(path)) from None
     return path
 
 

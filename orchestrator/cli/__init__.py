@@ -6,5 +6,5 @@ plugins.
 May import: its own modules, ``ssp/``, ``master/``, ``fmu/``, ``scenarios/``, the shared modules at the
 package root (``errors``, ``results``, ``__init__``).
 
-Modules: ``main``, ``plugins``, ``hooks``, ``api``, ``describe``. The parts: orchestrator/README.md.
+Modules: ``entry`` (the console scripts), ``main``, ``plugins``, ``hooks``, ``api``, ``describe``. The parts: orchestrator/README.md.
 """

@@ -1,6 +1,6 @@
-"""``python -m openemss.orchestrator.cli``: the ``emss`` command (:mod:`.main`)."""
+"""``python -m openemss.orchestrator.cli``: the ``emss`` command (:func:`.entry.emss`: signals handled first)."""
 import sys
 
-from .main import main
+from .entry import emss
 
-sys.exit(main())
+sys.exit(emss())

@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .. import interrupt
 from ..errors import ConfigurationError, EmssError
 from ..fmu.build import PACKAGE_ROOT, ensure_built
 from ..master.execution import Execution
@@ -202,8 +203,24 @@ def ensure_project_fmus(system: Path, report: Callable[[str], None] | None = Non
     when they are missing or stale."""
     project = PACKAGE_ROOT / "ssp"
     if system.is_dir() and project.is_dir() and project.resolve() in (system.resolve(), system.resolve().parent):
+        before = interrupt.current()
+        interrupt.phase("build", "during the FMU build")
         ensure_built(PACKAGE_ROOT / "fmus", system / "resources",
                      report=report or (lambda m: print(m, file=sys.stderr)))
+        interrupt.phase(before.key, before.during, before.outcome)
+
+
+def _record_not_run(out: Path, system: Path, exc: BaseException) -> None:
+    """run.json of a run interrupted before its first step (a run that started has its own record)."""
+    import json
+    import signal
+
+    if (out / "run.json").exists():
+        return
+    name = signal.Signals(interrupt.signal_of(exc)).name
+    atomic_write(out / "run.json", json.dumps({"system": str(system), "status": "interrupted", "steps": 0,
+                                               "error": f"interrupted by {name} before the first step; "
+                                                        f"{interrupt.NOTHING_RUN}"}, indent=2) + "\n")
 
 
 def multiples(items: Mapping[str, int] | Sequence[str]) -> dict[str, int]:
@@ -295,7 +312,9 @@ def run(system: Path | str | None = None, *, stop_time: float | None = None, par
     """
     say = warn or (lambda line: print(f"emss run: warning: {line}", file=sys.stderr))
     system = Path(system) if system is not None else default_system()
+    interrupt.phase("start", "before the run", interrupt.NOTHING_RUN)
     ensure_project_fmus(system)
+    interrupt.phase("load", "while loading the system", interrupt.NOTHING_RUN)
     sysdef = load_system(system)  # the one reading of the SSD in this run
     if out is None:  # the default folder is named after the system: that name must be one path component
         name = check_name(str(sysdef.name), "the system's name (the SSD's System name; or give --out)")
@@ -303,9 +322,15 @@ def run(system: Path | str | None = None, *, stop_time: float | None = None, par
     out = Path(out)
     if not str(out).strip():
         raise ConfigurationError("--out '': an empty folder name; give the results folder, e.g. results/run1")
-    with ResultsFolder(out):  # locked for this run, cleared of an earlier run's files
-        return _run(system, sysdef, out, stop_time, params, set, scenario, rate, algorithm, step_multiple, record,
-                    record_inputs, record_every, format, until, realtime, status, pre_run, post_run, progress, say)
+    with interrupt.entered_whole(ResultsFolder(out)):  # locked for this run, cleared of an earlier run's files
+        try:
+            interrupt.phase("pre-run", "before the first step", f"nothing was run (run.json in {out} says so)")
+            return _run(system, sysdef, out, stop_time, params, set, scenario, rate, algorithm, step_multiple,
+                        record, record_inputs, record_every, format, until, realtime, status, pre_run, post_run,
+                        progress, say)
+        except KeyboardInterrupt as exc:
+            _record_not_run(out, system, exc)
+            raise
 
 
 def _run(system: Path, sysdef: SystemDef, out: Path, stop_time: float | None, params: Sequence[Path | str],
@@ -358,10 +383,12 @@ def _run(system: Path, sysdef: SystemDef, out: Path, stop_time: float | None, pa
         with stop_on_signals(ex.request_stop):
             ex.run(stop)
     except (EmssError, KeyboardInterrupt) as exc:
-        error = RunInterrupted(2, ex.time_s) if isinstance(exc, KeyboardInterrupt) else exc
+        error = RunInterrupted(interrupt.signal_of(exc), ex.time_s) if isinstance(exc, KeyboardInterrupt) else exc
     written: list[Path] = []
     failures: list[str] = []
     if post_run and not isinstance(error, ResultsError):  # what was recorded is on disk
+        interrupt.phase("report", "during the report", f"the run's results are in {out} (run.json: "
+                                                       f"{record_.info.get('status')}), the report is incomplete")
         written, failures = hooks.post_run(out, error)
         if written:
             record_.add_files([f.name for f in written])

@@ -16,6 +16,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, NoReturn
 
+from .. import interrupt
 from ..errors import EmssError, Problem, SystemStructureError
 from ..master import algorithm_registry
 from ..master.algorithm import step_order
@@ -387,17 +388,22 @@ def main(argv: Sequence[str] | None = None) -> int:
     builtin: dict[str, Callable[[argparse.Namespace], int]] = {"run": cmd_run, "info": cmd_info,
                                                                "validate": cmd_validate, "export": cmd_export}
     handler = builtin.get(args.command) or args.handler
+    interrupt.phase(args.command, "", "")  # the command names its phases (emss run: build, load, run, report)
     try:
-        return handler(args)
+        try:
+            return handler(args)
+        except Exception as exc:  # a signal that surfaced as another error (an FMU's code cut): an interruption
+            if interrupt.received() and not isinstance(exc, RunInterrupted):
+                raise interrupt.Interrupted(interrupt.received()) from None
+            raise
     except RunInterrupted as exc:
         print(f"emss {args.command}: {exc}", file=sys.stderr)
         return exc.exit_code
     except (EmssError, *USER_ERRORS) as exc:
         print(f"emss {args.command}: error: {exc}", file=sys.stderr)
         return 1
-    except KeyboardInterrupt:
-        print(f"emss {args.command}: interrupted", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as exc:  # SIGINT or SIGTERM before or after the run's own steps
+        return interrupt.report(f"emss {args.command}", exc)
     except OSError as exc:  # a file the command reads or writes: one line naming it and the cause
         where = f"{exc.filename}: " if exc.filename else ""
         print(f"emss {args.command}: error: {where}{os_reason(exc)}", file=sys.stderr)

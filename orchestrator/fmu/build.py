@@ -27,6 +27,7 @@ import argparse
 import ast
 import hashlib
 import json
+import os
 import shutil
 import subprocess
 import sys
@@ -38,7 +39,11 @@ from pathlib import Path
 from fmpy.validation import validate_fmu
 from lxml import etree
 
+from openemss.models.common.files import atomic_copy
+
+from .. import interrupt
 from ..errors import BuildError, EmssError
+from ..results import os_reason
 from .fmu_deps import insert_guard, link_libpython, requirements_guard, vendor_packages
 
 PACKAGE_ROOT = Path(__file__).resolve().parent.parent.parent  # folder holding orchestrator/, models/, fmus/
@@ -323,37 +328,62 @@ def build_fmu(script: Path, out_dir: Path, vendor: bool = False, link: bool = Fa
 
     ``vendor`` bundles its Python packages (and links libpython); ``link`` makes its binary need the
     building interpreter's libpython, for hosts that are not Python (see :mod:`.fmu_deps`).
+
+    The FMU is made in a staging folder (removed whatever happens, an interruption included) and then
+    copied beside its target under a temporary name, flushed to the disk and renamed over it: a run
+    reading the old FMU meanwhile reads it whole, and a full disk leaves the old FMU as it was.
+
+    Raises
+    ------
+    BuildError
+        When the FMU cannot be built or written (one line; the FMU in ``out_dir`` is then unchanged).
     """
     src = analyse(script)
     digest = source_hash(src)
     options = {"vendor": vendor, "link_libpython": vendor or link}
     out_dir = Path(out_dir).resolve()
-    out_dir.mkdir(parents=True, exist_ok=True)
-    with tempfile.TemporaryDirectory(prefix="emss_build_") as tmp:
-        stage = Path(tmp) / "stage"
-        stage.mkdir()
-        staged, project_files = _stage(src, digest, stage, options)
-        dest = Path(tmp) / "out"
-        code = ("import sys; from pythonfmu.builder import FmuBuilder; "
-                "p = FmuBuilder.build_FMU(sys.argv[1], dest=sys.argv[2], project_files=sys.argv[3:]); print(p)")
-        # A fresh interpreter per build: pythonfmu imports the slave module to read its
-        # variables, and that module must not stay cached in the caller's sys.modules.
-        proc = subprocess.run([sys.executable, "-c", code, str(staged), str(dest), *map(str, project_files)],
-                              capture_output=True, text=True, cwd=tmp)
-        if proc.returncode != 0:
-            lines = [ln for ln in proc.stderr.strip().splitlines() if ln.strip()]
-            raise BuildError(f"{script}: pythonfmu could not build the FMU: {lines[-1] if lines else 'no output'}")
-        built = Path(proc.stdout.strip().splitlines()[-1])
-        _add_initial_unknowns(built)
-        if options["link_libpython"]:
-            link_libpython(built)
-        problems = validate_fmu(str(built))
-        if problems:
-            raise BuildError(f"{script}: the FMU fails 'fmpy validate' ({len(problems)} problem(s)): "
-                             + "; ".join(p.strip() for p in problems))
-        target = out_dir / built.name
-        shutil.move(str(built), target)
+    target = out_dir / fmu_name(src.script)
+    unchanged = f"{target} is unchanged" if target.is_file() else f"no {target.name} was written"
+    try:
+        out_dir.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryDirectory(prefix="emss_build_") as tmp:
+            interrupt.phase("build-stage", f"while building {target.name}")
+            built = _build_in(src, digest, options, Path(tmp))
+            atomic_copy(built, target)
+    except OSError as exc:
+        where = f"{exc.filename}: " if exc.filename else ""
+        raise BuildError(f"{script}: cannot build {target.name}: {where}{os_reason(exc)}; {unchanged}") from None
+    except BuildError as exc:
+        raise BuildError(f"{exc}; {unchanged}") from None
     return target
+
+
+def _build_in(src: SlaveSource, digest: str, options: dict[str, bool], tmp: Path) -> Path:
+    """Stage, build (pythonfmu, in a child process whose temporary files stay in ``tmp``), complete and
+    validate the FMU of ``src`` in the folder ``tmp``; returns the FMU there."""
+    script = src.script
+    stage = tmp / "stage"
+    stage.mkdir()
+    staged, project_files = _stage(src, digest, stage, options)
+    dest = tmp / "out"
+    code = ("import sys; from pythonfmu.builder import FmuBuilder; "
+            "p = FmuBuilder.build_FMU(sys.argv[1], dest=sys.argv[2], project_files=sys.argv[3:]); print(p)")
+    # A fresh interpreter per build: pythonfmu imports the slave module to read its
+    # variables, and that module must not stay cached in the caller's sys.modules.
+    proc = subprocess.run([sys.executable, "-c", code, str(staged), str(dest), *map(str, project_files)],
+                          capture_output=True, text=True, cwd=tmp, env=dict(os.environ, TMPDIR=str(tmp)))
+    if proc.returncode != 0:
+        lines = [ln for ln in proc.stderr.strip().splitlines() if ln.strip()]
+        raise BuildError(f"{script}: pythonfmu could not build the FMU: {lines[-1] if lines else 'no output'}")
+    built = Path(proc.stdout.strip().splitlines()[-1])
+    _add_initial_unknowns(built)
+    if options["link_libpython"]:
+        link_libpython(built)
+    problems = validate_fmu(str(built))
+    if problems:
+        raise BuildError(f"{script}: the FMU fails 'fmpy validate' ({len(problems)} problem(s)): "
+                         + "; ".join(p.strip() for p in problems))
+    return built
 
 
 def discover(source_dir: Path) -> dict[str, Path]:
@@ -377,9 +407,10 @@ def fmu_name(script: Path) -> str:
 
 
 def ensure_built(source_dir: Path, out_dir: Path, names: list[str] | None = None, force: bool = False,
-                 report=None, vendor: bool = False, link: bool = False) -> list[Path]:  # type: ignore[no-untyped-def]
+                 report=None, vendor: bool = False, link: bool = False,  # type: ignore[no-untyped-def]
+                 report_up_to_date: bool = True) -> list[Path]:
     """Build the FMUs of ``source_dir`` that are missing or older than their sources (or built with
-    other options)."""
+    other options); ``report`` hears of each FMU built and, with ``report_up_to_date``, of each left as it was."""
     wanted = {"vendor": vendor, "link_libpython": vendor or link}
     slaves = discover(source_dir)
     if names:
@@ -394,7 +425,7 @@ def ensure_built(source_dir: Path, out_dir: Path, names: list[str] | None = None
         info = build_info(target) if target.is_file() else {}
         same_options = all(bool(info.get(k, False)) == v for k, v in wanted.items())
         if not force and same_options and info.get("source_sha256") == source_hash(analyse(script)):
-            if report:
+            if report and report_up_to_date:
                 report(f"up to date: {target}")
             built.append(target)
             continue
@@ -426,6 +457,7 @@ def main(argv: list[str] | None = None) -> int:
                         help="make the FMU's binary need this Python's shared libpython, so that hosts that are "
                              "not Python (a C program) can load it without preloading libpython")
     args = parser.parse_args(argv)
+    interrupt.phase("build", "during the build", f"every FMU in {args.out} is whole (the old one or the new)")
     try:
         if not args.src.is_dir():
             raise BuildError(f"source folder {args.src} does not exist")
@@ -436,6 +468,11 @@ def main(argv: list[str] | None = None) -> int:
     except EmssError as exc:
         print(f"build-fmus: error: {exc}", file=sys.stderr)
         return 1
+    except OSError as exc:  # the source folder, the output folder: one line naming it
+        print(f"build-fmus: error: {exc.filename or args.out}: {os_reason(exc)}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt as exc:
+        return interrupt.report("build-fmus", exc)
     return 0
 
 

@@ -14,8 +14,29 @@ The Python API (a notebook's entry point)::
 
 This file is the ``openemss`` package itself (pyproject maps the package ``openemss`` to this
 folder and every sub-package to its own top-level folder).
+
+Its names are imported on first use (PEP 562), so that ``import openemss.<anything>`` stays light: the
+console scripts install their signal handling before fmpy, numpy and the models are imported
+(:mod:`openemss.orchestrator.cli.entry`).
 """
-from openemss.orchestrator.cli.api import RunResult, run
-from openemss.orchestrator.scenarios.timeseries import TimeSeries, read_timeseries
+from __future__ import annotations
+
+import importlib
+from typing import Any
 
 __all__ = ["run", "RunResult", "read_timeseries", "TimeSeries"]
+_WHERE = {"run": "openemss.orchestrator.cli.api", "RunResult": "openemss.orchestrator.cli.api",
+          "read_timeseries": "openemss.orchestrator.scenarios.timeseries",
+          "TimeSeries": "openemss.orchestrator.scenarios.timeseries"}
+
+
+def __getattr__(name: str) -> Any:
+    if name not in _WHERE:
+        raise AttributeError(f"module 'openemss' has no attribute {name!r}")
+    value = getattr(importlib.import_module(_WHERE[name]), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted([*globals(), *__all__])

@@ -321,9 +321,14 @@ class RealTimePacer:
     ----------
     factor : float
         1.0 is real time, 2.0 twice as fast; must be > 0 (0 means "do not pace": use no pacer).
+    tolerance_s : float
+        Lateness of a step [s] beyond which it counts as an overrun.
+    clock, sleep : callable
+        The wall clock [s] and the sleep (default: ``time.perf_counter`` and ``time.sleep``).
     """
 
-    def __init__(self, factor: float, tolerance_s: float = 0.005) -> None:
+    def __init__(self, factor: float, tolerance_s: float = 0.005,
+                 clock: Callable[[], float] = time.perf_counter, sleep: Callable[[float], None] = time.sleep) -> None:
         if not factor > 0:
             raise ValueError(f"real-time factor {factor} must be > 0")
         self.factor = factor
@@ -334,15 +339,16 @@ class RealTimePacer:
         self._sim0 = 0.0
         self._last_t = 0.0
         self._wall_end = 0.0
-        self._sleep = time.sleep
+        self._clock = clock  # the wall clock [s] and the sleep: a test gives its own, to check without timing
+        self._sleep = sleep
 
     def start(self, execution: Execution) -> None:
         self._sim0 = self._last_t = execution.time_s
-        self._wall0 = time.perf_counter()
+        self._wall0 = self._clock()
 
     def sample(self, k: int, time_s: float) -> None:
         target = self._wall0 + (time_s - self._sim0) / self.factor
-        now = time.perf_counter()
+        now = self._clock()
         if now < target:
             self._sleep(target - now)
         else:
@@ -353,10 +359,10 @@ class RealTimePacer:
         self._last_t = time_s
 
     def finish(self, execution: Execution, error: BaseException | None) -> None:
-        self._wall_end = time.perf_counter()
+        self._wall_end = self._clock()
 
     def report(self) -> dict[str, Any]:
-        wall = (self._wall_end or time.perf_counter()) - self._wall0
+        wall = (self._wall_end or self._clock()) - self._wall0
         sim = self._last_t - self._sim0
         return {"realtime": {"target_factor": self.factor, "achieved_factor": sim / wall if wall > 0 else None,
                              "overruns": self.overruns, "max_lag_s": self.max_lag_s}}

@@ -16,7 +16,7 @@ from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 from typing import IO, Any
 
-__all__ = ["atomic_write", "atomic_copy", "csv_text", "figure_bytes"]
+__all__ = ["atomic_write", "atomic_copy", "write_whole", "csv_text", "figure_bytes"]
 
 
 def atomic_write(path: str | Path, data: str | bytes) -> Path:
@@ -28,7 +28,7 @@ def atomic_write(path: str | Path, data: str | bytes) -> Path:
         When it cannot be written (the temporary file is removed; ``filename`` is ``path``).
     """
     raw = data.encode("utf-8") if isinstance(data, str) else data
-    return _replace(Path(path), lambda f: f.write(raw))
+    return write_whole(path, lambda f: f.write(raw))
 
 
 def atomic_copy(source: str | Path, path: str | Path) -> Path:
@@ -44,12 +44,20 @@ def atomic_copy(source: str | Path, path: str | Path) -> Path:
         with open(source, "rb") as src:
             shutil.copyfileobj(src, f, 1 << 20)
 
-    return _replace(Path(path), copy)
+    return write_whole(path, copy)
 
 
-def _replace(path: Path, write: Callable[[IO[bytes]], object]) -> Path:
-    """A temporary file beside ``path`` filled by ``write``, flushed to the disk (a full disk fails here, not
-    later), then renamed over ``path``; removed on any failure or interruption."""
+def write_whole(path: str | Path, write: Callable[[IO[bytes]], object]) -> Path:
+    """Write ``path`` whole with ``write(file)``: a temporary file beside it filled by ``write`` (which may
+    seek: a zip archive), flushed to the disk (a full disk fails here, not later), then renamed over
+    ``path``; the temporary file is removed on any failure or interruption.
+
+    Raises
+    ------
+    OSError
+        When it cannot be written (``filename`` is ``path``, or the file ``write`` failed to read).
+    """
+    path = Path(path)
     tmp: str | None = None
     try:
         fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")

@@ -57,12 +57,13 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-import os
+import tempfile
 import uuid
 import zipfile
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import IO
 
 import attrs
 from fmpy.model_description import (
@@ -75,6 +76,8 @@ from fmpy.model_description import (
     Unknown,
     write_model_description,
 )
+
+from openemss.models.common.files import write_whole
 
 from ..errors import ConfigurationError
 from ..master.algorithm import gauss_seidel_order
@@ -451,31 +454,30 @@ def export_container(system: BoundSystem, out: Path, step_size_s: float, expose:
         out.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise ConfigurationError(f"--container {out}: cannot create its folder: {os_reason(exc)}") from None
-    tmp = out.with_name(out.name + ".part")
-    xml = out.with_name(out.name + ".modelDescription.xml.part")
-    try:
-        write_model_description(md, xml)
-        root = Path(container.__file__).parent / "binaries"
-        with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as z:
-            z.write(xml, "modelDescription.xml")
-            z.writestr("resources/container.json", json.dumps(config, indent=2))
-            for platform in platforms:
-                folder, lib = RUNTIME_BINARIES[platform]
-                z.write(root / folder / lib, f"binaries/{platform}/{lib}")
-            written: set[str] = set()
-            for c, folder in zip(system.components, folders, strict=True):
-                if folder in written:
-                    continue
-                written.add(folder)
-                with zipfile.ZipFile(c.fmu_path) as src:
-                    for info in src.infolist():
-                        if not info.is_dir():
-                            z.writestr(f"resources/{folder}/{info.filename}", src.read(info))
-        os.replace(tmp, out)
+    root = Path(container.__file__).parent / "binaries"
+
+    def write(f: IO[bytes]) -> None:
+        with tempfile.TemporaryDirectory(prefix="emss_export_") as tmp:  # removed whatever happens
+            xml = Path(tmp) / "modelDescription.xml"
+            write_model_description(md, xml)
+            with zipfile.ZipFile(f, "w", zipfile.ZIP_DEFLATED) as z:
+                z.write(xml, "modelDescription.xml")
+                z.writestr("resources/container.json", json.dumps(config, indent=2))
+                for platform in platforms:
+                    folder, lib = RUNTIME_BINARIES[platform]
+                    z.write(root / folder / lib, f"binaries/{platform}/{lib}")
+                written: set[str] = set()
+                for c, folder in zip(system.components, folders, strict=True):
+                    if folder in written:
+                        continue
+                    written.add(folder)
+                    with zipfile.ZipFile(c.fmu_path) as src:
+                        for info in src.infolist():
+                            if not info.is_dir():
+                                z.writestr(f"resources/{folder}/{info.filename}", src.read(info))
+
+    try:  # beside the target under a temporary name, flushed, then renamed over it: whole or not at all
+        write_whole(out, write)
     except OSError as exc:
         raise ResultsError(f"cannot write {out}: {os_reason(exc)}") from None
-    finally:
-        for f in (tmp, xml):
-            if f.exists():
-                f.unlink()
     return out

@@ -37,7 +37,7 @@ __all__ = [
     "R_EARTH_M", "WGS84_A_M", "WGS84_F", "LatLon",
     "wrap_pi", "wrap_2pi", "distance_m", "central_angle_rad", "initial_bearing_rad",
     "final_bearing_rad", "destination", "cross_track_m", "along_track_m", "midpoint",
-    "local_ne_m", "from_local_ne",
+    "local_ne_m", "from_local_ne", "MIN_LEG_M", "leg_problem",
 ]
 
 #: Mean Earth radius R1 of WGS-84/GRS 80 [m].
@@ -45,6 +45,10 @@ R_EARTH_M: float = 6371008.8
 #: WGS-84 semi-major axis [m] and flattening [-] (defining constants of the datum).
 WGS84_A_M: float = 6378137.0
 WGS84_F: float = 1.0 / 298.257223563
+
+#: Shortest leg with a course, and the least distance from the antipode for one [m]: two fixes closer
+#: than this coincide for guidance; two this close to opposite points of the Earth have no defined course.
+MIN_LEG_M: float = 1.0
 
 _TWO_PI = 2.0 * math.pi
 _E2 = WGS84_F * (2.0 - WGS84_F)  # first eccentricity squared of WGS-84 [-]
@@ -119,9 +123,27 @@ def initial_bearing_rad(p1: LatLon, p2: LatLon) -> float:
     y = math.sin(dlon) * math.cos(p2.lat_rad)
     x = math.cos(p1.lat_rad) * math.sin(p2.lat_rad) - math.sin(p1.lat_rad) * math.cos(p2.lat_rad) * math.cos(dlon)
     if abs(x) < 1e-15 and abs(y) < 1e-15:
+        what = ("are antipodal (opposite points of the Earth): every great circle through one passes through the "
+                "other, so the course between them is undefined" if central_angle_rad(p1, p2) > math.pi / 2 else
+                "coincide; a bearing needs two distinct points")
         raise GeometryError(f"initial bearing: points ({p1.lat_deg:.6f}, {p1.lon_deg:.6f}) and "
-                            f"({p2.lat_deg:.6f}, {p2.lon_deg:.6f}) deg coincide; a bearing needs two distinct points")
+                            f"({p2.lat_deg:.6f}, {p2.lon_deg:.6f}) deg {what}")
     return wrap_2pi(math.atan2(y, x))
+
+
+def leg_problem(p1: LatLon, p2: LatLon, radius_m: float = R_EARTH_M) -> str | None:
+    """Why the leg from ``p1`` to ``p2`` has no great-circle course, or None when it has one.
+
+    The points coincide (closer than :data:`MIN_LEG_M`), or are antipodal (within :data:`MIN_LEG_M` of
+    opposite points of the Earth: every great circle through one passes through the other).
+    """
+    d_m = distance_m(p1, p2, radius_m)
+    if d_m < MIN_LEG_M:
+        return f"has no course: the points coincide ({d_m:.3g} m apart; a leg needs at least {MIN_LEG_M:g} m)"
+    if math.pi * radius_m - d_m < MIN_LEG_M:
+        return ("has no course: the points are antipodal (opposite points of the Earth, "
+                f"{d_m / 1e3:.0f} km apart): every great circle through one passes through the other")
+    return None
 
 
 def final_bearing_rad(p1: LatLon, p2: LatLon) -> float:

@@ -34,7 +34,11 @@ are declared by its class in :mod:`.sections` (:data:`SECTION_FIELDS` is their v
 Validation collects nothing silently: the first problem raises a
 :class:`MissionError` whose message names the file and line (from the YAML
 node marks), the section (index and type) and the field, and says what is
-allowed.
+allowed. Every value is typed where it is read (:mod:`openemss.models.common.values`:
+numbers finite and in range, names as text, no Boolean, null, list or mapping where
+a single value is), and the route is checked as a whole: two consecutive fixes of a
+leg that coincide or are antipodal (no great-circle course between them) are refused
+here, not when the aircraft reaches them.
 
 References
 ----------
@@ -50,9 +54,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ..common import safe_yaml
+from ..common import safe_yaml, values
 from .errors import MissionError
-from .geo import LatLon
+from .geo import LatLon, leg_problem
 from .marks import Context as _Ctx
 from .sections import REGISTRY, Field
 from .marks import Lines as _Lines
@@ -128,19 +132,36 @@ def speed_from_mapping(m: Any) -> SpeedCommand:
              "tas_m_s": (SpeedKind.TAS, (10.0, 350.0))}
     if not isinstance(m, dict) or len(m) != 1 or next(iter(m)) not in kinds:
         raise ValueError("a speed is a mapping with exactly one of mach [-], cas_m_s or tas_m_s [m/s], "
-                         f"got {m!r}")
+                         f"got {values.show(m) if not isinstance(m, dict) else 'keys ' + ', '.join(map(str, m))}")
     key, val = next(iter(m.items()))
     kind, (lo, hi) = kinds[key]
-    x = _number(val, lo, hi)
-    return SpeedCommand(x, kind)
+    return SpeedCommand(values.number(val, lo, hi), kind)
 
 
-def _number(v: Any, lo: float, hi: float) -> float:
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or math.isnan(float(v)):
-        raise ValueError(f"expected a number in [{lo}, {hi}], got {v!r}")
-    if not lo <= float(v) <= hi:
-        raise ValueError(f"value {v} outside the allowed range [{lo}, {hi}]")
-    return float(v)
+def _mapping(ctx: _Ctx, path: tuple, v: Any, what: str) -> dict:
+    """``v`` as a mapping (an absent or empty value: an empty one)."""
+    if v is None:
+        return {}
+    if not isinstance(v, dict):
+        raise ctx.fail(path, f"{what}: expected a mapping, got {values.show(v)}")
+    return v
+
+
+def _place_name(ctx: _Ctx, path: tuple, key: Any, what: str) -> str:
+    try:
+        return values.name(key, f"a {what} name")
+    except ValueError as e:
+        raise ctx.fail(path, f"{what} {key!r}: {e}") from None
+
+
+def _notes(ctx: _Ctx, path: tuple, m: dict, keys: tuple[str, ...], what: str) -> None:
+    """The free-text fields ``keys`` of ``m``: text, when given."""
+    for k in keys:
+        if k in m:
+            try:
+                values.text(m[k])
+            except ValueError as e:
+                raise ctx.fail(path + (k,), f"{what} field '{k}': {e}") from None
 
 
 def _places(doc: dict, ctx: _Ctx) -> tuple[dict, dict]:
@@ -149,86 +170,124 @@ def _places(doc: dict, ctx: _Ctx) -> tuple[dict, dict]:
     places = doc.get("places", {}) or {}
     if not isinstance(places, dict):
         raise ctx.fail(("places",), "places: expected a mapping with 'runways' and 'waypoints'")
-    unknown = set(places) - {"runways", "waypoints"}
+    unknown = sorted(map(str, set(places) - {"runways", "waypoints"}))
     if unknown:
-        raise ctx.fail(("places", sorted(unknown)[0]), f"places: unknown key '{sorted(unknown)[0]}'; "
-                       "allowed: runways, waypoints")
+        raise ctx.fail(("places", unknown[0]), f"places: unknown key '{unknown[0]}'; allowed: runways, waypoints")
     runways: dict[str, Runway] = {}
-    for name, r in (places.get("runways") or {}).items():
-        path = ("places", "runways", name)
+    for key, r in _mapping(ctx, ("places", "runways"), places.get("runways"), "places: runways").items():
+        path = ("places", "runways", key)
+        name = _place_name(ctx, path, key, "runway")
         if not isinstance(r, dict):
-            raise ctx.fail(path, f"runway '{name}': expected a mapping with {', '.join(_RUNWAY_KEYS)}")
-        vals = {}
-        for key, (lo, hi) in _RUNWAY_KEYS.items():
-            if key not in r and key in ("length_m", "width_m"):
-                continue
-            if key not in r:
-                raise ctx.fail(path, f"runway '{name}': missing field '{key}'")
-            try:
-                vals[key] = _number(r[key], lo, hi)
-            except ValueError as e:
-                raise ctx.fail(path + (key,), f"runway '{name}' field '{key}': {e}") from None
-        extra = set(r) - set(_RUNWAY_KEYS) - {"source", "uncertainty"}
+            raise ctx.fail(path, f"runway '{name}': expected a mapping with {', '.join(_RUNWAY_KEYS)}, "
+                           f"got {values.show(r)}")
+        extra = sorted(map(str, set(r) - set(_RUNWAY_KEYS) - {"source", "uncertainty"}))
         if extra:
-            raise ctx.fail(path + (sorted(extra)[0],), f"runway '{name}': unknown field '{sorted(extra)[0]}'; "
+            raise ctx.fail(path + (extra[0],), f"runway '{name}': unknown field '{extra[0]}'; "
                            f"allowed: {', '.join(_RUNWAY_KEYS)}, source, uncertainty")
-        runways[name] = Runway(str(name), LatLon.from_deg(vals["threshold_lat_deg"], vals["threshold_lon_deg"]),
+        vals = {}
+        for k, (lo, hi) in _RUNWAY_KEYS.items():
+            if k not in r and k in ("length_m", "width_m"):
+                continue
+            if k not in r:
+                raise ctx.fail(path, f"runway '{name}': missing field '{k}'")
+            try:
+                vals[k] = values.number(r[k], lo, hi)
+            except ValueError as e:
+                raise ctx.fail(path + (k,), f"runway '{name}' field '{k}': {e}") from None
+        _notes(ctx, path, r, ("source", "uncertainty"), f"runway '{name}'")
+        if name in runways:
+            raise ctx.fail(path, f"runway '{name}' is defined twice (keys {key!r} and {str(key)!r} name the same "
+                           "runway); give each name once")
+        runways[name] = Runway(name, LatLon.from_deg(vals["threshold_lat_deg"], vals["threshold_lon_deg"]),
                                math.radians(vals["heading_deg"]), vals["elevation_m"],
                                vals.get("length_m", 3000.0), vals.get("width_m", 45.0))
     waypoints: dict[str, LatLon] = {}
-    for name, w in (places.get("waypoints") or {}).items():
-        path = ("places", "waypoints", name)
+    for key, w in _mapping(ctx, ("places", "waypoints"), places.get("waypoints"), "places: waypoints").items():
+        path = ("places", "waypoints", key)
+        name = _place_name(ctx, path, key, "waypoint")
         if not isinstance(w, dict) or set(w) - set(_WP_KEYS) - {"note"} or not set(_WP_KEYS) <= set(w):
-            raise ctx.fail(path, f"waypoint '{name}': expected {{lat_deg, lon_deg}} (and an optional note), got {w!r}")
-        try:
-            waypoints[str(name)] = LatLon.from_deg(*(_number(w[k], *_WP_KEYS[k]) for k in _WP_KEYS))
-        except ValueError as e:
-            raise ctx.fail(path, f"waypoint '{name}': {e}") from None
+            got = values.show(w) if not isinstance(w, dict) else "fields " + ", ".join(map(str, w))
+            raise ctx.fail(path, f"waypoint '{name}': expected {{lat_deg, lon_deg}} (and an optional note), got {got}")
+        coords = []
+        for k, (lo, hi) in _WP_KEYS.items():
+            try:
+                coords.append(values.number(w[k], lo, hi))
+            except ValueError as e:
+                raise ctx.fail(path + (k,), f"waypoint '{name}' field '{k}': {e}") from None
+        _notes(ctx, path, w, ("note",), f"waypoint '{name}'")
+        if name in waypoints:
+            raise ctx.fail(path, f"waypoint '{name}' is defined twice (keys {key!r} and {str(key)!r} name the same "
+                           "waypoint); give each name once")
+        waypoints[name] = LatLon.from_deg(*coords)
     return runways, waypoints
 
 
 def _field(kind: str, spec: Any, v: Any, runways: dict, waypoints: dict) -> Any:
     if kind == "number":
-        return _number(v, *spec)
+        return values.number(v, *spec)
     if kind == "bool":
-        if not isinstance(v, bool):
-            raise ValueError(f"expected true or false, got {v!r}")
-        return v
+        return values.flag(v)
     if kind == "choice":
-        if v not in spec:
-            raise ValueError(f"got {v!r}; allowed: {', '.join(spec)}")
-        return v
+        return values.choice(v, spec)
     if kind == "speed":
         return speed_from_mapping(v)
     if kind == "runway":
-        if v not in runways:
-            raise ValueError(f"unknown runway {v!r}; defined runways: {', '.join(runways) or '(none)'}")
-        return runways[v]
+        return _ref(v, runways, "runway")
     if kind == "waypoint":
-        if v not in waypoints:
-            raise ValueError(f"unknown waypoint {v!r}; defined waypoints: {', '.join(waypoints) or '(none)'}")
-        return waypoints[v]
+        return _ref(v, waypoints, "waypoint")
     if kind == "waypoints":
         if not isinstance(v, list) or not v:
-            raise ValueError("expected a non-empty list of waypoint names")
-        out = []
-        for w in v:
-            if w not in waypoints:
-                raise ValueError(f"unknown waypoint {w!r}; defined waypoints: {', '.join(waypoints) or '(none)'}")
-            out.append(waypoints[w])
-        return tuple(out)
+            raise ValueError(f"expected a non-empty list of waypoint names, got {values.show(v)}")
+        return tuple(_ref(w, waypoints, "waypoint") for w in v)
     if kind == "commands":
         if not isinstance(v, list) or not v:
-            raise ValueError("expected a non-empty list of {t_s, lever, pitch_deg, bank_deg}")
+            raise ValueError(f"expected a non-empty list of {{t_s, lever, pitch_deg, bank_deg}}, got {values.show(v)}")
         pts = []
-        for c in v:
+        for i, c in enumerate(v):
             if not isinstance(c, dict) or set(c) != set(_CUSTOM_KEYS):
-                raise ValueError(f"each command needs exactly {', '.join(_CUSTOM_KEYS)}, got {c!r}")
-            pts.append(tuple(_number(c[k], *_CUSTOM_KEYS[k]) for k in _CUSTOM_KEYS))
+                got = values.show(c) if not isinstance(c, dict) else "fields " + ", ".join(map(str, c))
+                raise ValueError(f"command {i}: each command needs exactly {', '.join(_CUSTOM_KEYS)}, got {got}")
+            pt = []
+            for k, rng in _CUSTOM_KEYS.items():
+                try:
+                    pt.append(values.number(c[k], *rng))
+                except ValueError as e:
+                    raise ValueError(f"command {i} '{k}': {e}") from None
+            pts.append(tuple(pt))
         if any(b[0] <= a[0] for a, b in zip(pts, pts[1:], strict=False)):
             raise ValueError("command times t_s must increase")
         return tuple(pts)
     raise AssertionError(kind)
+
+
+def _ref(v: Any, defined: dict, what: str) -> Any:
+    """The place a field names (a runway or a waypoint)."""
+    key = values.name(v, f"a {what} name")
+    if key not in defined:
+        raise ValueError(f"unknown {what} {key!r}; defined {what}s: {', '.join(defined) or '(none)'}")
+    return defined[key]
+
+
+def _route(sections: list[Section], raw: list[dict], ctx: _Ctx) -> None:
+    """Refuse a leg between two fixes with no great-circle course: consecutive waypoints of a section, and
+    with fly-by the last one and where the next section begins (its turn is anticipated towards it)."""
+    for k, sec in enumerate(sections):
+        if sec.type != "WaypointFollowing":
+            continue
+        fixes = list(sec["waypoints"])
+        nxt = REGISTRY[sections[k + 1].type].entry_fix(sections[k + 1]) if k + 1 < len(sections) else None
+        if sec["fly_by"] and nxt is not None:
+            fixes.append(nxt)
+        for i, (a, b) in enumerate(zip(fixes, fixes[1:], strict=False)):
+            problem = leg_problem(a, b)
+            if problem is None:
+                continue
+            names = [values.name(w) for w in raw[k]["waypoints"]]
+            names.append(f"where section {k + 1} ({sections[k + 1].type}) begins" if k + 1 < len(sections) else "")
+            first, second = names[i], names[i + 1]
+            raise ctx.fail(("sections", sec.index, "waypoints"),
+                           f"section {sec.index} ({sec.type}) field 'waypoints': the leg from {first} to "
+                           f"{second} {problem}")
 
 
 def parse_mission(text: str, source: str = "<mission>") -> Mission:
@@ -246,33 +305,43 @@ def parse_mission(text: str, source: str = "<mission>") -> Mission:
     ctx = _Ctx(source, _Lines(text))
     if not isinstance(doc, dict):
         raise ctx.fail((), "a mission file is a mapping with 'mission', 'places' and 'sections'")
-    unknown = set(doc) - {"mission", "places", "sections", *WEATHER_KEYS}
+    unknown = sorted(map(str, set(doc) - {"mission", "places", "sections", *WEATHER_KEYS}))
     if unknown:
-        k = sorted(unknown)[0]
-        raise ctx.fail((k,), f"unknown top-level key '{k}'; allowed: mission, places, sections, "
+        raise ctx.fail((unknown[0],), f"unknown top-level key '{unknown[0]}'; allowed: mission, places, sections, "
                        f"{', '.join(WEATHER_KEYS)}")
     head = doc.get("mission") or {}
     if not isinstance(head, dict) or "name" not in head:
         raise ctx.fail(("mission",), "mission: expected a mapping with 'name' (and 'description')")
+    extra = sorted(map(str, set(head) - {"name", "description"}))
+    if extra:
+        raise ctx.fail(("mission", extra[0]), f"mission: unknown key '{extra[0]}'; allowed: name, description")
+    try:
+        title = values.text(head["name"], "the mission's name (text)")
+        description = "" if head.get("description") is None else values.text(head["description"])
+    except ValueError as e:
+        raise ctx.fail(("mission",), f"mission: {e}") from None
     runways, waypoints = _places(doc, ctx)
     secs = doc.get("sections")
     if not isinstance(secs, list) or not secs:
-        raise ctx.fail(("sections",), "sections: expected a non-empty list of sections")
+        raise ctx.fail(("sections",), f"sections: expected a non-empty list of sections, got {values.show(secs)}")
     sections = []
     for i, s in enumerate(secs):
         path = ("sections", i)
         if not isinstance(s, dict) or "type" not in s:
             raise ctx.fail(path, f"section {i}: expected a mapping with a 'type' ({', '.join(REGISTRY)})")
         typ = s["type"]
-        if typ not in REGISTRY:
-            raise ctx.fail(path + ("type",), f"section {i}: unknown section type {typ!r}; "
-                           f"allowed: {', '.join(REGISTRY)}")
+        if not isinstance(typ, str) or typ not in REGISTRY:
+            got = repr(typ) if isinstance(typ, str) else values.show(typ)
+            raise ctx.fail(path + ("type",), f"section {i}: unknown section type {got}; allowed: {', '.join(REGISTRY)}")
         spec = REGISTRY[typ].fields
         where = f"section {i} ({typ})"
-        extra = set(s) - set(spec) - {"type", "name"}
+        extra = sorted(map(str, set(s) - set(spec) - {"type", "name"}))
         if extra:
-            k = sorted(extra)[0]
-            raise ctx.fail(path + (k,), f"{where}: unknown field '{k}'; allowed: {', '.join(spec)}, name")
+            raise ctx.fail(path + (extra[0],), f"{where}: unknown field '{extra[0]}'; allowed: {', '.join(spec)}, name")
+        try:
+            name = values.text(s["name"], "a section name (text)") if "name" in s else typ
+        except ValueError as e:
+            raise ctx.fail(path + ("name",), f"{where} field 'name': {e}") from None
         fields: list[tuple[str, Any]] = []
         for key, (kind, required, default, rng, help_) in spec.items():
             if key not in s:
@@ -288,8 +357,9 @@ def parse_mission(text: str, source: str = "<mission>") -> Mission:
         if problem is not None:
             key, what = problem
             raise ctx.fail(path + ((key,) if key else ()), f"{where}{f' field {key!r}' if key else ''}: {what}")
-        sections.append(Section(i, typ, str(s.get("name", typ)), tuple(fields)))
-    return Mission(str(head["name"]), str(head.get("description", "")), tuple(runways.items()),
+        sections.append(Section(i, typ, name, tuple(fields)))
+    _route(sections, secs, ctx)
+    return Mission(title, description, tuple(runways.items()),
                    tuple(waypoints.items()), tuple(sections), source, parse_weather(doc, ctx.fail, source))
 
 
@@ -301,9 +371,9 @@ def load_mission(path: str | Path) -> Mission:
     except safe_yaml.YamlError as e:
         raise MissionError(str(e)) from None
     if p.suffix == ".plan":
-        from .qgc import plan_to_yaml
+        from .qgc import parse_plan
 
-        return parse_mission(plan_to_yaml(text, str(p)), str(p) + " (converted)")
+        return parse_plan(text, str(p))
     return parse_mission(text, str(p))
 
 

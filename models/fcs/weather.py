@@ -45,7 +45,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ..common import safe_yaml
+from ..common import safe_yaml, values
 from .errors import MissionError
 from .marks import Context, Lines
 
@@ -168,14 +168,6 @@ class Weather:
         return ", ".join(parts) or "still air"
 
 
-def _number(v: Any, lo: float, hi: float) -> float:
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(float(v)):
-        raise ValueError(f"expected a finite number in [{lo:g}, {hi:g}], got {v!r}")
-    if not lo <= float(v) <= hi:
-        raise ValueError(f"value {v} outside the allowed range [{lo:g}, {hi:g}]")
-    return float(v)
-
-
 def _one_of(m: Mapping, choices: Mapping[str, tuple[float, float]], what: str, path: tuple, fail: Fail,
             required: bool) -> tuple[str, float] | None:
     given = [k for k in choices if k in m]
@@ -185,7 +177,7 @@ def _one_of(m: Mapping, choices: Mapping[str, tuple[float, float]], what: str, p
         return None
     key = given[0]
     try:
-        return key, _number(m[key], *choices[key])
+        return key, values.number(m[key], *choices[key])
     except ValueError as e:
         raise fail(path + (key,), f"{what} field '{key}': {e}") from None
 
@@ -194,7 +186,7 @@ def _wind(w: Any, fail: Fail) -> WindProfile:
     path = ("wind",)
     if not isinstance(w, dict) or "layers" not in w:
         raise fail(path, "wind: expected a mapping with 'layers' (and an optional note, source)")
-    extra = sorted(set(w) - {"layers", "note", "source"})
+    extra = sorted(map(str, set(w) - {"layers", "note", "source"}))
     if extra:
         raise fail(path + (extra[0],), f"wind: unknown key '{extra[0]}'; allowed: layers, note, source")
     raw = w["layers"]
@@ -207,8 +199,9 @@ def _wind(w: Any, fail: Fail) -> WindProfile:
         lp = path + ("layers", i)
         what = f"wind layer {i}"
         if not isinstance(layer, dict):
-            raise fail(lp, f"{what}: expected a mapping {{alt_m, from_deg, speed_m_s or speed_kt}}, got {layer!r}")
-        extra = sorted(set(layer) - allowed)
+            raise fail(lp, f"{what}: expected a mapping {{alt_m, from_deg, speed_m_s or speed_kt}}, "
+                       f"got {values.show(layer)}")
+        extra = sorted(map(str, set(layer) - allowed))
         if extra:
             raise fail(lp + (extra[0],), f"{what}: unknown field '{extra[0]}'; allowed: alt_m, from_deg, "
                        "speed_m_s, speed_kt, note")
@@ -217,7 +210,7 @@ def _wind(w: Any, fail: Fail) -> WindProfile:
             if key not in layer:
                 raise fail(lp, f"{what}: missing field '{key}'")
             try:
-                vals[key] = _number(layer[key], *rng)
+                vals[key] = values.number(layer[key], *rng)
             except ValueError as e:
                 raise fail(lp + (key,), f"{what} field '{key}': {e}") from None
         key, speed = _one_of(layer, _SPEED_RANGE, what, lp, fail, required=True)  # type: ignore[misc]
@@ -234,7 +227,7 @@ def _turbulence(t: Any, fail: Fail) -> Turbulence:
     if not isinstance(t, dict) or "severity" not in t:
         raise fail(path, "turbulence: expected a mapping with 'severity' (light, moderate, severe, none or 0 to 7), "
                    "optional 'seed' and 'wind_20ft_m_s' or 'wind_20ft_kt'")
-    extra = sorted(set(t) - allowed)
+    extra = sorted(map(str, set(t) - allowed))
     if extra:
         raise fail(path + (extra[0],), f"turbulence: unknown field '{extra[0]}'; allowed: severity, seed, "
                    "wind_20ft_m_s, wind_20ft_kt, note")
@@ -244,11 +237,11 @@ def _turbulence(t: Any, fail: Fail) -> Turbulence:
     elif isinstance(sev, int) and not isinstance(sev, bool) and 0 <= sev <= 7:
         severity, label = int(sev), str(sev)
     else:
-        raise fail(path + ("severity",), f"turbulence field 'severity': got {sev!r}; allowed: "
+        raise fail(path + ("severity",), f"turbulence field 'severity': got {values.show(sev)}; allowed: "
                    f"{', '.join(SEVERITIES)} or an integer 0 to 7")
     seed = t.get("seed", 0)
     if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= 2 ** 31 - 1:
-        raise fail(path + ("seed",), f"turbulence field 'seed': expected an integer 0 to {2 ** 31 - 1}, got {seed!r}")
+        raise fail(path + ("seed",), f"turbulence field 'seed': expected an integer 0 to {2 ** 31 - 1}, got {values.show(seed)}")
     w20 = _one_of(t, _W20_RANGE, "turbulence", path, fail, required=False)
     if w20 is None:
         w20_m_s = _W20_KT[severity] * KT_M_S
@@ -301,7 +294,7 @@ def parse_weather_text(text: str, source: str) -> Weather:
         doc = {}
     if not isinstance(doc, dict):
         raise ctx.fail((), "a weather file is a mapping with 'wind' and/or 'turbulence' (or a mission file)")
-    extra = sorted(set(doc) - set(WEATHER_KEYS) - set(_MISSION_KEYS))
+    extra = sorted(map(str, set(doc) - set(WEATHER_KEYS) - set(_MISSION_KEYS)))
     if extra:
         raise ctx.fail((extra[0],), f"unknown top-level key '{extra[0]}'; allowed: {', '.join(WEATHER_KEYS)} "
                        f"(and a mission's {', '.join(_MISSION_KEYS)})")

@@ -31,6 +31,7 @@ from openemss.fmus.signal_io import SignalIO
 from openemss.models.airframe.adapter import FT
 from openemss.models.airframe.adapter import Airframe as AirframeModel
 from openemss.models.airframe.airframe_signals import SIGNALS, STATE_FIELDS
+from openemss.models.airframe.loading import check_air_start, check_loading
 from openemss.models.airframe.trim import trim_level
 from openemss.models.fcs.errors import MissionError
 from openemss.models.fcs.mission import departure_runway, load_mission
@@ -79,6 +80,9 @@ class Airframe(InitialOutputs, SignalIO, Fmi2Slave):
         return load_weather(p)
 
     def compute_start(self) -> None:
+        check_loading(self.fuel0_kg, self.added_mass_kg, ("fuel0_kg", "added_mass_kg"))
+        if not self.start_on_runway:
+            check_air_start(self.alt0_m, self.ground_elevation_m, ("alt0_m", "ground_elevation_m"))
         w = self._weather()
         turb = w.turbulence if w is not None else None
         sev, w20, seed = (self.turbulence_severity, self.turbulence_wind_20ft_m_s, self.turbulence_seed)

@@ -39,10 +39,13 @@ from openemss.models.engine.engine_model import (
     EngineModel,
     condition_from_ambient,
 )
-from openemss.models.engine.engine_signals import DESIGN_FIELDS, SIGNALS
+from openemss.models.engine.engine_signals import DESIGN_FIELDS, FLAMEOUT_STARVED, SIGNALS
+from openemss.models.engine.errors import FlameoutError
+from openemss.models.engine.fuel_supply import FuelSupply
 
 REQUIREMENTS = ["numpy>=1.24", "scipy>=1.10", "numba>=0.59"]
 SOLVER_FAILED = [name for name, _ in FLAGS].index("solver_failed")
+FLAMEOUT = [name for name, _ in FLAGS].index("flameout")
 #: (field, description with unit) of the design parameters ``design_<field>``
 DESIGN = tuple((f, f"{d} [{'-' if u == '1' else u}]") for f, u, d in DESIGN_FIELDS)
 _INPUTS = tuple(s for s in SIGNALS if s.causality == "input")
@@ -75,7 +78,8 @@ class Engine(InitialOutputs, SignalIO, Fmi2Slave):
         self._take = itemgetter(*(j if j is not None else 0 for j in _SLOTS))
         self._y = [0.0] * len(OUTPUTS)
         self._yb = [False] * len(FLAGS)
-        self._yi = [0]
+        self._yi = [0, 0]
+        self._supply = FuelSupply()
 
     def _inputs(self) -> EngineInputs:
         """The model's inputs, each from the FMU input the signal table names for it."""
@@ -93,6 +97,9 @@ class Engine(InitialOutputs, SignalIO, Fmi2Slave):
         return p
 
     def compute_start(self) -> None:
+        if not self.fuel_kg > 0.0:
+            raise FlameoutError(f"engine: no fuel to start on: its input fuel_kg (the tanks feeding it) is "
+                                f"{self.fuel_kg:g} kg; give the aircraft fuel (e.g. the airframe's fuel0_kg > 0)")
         m = EngineModel(self._params(), I_lp_kg_m2=self.I_lp_kg_m2 or None, I_hp_kg_m2=self.I_hp_kg_m2 or None,
                         dt_internal_s=self.dt_internal_s, method="heun" if self.integrator == 1 else "euler",
                         tol=self.tol, limits=EngineLimits(self.N1_max_pct, self.N2_max_pct, self.FAR_lean,
@@ -118,7 +125,8 @@ class Engine(InitialOutputs, SignalIO, Fmi2Slave):
         if self.fuel_flow_cmd_kg_s <= 0.0 or self.fuel_flow_cmd_kg_s == self._filled_Wf_kg_s:
             self.fuel_flow_cmd_kg_s = self._filled_Wf_kg_s = m.state.point.Wf_kg_s if m.state is not None else 0.0
         self._model = m
-        self._y, self._yb, self._yi = m.values, m.flags, [m.events]
+        self._supply = FuelSupply()
+        self._y, self._yb, self._yi = m.values, m.flags, [m.events, int(m.flags[FLAMEOUT])]
 
     def model_inputs(self) -> np.ndarray:
         """The model's input array (:attr:`.EngineModel.input_array`) filled from the FMU's inputs."""
@@ -144,10 +152,18 @@ class Engine(InitialOutputs, SignalIO, Fmi2Slave):
                          "cannot compute its outputs", Fmi2Status.error, "logStatusError")
                 return False
         m = self._model
+        if m.flamed_out:  # type: ignore[union-attr]
+            self.log(f"{m.flamed_out}: a flamed-out engine cannot be stepped on (there is no model of a "  # type: ignore[union-attr]
+                     "windmilling engine)", Fmi2Status.error, "logStatusError")
+            return False
+        if self._supply.starves(m, self.fuel_kg, self.fuel_flow_cmd_kg_s, step_size):  # type: ignore[arg-type]
+            self._yi[0], self._yi[1] = m.events, FLAMEOUT_STARVED  # type: ignore[union-attr]
+            return True
         m.step_array(step_size, self.model_inputs())  # type: ignore[union-attr]
         if m.flags[SOLVER_FAILED] and not self.accept_solver_failure:  # type: ignore[union-attr]
             self.log(f"{m.message} (outside the engine's envelope; set engine.accept_solver_failure=true "  # type: ignore[union-attr]
                      "to fly on with the state held)", Fmi2Status.error, "logStatusError")
             return False
-        self._yi[0] = m.events  # type: ignore[union-attr]
+        yi = self._yi
+        yi[0], yi[1] = m.events, int(m.flags[FLAMEOUT])  # type: ignore[union-attr]
         return True

@@ -13,9 +13,10 @@ FMU's start values, else the models' defaults), by role, never by component name
 * flight control: ``mission_file`` (for ``emss run``), every gain and limit (bank limit, climb
   and descent angle limits, idle, lever range, Tt41 and N1 limits, glide slope), ``flaps_cmd_norm``;
 * engine: ``preset`` or ``design_override`` with its ``design_*`` values, its fuel-system stops;
-* airframe: ``fuel0_kg`` (take-off mass), ``isa_dev_K``, the weather it flies: ``weather_file``
-  (a mission's ``wind`` and ``turbulence``), else its steady ``wind_*_m_s``; an air start
-  (``start_on_runway`` false) at ``lat0_deg``, ``lon0_deg``, ``alt0_m``, ``tas0_m_s``.
+* airframe: ``fuel0_kg`` and ``added_mass_kg`` (the take-off mass, warned about above the maximum),
+  ``isa_dev_K``, the weather it flies: ``weather_file`` (a mission's ``wind`` and ``turbulence``), else its
+  steady ``wind_*_m_s``; an air start (``start_on_runway`` false) at ``lat0_deg``, ``lon0_deg``, ``alt0_m``,
+  ``tas0_m_s``.
 
 A mission that gives winds aloft or turbulence the airframe will not fly (its ``weather_file`` does
 not name them) is reported: the flight control never passes the weather on, the airframe owns it.
@@ -34,6 +35,7 @@ from pathlib import Path
 from typing import Any
 from xml.etree import ElementTree
 
+from openemss.models.airframe.loading import above_mtow
 from openemss.models.fcs.errors import FcsError
 from openemss.models.fcs.feasibility import MissionCheck, check_mission
 from openemss.models.fcs.feasibility_perf import Limits, from_dotted
@@ -184,12 +186,13 @@ def setup_from_system(components: Mapping[str, Path], parameters: Mapping[str, A
 
     g = load_geometry()
     fuel0 = min(max(af_v.number("fuel0_kg", g.fuel_capacity_kg), 0.0), g.fuel_capacity_kg)
+    added = max(af_v.number("added_mass_kg", 0.0), 0.0)  # (the airframe refuses a negative one at its start)
     weather, origin = _weather(af_v)
     start = None
     if roles.airframe is not None and not af_v.flag("start_on_runway", True):
         start = (LatLon.from_deg(af_v.number("lat0_deg", 0.0), af_v.number("lon0_deg", 0.0)),
                  af_v.number("alt0_m", 0.0), af_v.number("tas0_m_s", 0.0))
-    return CheckSetup(system, gains, engine, label, engine_limits, g.oem_kg + fuel0, fuel0,
+    return CheckSetup(system, gains, engine, label, engine_limits, g.oem_kg + fuel0 + added, fuel0,
                       af_v.number("isa_dev_K", fcs_v.number("isa_dev_K", 0.0)), fcs_v.number("flaps_cmd_norm", 0.0),
                       weather, origin, read_fmu_file(str(fcs_v.get("mission_file", "")), fcs_v.fmu), start)
 
@@ -208,6 +211,13 @@ def weather_warnings(mission: Mission, setup: CheckSetup) -> list[str]:
                          f"{'none' if flown is None else 'others'} ({setup.weather_origin}): the airframe owns the "
                          "weather; set its weather_file to the mission file to fly them")
     return lines
+
+
+def setup_warnings(mission: Mission, setup: CheckSetup) -> list[str]:
+    """Lines for what the system flies against the mission and the aircraft's limits: weather the airframe will
+    not fly (:func:`weather_warnings`), a take-off mass above the maximum."""
+    heavy = above_mtow(setup.mass_kg)
+    return weather_warnings(mission, setup) + ([heavy] if heavy else [])
 
 
 def run_check(mission: Mission, setup: CheckSetup, margin: float = 0.2) -> MissionCheck:
@@ -284,7 +294,7 @@ def pre_run(components: Mapping[str, Path], parameters: Mapping[str, Any]) -> li
         mission = parse_mission(text, source)
     except FcsError:
         return []  # the flight control refuses it at its start, with the file and line
-    warnings = weather_warnings(mission, setup)
+    warnings = setup_warnings(mission, setup)
     check = run_check(mission, setup)
     lines = [f"mission check: section {s.index} ({s.type} '{s.name}'): {f.text}"
              for s, f in check.findings if f.verdict in ("marginal", "infeasible")]
@@ -367,7 +377,7 @@ def cmd_check(args: argparse.Namespace) -> int:
     setup = setup_from_system(components, values, str(system))
     if setup is None:
         raise ReportError(f"{system}: no component flies a mission (no flight control with a section_index)")
-    warnings = weather_warnings(mission, setup)
+    warnings = setup_warnings(mission, setup)
     check = run_check(mission, setup, args.margin / 100.0)
     wall = time.perf_counter() - t0
     if args.json:

@@ -189,6 +189,36 @@ def degraded(run: RunData) -> list[str]:
     return out
 
 
+def flameout(run: RunData) -> dict[str, Any] | None:
+    """When the engine's burner first went out and why (its ``flameout_cause``, else its ``flameout`` flag), or
+    None if it never did (or neither is recorded)."""
+    from openemss.models.engine.engine_signals import FLAMEOUT_CAUSES
+
+    t = run.time_s
+    cause, flag = run.get("engine", "flameout_cause"), run.get("engine", "flameout")
+    col, name = (cause, "flameout_cause") if cause is not None else (flag, "flameout")
+    if col is None or not np.any(col > 0.5):
+        return None
+    k = int(np.argmax(col > 0.5))
+    code = int(round(float(col[k]))) if cause is not None else None
+    text = FLAMEOUT_CAUSES[code] if code is not None and 0 < code < len(FLAMEOUT_CAUSES) else "not recorded"
+    return {"time_s": float(t[k]), "cause": text, "cause_code": code, "source": f"{run.roles.engine}.{name}"}
+
+
+def takeoff_mass(run: RunData) -> dict[str, Any] | None:
+    """The aircraft's mass at the start against its maximum take-off mass (``above_mtow``: the line saying by how
+    much, else None); None when the airframe's ``mass_kg`` is not recorded."""
+    from openemss.models.airframe.geometry import load_geometry
+    from openemss.models.airframe.loading import above_mtow
+
+    mass = run.get("airframe", "mass_kg")
+    if mass is None or not len(mass):
+        return None
+    m0 = float(mass[0])
+    return {"takeoff_kg": m0, "mtow_kg": load_geometry().mtom_kg, "above_mtow": above_mtow(m0) or None,
+            "source": f"{run.roles.airframe}.mass_kg"}
+
+
 def _finite(x: Any) -> Any:
     """JSON-safe: non-finite floats become None, recursively."""
     if isinstance(x, float):
@@ -259,6 +289,8 @@ def summarize(run: RunData, mission: Mission | None) -> dict[str, Any]:
         "max_Tt4_K": None if k4 is None else float(tt4[k4]),
         "max_Tt4_time_s": None if k4 is None else float(t[k4]),
         "limits_hit": limits_hit(run),
+        "flameout": flameout(run),
+        "mass": takeoff_mass(run),
         "degraded": degraded(run),
         "sections": _with_conformance(run, mission, sections_table(t, idx, wf, sections, completed)),
         "holds": holds(run, mission),

@@ -37,13 +37,13 @@ SOURCES = {
     "airframe": {"fcs": ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "airbrake_norm",
                          "brakes_norm", "steering_norm", "gear_down"),
                  "engine": ("thrust_N", "fuel_flow_kg_s")},
-    "engine": {"fcs": ("fuel_flow_cmd_kg_s",), "airframe": ("alt_msl_m", "mach")},
+    "engine": {"fcs": ("fuel_flow_cmd_kg_s",), "airframe": ("alt_msl_m", "mach", "fuel_kg")},
 }
 # Inputs that are connectors without a connection, so that a scenario that sets them is recorded.
 UNCONNECTED_INPUTS = {"engine": ("distortion_on", "distortion_sector_deg", "distortion_dPt_frac")}
 ENGINE_OUT = ("thrust_N", "gross_thrust_N", "fuel_flow_kg_s", "N1_rpm", "N2_rpm", "N1_pct", "N2_pct", "N1c_pct",
               "Tt4_K", "Tt41_K", "Tt21_K", "Tt17_K", "Tt7_K", "Pt3_Pa", "OPR", "BPR", "SM_fan", "SM_hpc",
-              "SFC_kg_N_s", "fuel_burned_kg", "surge", "flameout", "overspeed", "solver_failed")
+              "SFC_kg_N_s", "fuel_burned_kg", "surge", "flameout", "overspeed", "solver_failed", "flameout_cause")
 AIRFRAME_OUT = ("lat_deg", "lon_deg", "alt_msl_m", "alt_agl_m", "tas_m_s", "cas_m_s", "gs_m_s", "mach",
                 "alpha_rad", "beta_rad", "phi_rad", "theta_rad", "psi_rad", "p_rad_s", "q_rad_s", "r_rad_s",
                 "load_factor", "vs_m_s", "p_amb_Pa", "T_amb_K", "rho_amb_kg_m3", "airbrake_pos_norm", "on_ground",

@@ -24,10 +24,11 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from .errors import AirframeError, LossOfAircraftError, OutOfEnvelopeError
+from .errors import AirframeError, FuelExhaustedError, LossOfAircraftError, OutOfEnvelopeError
 from .geometry import load_geometry
+from .loading import check_air_start, check_loading
 
-__all__ = ["Airframe", "AirframeState", "JSBSIM_ROOT", "DEFAULT_RATE_HZ", "WindProfile"]
+__all__ = ["Airframe", "AirframeState", "JSBSIM_ROOT", "DEFAULT_RATE_HZ", "WindProfile", "FUEL_ROUNDOFF_KG"]
 
 #: Winds aloft: altitude MSL [m] -> wind velocity (north, east, down) [m/s], e.g.
 #: ``openemss.models.fcs.weather.WindProfile.ned_m_s``.
@@ -67,6 +68,9 @@ CRASH_SINK_M_S = 6.0
 #: Height of the centre of gravity above ground below which the fuselage touches it [m]: on its
 #: wheels the CG of UPERA stands 0.92 m high, the fuselage radius is about 0.4 m.
 CRASH_CG_AGL_M = 0.4
+#: Fuel [kg] a step may ask of the tank beyond what it holds, as round-off (the engine burns over a step the
+#: flow it publishes times the step; the tank takes it off in internal steps).
+FUEL_ROUNDOFF_KG = 1e-9
 #: Height within which a wingtip below the ground (semi-span x sin|bank| above the CG height) is a
 #: wingtip strike [m].
 WINGTIP_CHECK_AGL_M = 5.0
@@ -228,7 +232,9 @@ class Airframe:
     # -- initial conditions -------------------------------------------------
     def _begin(self, fuel_kg: float | None) -> None:
         cap = self.geometry.fuel_capacity_kg
-        self._fuel_kg = cap if fuel_kg is None else _check("fuel_kg", fuel_kg, 0.0, cap, " kg")
+        if fuel_kg is not None:
+            check_loading(fuel_kg, 0.0)
+        self._fuel_kg = cap if fuel_kg is None else float(fuel_kg)
         self._tank.set_double_value(self._fuel_kg / LBM)
         self._wf_kg_s = 0.0
         self._thrust.set_double_value(0.0)
@@ -290,6 +296,7 @@ class Airframe:
         """Start in wings-level flight at altitude ``alt_m`` [m] MSL and true airspeed ``tas_m_s`` [m/s]
         (no sideslip, the given angle of attack [rad] and flight-path angle [rad], airbrake [0, 1])."""
         f = self._fdm
+        check_air_start(alt_m, ground_elevation_m)
         self._begin(fuel_kg)
         f["ic/lat-geod-deg"] = _check("lat_deg", lat_deg, -89.0, 89.0, " deg")
         f["ic/long-gc-deg"] = _check("lon_deg", lon_deg, -180.0, 180.0, " deg")
@@ -389,9 +396,8 @@ class Airframe:
         """Mass [kg] (>= 0) added at the CG to the operating empty mass (e.g. an electrical system), from
         the next step on; JSBSim's total mass and inertia take it as its point mass ADDED."""
         m = float(mass_kg)
-        if not 0.0 <= m <= 10000.0:
-            raise OutOfEnvelopeError(f"added mass = {mass_kg} kg is outside the valid range [0, 10000] kg")
         if m != self._added_kg:
+            check_loading(0.0, m)
             self._added.set_double_value(m / LBM)
             self._added_kg = m
 
@@ -415,6 +421,11 @@ class Airframe:
         tank = self._tank.set_double_value
         burn = self._wf_kg_s * self.dt_s
         fuel = self._fuel_kg
+        if burn * n > fuel + FUEL_ROUNDOFF_KG:
+            raise FuelExhaustedError(
+                f"tank empty at t = {self.time_s:.6g} s: the fuel flow input, {self._wf_kg_s:.6g} kg/s, burns "
+                f"{burn * n:.6g} kg over the step of {dt_s:g} s, the tank holds {fuel:.6g} kg (an engine burning "
+                "from it must flame out: give it the tank's content, the airframe's fuel_kg)")
         airborne = self._wow.get_double_value() < 0.5
         sink_m_s = -self._hdot.get_double_value() * FT
         for _ in range(n):

@@ -6,7 +6,8 @@ what is allowed.
 """
 from __future__ import annotations
 
-__all__ = ["AirframeError", "CalibrationError", "LossOfAircraftError", "OutOfEnvelopeError", "TrimError"]
+__all__ = ["AirframeError", "CalibrationError", "FuelExhaustedError", "LossOfAircraftError", "OutOfEnvelopeError",
+           "TrimError"]
 
 
 class AirframeError(Exception):
@@ -27,3 +28,7 @@ class LossOfAircraftError(AirframeError):
 
 class CalibrationError(AirframeError):
     """Calibration data or a calibration file that cannot be used (one line: what, where, allowed)."""
+
+
+class FuelExhaustedError(AirframeError):
+    """The fuel flow input asks the tank for more fuel than it holds: an engine burning from it must flame out."""

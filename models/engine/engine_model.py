@@ -55,7 +55,7 @@ from .cycle_design import design
 from .design_params import TurbofanParams, load_params, preset_path
 from .distortion import Distortion
 from .engine_signals import EO, FLAGS, OUTPUTS, BleedValve, EngineInputs, EngineLimits, condition_from_ambient
-from .errors import ModelError, OutOfRangeError
+from .errors import FlameoutError, ModelError, OutOfRangeError
 from .flow import T_STD_K
 from .gas_path import OX
 from .jit_kernels import AVAILABLE
@@ -74,6 +74,7 @@ _BETA_FLOOR = 0.1
 _CUSTOMER_BLEED_MAX = 0.3
 _IDX = {name: i for i, (name, _) in enumerate(OUTPUTS)}
 _SOLVER_FAILED = [name for name, _ in FLAGS].index("solver_failed")
+_FLAMEOUT = [name for name, _ in FLAGS].index("flameout")
 #: Fields of EngineInputs, in order: the layout of the input array of :meth:`EngineModel.step_array`.
 INPUT_FIELDS: tuple[str, ...] = tuple(f.name for f in dataclasses.fields(EngineInputs))
 # the slots of the state array (jit_step.ST), also where the Python step keeps its scalars
@@ -224,6 +225,8 @@ class EngineModel:
         self.port_W = (0.0, 0.0)                # (HP, LP) shaft port powers applied [W], + taken from the spool
         self.port_limited = False
         self.message = ""
+        #: The flame-out's message after :meth:`flame_out` (the engine cannot be stepped on), else "".
+        self.flamed_out = ""
         self.state = None
         self._key = None
         self._clipped: set[str] = set()
@@ -352,13 +355,45 @@ class EngineModel:
             return v, False
         return (offtake_max_W if v > offtake_max_W else -assist_max_W) if v == v else 0.0, True
 
-    def _kwargs(self, u: EngineInputs) -> tuple[float, dict[str, object]]:
-        """Fuel flow [kg/s] and keyword arguments of :meth:`.transient.TurbofanTransient.state`."""
-        # the fuel system's stops: a fixed minimum flow and the minimum-flow stop scheduled on the compressor
-        # delivery pressure of the last step (what the burner gets below a commanded chop; not logged)
+    def _fuel_stops(self, Wf_cmd_kg_s: float) -> float:
+        """The commanded fuel flow [kg/s] raised to the fuel system's stops: a fixed minimum flow and the
+        minimum-flow stop scheduled on the compressor delivery pressure of the last step (what the burner gets
+        below a commanded chop; flagged, not clipped-logged)."""
         Wf_min = max(self.limits.Wf_min_frac * self.dp.Wf_kg_s,
                      self.Wf_Pt3_min_kg_s_Pa * self.values[_IDX["Pt3_Pa"]])
-        Wf = u.Wf_kg_s if u.Wf_kg_s >= Wf_min else Wf_min          # fuel cut: flagged, not clipped-logged
+        return Wf_cmd_kg_s if Wf_cmd_kg_s >= Wf_min else Wf_min
+
+    def metered_fuel_kg_s(self, Wf_cmd_kg_s: float, dt_s: float) -> float:
+        """The fuel flow [kg/s] the fuel system meters over the next step of `dt_s` [s] for the command: raised
+        to its stops (:meth:`_fuel_stops`) and held to its deceleration limit, as :meth:`step` applies them."""
+        Wf = self._fuel_stops(Wf_cmd_kg_s)
+        Wf_slew = self._st[_ST_WFS] - self.Wf_decel_max_kg_s2 * round(dt_s, 12)
+        return Wf if Wf >= Wf_slew else Wf_slew
+
+    def flame_out(self, dt_s: float, cause: str) -> list[float]:
+        """The step of `dt_s` [s] in which the burner gets no fuel (`cause`, e.g. the tanks are empty): it burns
+        nothing, makes no thrust, the ``flameout`` flag rises (an event, logged) and :attr:`flamed_out` holds the
+        message; the spools' speeds, temperatures and pressures are those of the last step, held (there is no
+        model of a windmilling engine): :meth:`step` raises :class:`~.errors.FlameoutError` from now on."""
+        if self.state is not None:              # (formed from the compiled step's buffer, which goes now)
+            self._buf = None                    # no compiled step after this
+        self.t_s = self.t_s + dt_s
+        v = self.values
+        v[EO.thrust_N] = v[EO.gross_thrust_N] = v[EO.ram_drag_N] = v[EO.fuel_flow_kg_s] = 0.0
+        v[EO.dN1_dt_rpm_s] = v[EO.dN2_dt_rpm_s] = 0.0
+        v[EO.SFC_kg_N_s] = math.inf
+        self.flamed_out = self.message = (f"engine: flame-out at t = {self.t_s:.6g} s: {cause}; "
+                                          f"{self.fuel_burned_kg:.6g} kg burned since the start")
+        if not self.flags[_FLAMEOUT]:
+            self.events += 1
+        self.flags[_FLAMEOUT] = True
+        self._st[_ST_FLAG + _FLAMEOUT] = 1.0
+        self.log(self.message)
+        return v
+
+    def _kwargs(self, u: EngineInputs) -> tuple[float, dict[str, object]]:
+        """Fuel flow [kg/s] and keyword arguments of :meth:`.transient.TurbofanTransient.state`."""
+        Wf = self._fuel_stops(u.Wf_kg_s)
         dist: tuple[Distortion | None, Distortion | None] = (None, None)
         if u.distortion_on:
             d = Distortion(self._clip("sector_deg", u.sector_deg, 1.0, 359.0) / 360.0,
@@ -401,6 +436,7 @@ class EngineModel:
                                **setting)
         self.N1_rpm, self.N2_rpm = pt.N1_rpm, pt.N2_rpm
         self.t_s, self.fuel_burned_kg, self.events, self.failures = 0.0, 0.0, 0, 0
+        self.flamed_out = ""
         self.state, self._key = None, None
         self.tr._cache = None
         self.state = self.tr.state(0.0, self.N1_rpm, self.N2_rpm, pt.Wf_kg_s, guess=pt,
@@ -567,6 +603,8 @@ class EngineModel:
         """The step in Python around the compiled (or Python) match; hands over to the compiled step after it."""
         if self.state is None:
             raise ModelError("EngineModel.step before start()")
+        if self.flamed_out:
+            raise FlameoutError(f"{self.flamed_out}: a flamed-out engine cannot be stepped on (no windmilling model)")
         # to 1 ps: masters that form the same step differently (t = k h differences, integer ns ticks) then
         # give identical results, not results that differ by the matching tolerance
         dt_s = round(dt_s, 12)

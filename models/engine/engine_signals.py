@@ -26,7 +26,20 @@ from ..common.signals import Signal, check_table
 from .errors import OutOfRangeError
 
 __all__ = ["EngineInputs", "EngineLimits", "BleedValve", "OUTPUTS", "FLAGS", "SIGNALS", "DESIGN_FIELDS",
-           "condition_from_ambient"]
+           "condition_from_ambient", "FUEL_UNLIMITED_KG", "FLAMEOUT_CAUSES", "FLAMEOUT_STARVED"]
+
+#: The start value of the engine's ``fuel_kg`` input [kg]: no tank connected, the engine is not limited
+#: (:mod:`.fuel_supply`).
+FUEL_UNLIMITED_KG = 1e12
+#: The engine's Integer output ``flameout_cause``: the text of each code (0: burning).
+FLAMEOUT_CAUSES: tuple[str, ...] = (
+    "",
+    "burner fuel-air ratio below the lean limit or fuel flow below the minimum",
+    "fuel starvation: the tanks could not deliver the metered fuel flow",
+)
+#: The code of a flame-out for want of fuel.
+FLAMEOUT_STARVED = 2
+
 
 def _out(name: str, unit: str, description: str) -> Signal:
     return Signal(name, "output", unit, description)
@@ -328,10 +341,15 @@ SIGNALS: tuple[Signal, ...] = check_table((
     # read by the FMU itself (use_ambient), not a field of EngineInputs
     _in("p_amb_Pa", "Pa", "Ambient static pressure, used with use_ambient", 101325.0, None),
     _in("T_amb_K", "K", "Ambient static temperature, used with use_ambient", 288.15, None),
+    _in("fuel_kg", "kg", "Fuel the tanks feeding the engine hold (the airframe's fuel_kg): the burner flames out "
+                         "when they cannot deliver the metered flow over a step; the start value, no tank "
+                         "connected, does not limit", FUEL_UNLIMITED_KG, None),
     Signal("distortion_on", "input", "1", "Inlet distortion switched on", "Boolean", _IN["distortion_on"],
            "distortion_on"),
     *_OUTPUT_ROWS,
     *_FLAG_ROWS,
     Signal("events", "output", "1", "Rising edges of surge, flameout, overspeed, fuel limiting, shaft power "
            "limiting", "Integer"),
+    Signal("flameout_cause", "output", "1", "Why the burner is out: "
+           + "; ".join(f"{i} {c.partition(':')[0] or 'burning'}" for i, c in enumerate(FLAMEOUT_CAUSES)), "Integer"),
 ), "models/engine/engine_signals.py")

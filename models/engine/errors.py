@@ -8,7 +8,7 @@ component), and what is allowed.
 
 from __future__ import annotations
 
-__all__ = ["ModelError", "OutOfRangeError", "ConvergenceError"]
+__all__ = ["ModelError", "OutOfRangeError", "ConvergenceError", "FlameoutError"]
 
 
 class ModelError(Exception):
@@ -25,3 +25,7 @@ class OutOfRangeError(ModelError, ValueError):
 
 class ConvergenceError(ModelError):
     """An iterative solution did not converge within its iteration limit."""
+
+
+class FlameoutError(ModelError):
+    """The burner is out (e.g. its tanks could not deliver the fuel): the engine cannot be stepped on."""

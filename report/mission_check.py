@@ -128,7 +128,10 @@ def _engine(eng: _Values) -> tuple[Any, str, Any]:
     if eng.flag("design_override", False):
         from openemss.fmus.engine import DESIGN
 
-        params = replace(params, Fn_target_N=None, **{n: eng.number(f"design_{n}", float(getattr(params, n)))
+        # as the engine FMU: each design_* value set, else its start value (the FMU starts them at the values of
+        # DEFAULT_ENGINE, whatever the preset: a preset sized by thrust, as reference_study, has no W2_kg_s)
+        base = params if preset == DEFAULT_ENGINE else load_params(preset_path(DEFAULT_ENGINE))
+        params = replace(params, Fn_target_N=None, **{n: eng.number(f"design_{n}", float(getattr(base, n)))
                                                       for n, _ in DESIGN})
         label = f"{preset} with design_override"
     d = EngineLimits()

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import sys
 from json import decoder as _json_decoder
 from json import scanner as _json_scanner
@@ -253,6 +254,10 @@ def _checked(scan_once: Any) -> Any:
     return scan
 
 
+#: The key of an object member, just before its value (``"key" :``).
+_KEY_BEFORE = re.compile(r'"((?:[^"\\]|\\.)*)"\s*:\s*\Z')
+
+
 def _line(text: str, pos: int) -> int:
     return text.count("\n", 0, pos) + 1
 
@@ -276,7 +281,13 @@ def load_json(text: str, source: str) -> Any:
 
         def scan_value(s: str, idx: int) -> tuple[Any, int]:
             at.append(idx)
-            return scan_once(s, idx)
+            try:
+                return scan_once(s, idx)
+            except _Refused as exc:  # a value refused as it was scanned: named by the key just before it
+                key = _KEY_BEFORE.search(s, max(0, idx - 300), idx)
+                if exc.pos != idx or key is None:
+                    raise
+                raise _Refused(f"'{key.group(1)}': {exc.what}", idx) from None
 
         pairs, end = _json_decoder.JSONObject(s_and_end, strict, scan_value, None, list, memo)
         out = LineDict()

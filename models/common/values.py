@@ -45,8 +45,9 @@ def show(v: Any) -> str:
     if isinstance(v, str):
         shown = repr(v if len(v) <= 40 else v[:37] + "...")
         if _NUMBER_TEXT.match(v):
-            return (f"the text {shown} (write a number without quotes; in YAML with a decimal point before an "
-                    "exponent, 1.0e5)")
+            hint = ("; YAML reads a number with an exponent but no decimal point, 1e5, as text: write 1.0e5"
+                    if "." not in v and "e" in v.lower() else "")
+            return f"the text {shown} (write a number without quotes{hint})"
         return f"the text {shown}"
     if isinstance(v, dict):
         return "a mapping"

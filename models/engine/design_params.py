@@ -6,6 +6,10 @@ the unit), an optional ``"bleeds"`` list of bleed objects (:class:`.bleed.BleedS
 fields) and free-text ``"sources"`` / ``"notes"`` entries that document where
 each number comes from. Unknown keys are an error (a misspelt parameter must
 not silently fall back to its default). Presets live in ``presets/``.
+
+Every value is checked where it enters, by one function (:func:`_checked`) that both the file reader
+and the dataclasses use: its type (a number, not text, a Boolean or null; an integer where one is
+meant), finiteness and range; a file's error names its line.
 """
 
 from __future__ import annotations
@@ -16,8 +20,9 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
-from ..common import safe_yaml
-from .bleed import BleedSpec
+from ..common import safe_yaml, values
+from ..common.atmosphere import ALT_MAX_M, ALT_MIN_M
+from .bleed import SINKS, BleedSpec
 from .errors import ModelError, OutOfRangeError
 from .gas import HC_RATIO_JET_A, LHV_JET_A_J_KG
 from .thermo import T_REF_K
@@ -28,6 +33,9 @@ __all__ = ["PRESETS_DIR", "TurbojetParams", "TurbofanParams", "EngineParams", "l
 #: Folder of the shipped parameter files.
 PRESETS_DIR: Path = Path(__file__).resolve().parent / "presets"
 _DOC_KEYS = ("engine", "sources", "notes", "name")
+NOZZLE_TYPES = ("convergent", "ideal")
+#: Integer parameters and their ranges.
+_INT_RANGES: dict[str, tuple[int, int]] = {"hpc_stages": (1, 30), "handling_bleed_stage": (1, 30)}
 
 
 @dataclass(frozen=True)
@@ -51,25 +59,40 @@ class _Common:
     bleeds: tuple[BleedSpec, ...] = field(default_factory=tuple)
 
     def __post_init__(self) -> None:
+        for f in fields(self):
+            try:
+                _checked(f.name, str(f.type), getattr(self, f.name))
+            except ValueError as exc:
+                raise OutOfRangeError(f"{self.name}: {f.name}: {exc}") from None
         if (self.W2_kg_s is None) == (self.Fn_target_N is None):
             raise OutOfRangeError(f"{self.name}: give exactly one of W2_kg_s and Fn_target_N")
-        if self.W2_kg_s is not None and not self.W2_kg_s > 0.0:
-            raise OutOfRangeError(f"{self.name}: W2_kg_s={self.W2_kg_s!r} must be > 0")
-        if self.Fn_target_N is not None and not self.Fn_target_N > 0.0:
-            raise OutOfRangeError(f"{self.name}: Fn_target_N={self.Fn_target_N!r} must be > 0")
-        if self.nozzle_type not in ("convergent", "ideal"):
-            raise OutOfRangeError(f"{self.name}: nozzle_type={self.nozzle_type!r} must be 'convergent' or 'ideal'")
-        for f in fields(self):
-            v = getattr(self, f.name)
-            rule = _rule(f.name)
-            if rule is None or v is None or isinstance(v, (str, tuple)):
-                continue
-            ok, allowed = rule
-            if not (isinstance(v, (int, float)) and ok(v)):
-                raise OutOfRangeError(f"{self.name}: {f.name}={v!r} is outside the valid range {allowed}")
         if isinstance(self, TurbofanParams) and not (1 <= self.handling_bleed_stage <= self.hpc_stages):
             raise OutOfRangeError(f"{self.name}: handling_bleed_stage={self.handling_bleed_stage!r} must lie in "
                                   f"1..hpc_stages={self.hpc_stages}")
+
+
+def _checked(name: str, kind: str, v: Any) -> Any:
+    """The value ``v`` of parameter ``name`` (of the dataclass field type ``kind``), checked: its type, its
+    finiteness, its range (:func:`_rule`); an integer given for a float as a float.
+
+    Raises
+    ------
+    ValueError
+        What is wrong and what is allowed (the caller names the parameter and the file).
+    """
+    if kind == "str":
+        return values.choice(v, NOZZLE_TYPES) if name == "nozzle_type" else values.text(v, "a name (text)")
+    if kind == "int":
+        return values.integer(v, *_INT_RANGES.get(name, (0, 10**9)))
+    if kind.startswith("tuple"):  # the bleeds: BleedSpec checks its own
+        return v
+    if v is None and "None" in kind:
+        return None
+    x = values.number(v)
+    rule = _rule(name)
+    if rule is not None and not rule[0](x):
+        raise ValueError(f"{x!r} is outside the valid range {rule[1]}")
+    return x
 
 
 def _rule(name: str) -> tuple[Any, str] | None:
@@ -81,15 +104,25 @@ def _rule(name: str) -> tuple[Any, str] | None:
     if name.startswith("dPqP") or name.endswith("_frac"):
         return (lambda v: 0.0 <= v < 1.0), "[0, 1)"
     if name.startswith("offtake"):                 # signed: + taken from the spool, - a motor's assist
-        return (lambda v: math.isfinite(v)), "(-inf, inf) W, + taken from the spool, - delivered to it"
-    if name == "BPR" or name.endswith("_kg_m2"):
-        return (lambda v: v >= 0.0), "[0, inf)"
+        return (lambda v: abs(v) <= 1e9), "[-1e9, 1e9] W, + taken from the spool, - delivered to it"
+    if name == "BPR":
+        return (lambda v: 0.0 <= v <= 100.0), "[0, 100]"
+    if name.endswith("_kg_m2"):
+        return (lambda v: 0.0 <= v <= 1e6), "[0, 1e6] kg m^2"
     if name == "Tt4_K":
         return (lambda v: 300.0 < v <= 2200.0), "(300, 2200] K"
     if name.endswith("_rpm"):
-        return (lambda v: v > 0.0), "(0, inf) rpm"
+        return (lambda v: 0.0 < v <= 1e6), "(0, 1e6] rpm"
     if name == "T_fuel_K":
         return (lambda v: 220.0 <= v <= 550.0), "[220, 550] K"
+    if name == "alt_m":
+        return (lambda v: ALT_MIN_M <= v <= ALT_MAX_M), f"[{ALT_MIN_M:g}, {ALT_MAX_M:g}] m (the atmosphere's)"
+    if name == "W2_kg_s":
+        return (lambda v: 0.0 < v <= 1e4), "(0, 1e4] kg/s"
+    if name == "Fn_target_N":
+        return (lambda v: 0.0 < v <= 1e7), "(0, 1e7] N"
+    if name == "LHV_J_kg":
+        return (lambda v: 0.0 < v <= 2e8), "(0, 2e8] J/kg"
     return None
 
 
@@ -220,31 +253,87 @@ EngineParams = TurbojetParams | TurbofanParams
 
 
 def params_from_dict(data: dict[str, Any], where: str = "parameters") -> EngineParams:
-    """Engine parameters from a parsed parameter file; `where` names it in error messages."""
+    """Engine parameters from a parsed parameter file; `where` names it in error messages (with the line of
+    each key when `data` knows it, as :func:`.safe_yaml.load_json` gives it).
+
+    Raises
+    ------
+    ModelError
+        One line: ``where:line: 'key': what is wrong; what is allowed``.
+    """
+    def at(m: Any, key: str) -> str:
+        line = getattr(m, "lines", {}).get(key)
+        return f"{where}:{line}" if line is not None else where
+
     kinds = {"turbofan": TurbofanParams, "turbojet": TurbojetParams}
-    kind = data.get("engine")
-    if kind not in kinds:
-        raise ModelError(f"{where}: 'engine' must be one of {sorted(kinds)}, found {kind!r}")
+    try:
+        kind = values.choice(data.get("engine"), kinds)
+    except ValueError as exc:
+        raise ModelError(f"{at(data, 'engine')}: 'engine': {exc}") from None
     cls = kinds[kind]
-    allowed = {f.name for f in fields(cls)}
+    types = {f.name: str(f.type) for f in fields(cls)}
     kw: dict[str, Any] = {}
     for k, v in data.items():
+        if k in ("sources", "notes"):
+            _doc(v, f"{at(data, k)}: '{k}'")
+            continue
         if k in _DOC_KEYS and k != "name":
             continue
-        if k not in allowed:
-            raise ModelError(f"{where}: unknown parameter {k!r} for a {kind}; allowed: {', '.join(sorted(allowed))}")
-        kw[k] = v
+        if k not in types:
+            raise ModelError(f"{at(data, k)}: unknown parameter {k!r} for a {kind}; allowed: "
+                             f"{', '.join(sorted(types))}")
+        if k == "bleeds":
+            kw[k] = _bleeds(v, where, at(data, k))
+            continue
+        try:
+            kw[k] = _checked(k, types[k], v)
+        except ValueError as exc:
+            raise ModelError(f"{at(data, k)}: '{k}': {exc}") from None
     try:
-        if "bleeds" in kw:
-            kw["bleeds"] = tuple(BleedSpec(**b) for b in kw["bleeds"])
-        for f in fields(cls):
-            if f.name in kw and f.type in ("float", "float | None") and isinstance(kw[f.name], int):
-                kw[f.name] = float(kw[f.name])
         return cls(**kw)
-    except TypeError as exc:
-        raise ModelError(f"{where}: {exc}") from None
     except OutOfRangeError as exc:
         raise OutOfRangeError(f"{where}: {exc}") from None
+
+
+def _doc(v: Any, where: str) -> None:
+    """``sources`` and ``notes``: a text or a list of texts."""
+    for item in v if isinstance(v, list) else [v]:
+        try:
+            values.text(item, "a text or a list of texts")
+        except ValueError as exc:
+            raise ModelError(f"{where}: {exc}") from None
+
+
+def _bleeds(v: Any, where: str, line: str) -> tuple[BleedSpec, ...]:
+    """The ``bleeds`` list of a parameter file: objects of :class:`.bleed.BleedSpec`'s fields."""
+    if not isinstance(v, list):
+        raise ModelError(f"{line}: 'bleeds': expected a list of bleed objects, got {values.show(v)}")
+    specs = {f.name: f for f in fields(BleedSpec)}
+    out = []
+    for i, b in enumerate(v):
+        if not isinstance(b, dict):
+            raise ModelError(f"{line}: 'bleeds' item {i}: expected an object {{{', '.join(specs)}}}, "
+                             f"got {values.show(b)}")
+        lines = getattr(b, "lines", {})
+        here = f"{where}:{min(lines.values())}" if lines else line
+        kw: dict[str, Any] = {}
+        for k, x in b.items():
+            loc = f"{where}:{lines[k]}" if k in lines else here
+            if k not in specs:
+                raise ModelError(f"{loc}: bleed {i}: unknown field {k!r}; allowed: {', '.join(specs)}")
+            try:
+                kw[k] = (values.name(x, "a bleed name") if k == "name" else values.choice(x, SINKS) if k == "sink"
+                         else values.number(x))
+            except ValueError as exc:
+                raise ModelError(f"{loc}: bleed {i} '{k}': {exc}") from None
+        missing = [k for k, f in specs.items() if f.default is dataclasses.MISSING and k not in kw]
+        if missing:
+            raise ModelError(f"{here}: bleed {i}: missing field {missing[0]!r}")
+        try:
+            out.append(BleedSpec(**kw))
+        except OutOfRangeError as exc:
+            raise OutOfRangeError(f"{here}: {exc}") from None
+    return tuple(out)
 
 
 def load_params(path: str | Path) -> EngineParams:

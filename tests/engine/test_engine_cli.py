@@ -32,7 +32,7 @@ def test_bad_input_is_one_line_nonzero(tmp_path: Path, capsys: pytest.CaptureFix
     f.write_text(json.dumps({"engine": "turbofan", "W2_kg_s": 20.0, "BPR": -1.0}))
     assert main(["engine", "design", "--params", str(f)]) == 1
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "BPR=-1.0" in err and "p.json" in err
+    assert err.count("\n") == 1 and "'BPR': -1.0" in err and "p.json:1:" in err
     assert main(["engine", "design", "--params", str(tmp_path / "missing.json")]) == 1
     assert "does not exist" in capsys.readouterr().err
     with pytest.raises(SystemExit) as exc:

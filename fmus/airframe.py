@@ -52,7 +52,7 @@ class Airframe(InitialOutputs, SignalIO, Fmi2Slave):
 
     def __init__(self, **kwargs) -> None:  # type: ignore[no-untyped-def]
         super().__init__(**kwargs)
-        rwy = departure_runway(load_mission(data_file(DEFAULT_MISSION)))
+        rwy = departure_runway(load_mission(data_file(DEFAULT_MISSION, self.resources)))
         self._trim = [0.0, 0.0]
         self._model: AirframeModel | None = None
         self.register_signals(SIGNALS, {"Real": (*STATE_FIELDS, *_TRIM), "Boolean": ("on_ground",)},

@@ -138,7 +138,7 @@ class Fcs(InitialOutputs, SignalIO, Fmi2Slave):
 
     def __init__(self, **kwargs) -> None:  # type: ignore[no-untyped-def]
         super().__init__(**kwargs)
-        rwy = departure_runway(load_mission(data_file(DEFAULT_MISSION)))  # the inputs start on it
+        rwy = departure_runway(load_mission(data_file(DEFAULT_MISSION, self.resources)))  # the inputs start on it
         self.out: FcsOutput | None = None
         self.cmd = Commands()
         self.register_signals(SIGNALS, starts={"lat_deg": rwy.threshold.lat_deg, "lon_deg": rwy.threshold.lon_deg,

@@ -59,10 +59,13 @@ class InitialOutputs:
         read = self.START_INPUTS
         self._start_vrs = frozenset(vr for vr, v in self.vars.items() if v.causality == Fmi2Causality.parameter
                                     or v.causality == Fmi2Causality.input and (read is None or v.name in read))
+        # build-fmus sets ``fmi_guard`` on the slave class: what a function set on the instance for pythonfmu's C
+        # layer must be wrapped in (orchestrator/fmu/lifecycle.py); absent when the slave runs outside an FMU
+        guard = getattr(type(self), "fmi_guard", None) or (lambda fn, slave: fn)
         for kind in _KINDS:
-            self.__dict__[f"get_{kind}"] = self._checked_get(getattr(type(self), f"get_{kind}"))
-            self.__dict__[f"set_{kind}"] = self._checked_set(getattr(type(self), f"get_{kind}"),
-                                                             getattr(type(self), f"set_{kind}"))
+            self.__dict__[f"get_{kind}"] = guard(self._checked_get(getattr(type(self), f"get_{kind}")), self)
+            self.__dict__[f"set_{kind}"] = guard(self._checked_set(getattr(type(self), f"get_{kind}"),
+                                                                   getattr(type(self), f"set_{kind}")), self)
 
     def exit_initialization_mode(self) -> None:
         super().exit_initialization_mode()  # type: ignore[misc]

@@ -45,11 +45,14 @@ from .. import interrupt
 from ..errors import BuildError, EmssError
 from ..results import os_reason
 from .fmu_deps import insert_guard, link_libpython, requirements_guard, vendor_packages
+from .lifecycle import lifecycle_head, lifecycle_tail
 
 PACKAGE_ROOT = Path(__file__).resolve().parent.parent.parent  # folder holding orchestrator/, models/, fmus/
 MODELS_DIR = PACKAGE_ROOT / "models"
 DEFAULT_SOURCE_DIR = PACKAGE_ROOT / "fmus"
 BUILD_INFO = "openemss_build.json"
+#: Key of BUILD_INFO: the FMU's instances may be freed after any failure, fmi2Fatal included (fmu/lifecycle.py)
+FREE_AFTER_FAILURE = "free_after_failure"
 #: pythonfmu runs the slave in the host's interpreter: the host needs it too (requirements.txt lists it)
 PYTHONFMU_REQUIREMENT = "pythonfmu>=0.6.5"
 
@@ -189,6 +192,7 @@ def source_hash(src: SlaveSource) -> str:
         h.update(name.encode())
         h.update(f.read_bytes())
     h.update(repr(src.requirements).encode())
+    h.update((lifecycle_head("") + lifecycle_tail()).encode())  # the code build-fmus adds to the slave
     return h.hexdigest()
 
 
@@ -258,13 +262,15 @@ def _stage(src: SlaveSource, digest: str, stage: Path, options: dict[str, bool])
         _check_relative_only(lib_dir / "models")
     script = stage / f"emss_{src.name}_{digest[:10]}.py"
     code = _rewrite_imports(src.script.read_text(encoding="utf-8"), src.script, lib, sibling_names)
-    script.write_text(insert_guard(code, requirements_guard(fmu_name(src.script), src.requirements)))
+    guard = requirements_guard(fmu_name(src.script), src.requirements) + lifecycle_head(lib)
+    script.write_text(insert_guard(code, guard) + lifecycle_tail())
     req = stage / "requirements.txt"
     req.write_text("".join(f"{r}\n" for r in (*src.requirements, PYTHONFMU_REQUIREMENT)))
     info = stage / BUILD_INFO
     from .. import __version__
 
-    record = {"source": src.script.name, "source_sha256": digest, "openemss": __version__, **options}
+    record = {"source": src.script.name, "source_sha256": digest, "openemss": __version__,
+              FREE_AFTER_FAILURE: True, **options}
     if options.get("vendor"):
         record["vendored_bytes"] = vendor_packages(src.requirements, stage / "vendor")
     info.write_text(json.dumps(record, indent=2))

@@ -15,6 +15,8 @@ from .spec import StudyDef, StudyError, Variant
 
 __all__ = ["prepare_system", "expand_cases", "typed_value"]
 
+FMI_INT_MIN, FMI_INT_MAX = -(2**31), 2**31 - 1  #: an FMI 2.0 Integer is a 32-bit C int
+
 
 def prepare_system(system: Path) -> None:
     """Build the FMUs of the project's own systems (ssp/, the shipped example) once, before the cases run.
@@ -33,9 +35,11 @@ def typed_value(type_name: str, value: ValueT, where: str) -> ValueT:
     """`value` as the Python type of an FMU variable of `type_name` (Real, Integer, Enumeration, Boolean, String)."""
     if type_name == "Real" and isinstance(value, int | float) and not isinstance(value, bool):
         return float(value)
-    if type_name in ("Integer", "Enumeration") and isinstance(value, int) and not isinstance(value, bool):
-        return int(value)
-    if type_name in ("Integer", "Enumeration") and isinstance(value, float) and value.is_integer():
+    if type_name in ("Integer", "Enumeration") and not isinstance(value, bool) and (
+            isinstance(value, int) or (isinstance(value, float) and value.is_integer())):
+        if not FMI_INT_MIN <= value <= FMI_INT_MAX:
+            raise StudyError(f"{where}: {value!r} is outside the range of an FMI {type_name} "
+                             f"[{FMI_INT_MIN}, {FMI_INT_MAX}]")
         return int(value)
     if type_name == "Boolean" and isinstance(value, bool):
         return value

@@ -25,10 +25,11 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
+from openemss.models.common import values as checked
 from openemss.orchestrator.results import atomic_write
 
 from .case import write_case_ssv
-from .spec import StudyDef, StudyError, Variant, _Ctx, _grid_values, _name
+from .spec import StudyDef, StudyError, Variant, _Ctx, _grid_values, _name, _var_name
 
 __all__ = ["RedesignConfig", "parse_redesign", "cycle_redesign", "BASELINE", "REDESIGNED"]
 
@@ -59,9 +60,10 @@ def parse_redesign(study: StudyDef) -> RedesignConfig:
         if k not in KEYS:
             raise ctx.fail(d, f"redesign.{k}", f"unknown key; allowed: {', '.join(KEYS)}")
     presets = sorted(p.stem for p in PRESETS_DIR.glob("*.json"))
-    preset = d.get("preset", RedesignConfig.preset)
-    if preset not in presets:
-        raise ctx.fail(d, "redesign.preset", f"{preset!r}: expected one of {', '.join(presets)}")
+    try:
+        preset = checked.choice(d.get("preset", RedesignConfig.preset), presets)
+    except ValueError as exc:
+        raise ctx.fail(d, "redesign.preset", str(exc)) from None
     out: dict[str, Any] = {"preset": preset}
     if "component" in d:
         out["component"] = _name(ctx, d, "redesign.component", d["component"])
@@ -72,12 +74,12 @@ def parse_redesign(study: StudyDef) -> RedesignConfig:
                 raise ctx.fail(d, f"redesign.{key}", f"values from {lo:g} to {hi:g} expected")
             out[attr] = tuple(float(v) for v in vals)
     if "section" in d:
-        s = d["section"]
-        if isinstance(s, bool) or not isinstance(s, int) or s < 0:
-            raise ctx.fail(d, "redesign.section", f"{s!r}: expected a section index >= 0 (0 = the first)")
-        out["section"] = s
+        try:
+            out["section"] = checked.integer(d["section"], 0, 10**6)
+        except ValueError as exc:
+            raise ctx.fail(d, "redesign.section", f"a section index (0 = the first): {exc}") from None
     if "section_variable" in d:
-        out["section_variable"] = str(d["section_variable"])
+        out["section_variable"] = _var_name(ctx, d, "redesign.section_variable", d["section_variable"])
     if study.variants:
         raise ctx.fail(d, "redesign", "a study with a redesign block makes its own variants (baseline, "
                                       "redesigned); remove 'variants'")

@@ -26,7 +26,11 @@ grid point, a mission and a scenario is one case (:func:`expand_cases`).
 
 Parameter values are typed by the FMU variable they set (Real, Integer,
 Boolean, String); a variable that does not exist or a value of the wrong kind
-is refused before any case runs.
+is refused before any case runs. Every value of the file is typed where it is read
+(:mod:`openemss.models.common.values`: no Boolean, null, list or mapping where one value
+is, numbers finite and in range); nothing is taken twice silently: two missions or
+scenarios of one name, a file listed twice, one grid value twice, or a variable set by
+two of ``values``, a variant, the grid and ``mission_parameter`` are refused.
 """
 from __future__ import annotations
 
@@ -35,10 +39,11 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
+from collections.abc import Callable
 
 import yaml
 
-from openemss.models.common import safe_yaml
+from openemss.models.common import safe_yaml, values as checked
 from openemss.orchestrator.errors import ConfigurationError
 from openemss.orchestrator.master import algorithm_registry
 from openemss.orchestrator.results import check_name
@@ -50,6 +55,7 @@ NAME_RE = re.compile(r"^[A-Za-z0-9_.=+-]+$")
 TOP_KEYS = ("study", "description", "system", "stop_time_s", "rate_hz", "algorithm", "record", "record_every",
             "params", "values", "missions", "mission_parameter", "variants", "grid", "scenarios", "redesign")
 MAX_GRID_POINTS = 100_000
+MAX_RECORD_EVERY = 10**9  #: most steps between two recorded samples
 
 
 class StudyError(ValueError):
@@ -126,8 +132,10 @@ class _Ctx:
 def _path(ctx: _Ctx, base: Path, doc: Any, key: str, label: str, value: Any, must_exist: bool = True) -> Path:
     if not isinstance(value, str) or not value.strip():
         raise ctx.fail(doc, label, "expected a file or folder path (relative to the study file)")
-    p = Path(value).expanduser()
-    p = (base / p).resolve() if not p.is_absolute() else p
+    try:
+        p = (base / Path(value).expanduser()).resolve()
+    except (OSError, RuntimeError) as exc:  # a symlink loop, an unreadable folder
+        raise ctx.fail(doc, label, f"'{value}' cannot be resolved: {exc}") from None
     if must_exist and not p.exists():
         raise ctx.fail(doc, label, f"'{value}' does not exist (looked at {p})")
     return p
@@ -135,24 +143,41 @@ def _path(ctx: _Ctx, base: Path, doc: Any, key: str, label: str, value: Any, mus
 
 def _name(ctx: _Ctx, doc: Any, label: str, value: Any) -> str:
     """A name that becomes a folder of the study's results: one path component (not '.' or '..')."""
-    if not isinstance(value, str | int) or isinstance(value, bool) or not NAME_RE.match(str(value)):
-        raise ctx.fail(doc, label, f"{value!r}: a name of letters, digits and _ . = + - is expected")
     try:
-        return check_name(str(value), "the name")
+        text = checked.name(value)
+    except ValueError as exc:
+        raise ctx.fail(doc, label, f"{exc}; a name of letters, digits and _ . = + - is expected") from None
+    if not NAME_RE.match(text):
+        raise ctx.fail(doc, label, f"{text!r}: a name of letters, digits and _ . = + - is expected")
+    try:
+        return check_name(text, "the name")
     except ConfigurationError as exc:
         raise ctx.fail(doc, label, str(exc)) from None
 
 
 def _number(ctx: _Ctx, doc: Any, label: str, value: Any, lo: float, hi: float) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float) or not (lo <= float(value) <= hi):
-        raise ctx.fail(doc, label, f"{value!r}: expected a number from {lo:g} to {hi:g}")
-    return float(value)
+    try:
+        return checked.number(value, lo, hi)
+    except ValueError as exc:
+        raise ctx.fail(doc, label, str(exc)) from None
+
+
+def _typed(ctx: _Ctx, doc: Any, key: str, check: Callable[[Any], Any], default: Any) -> Any:
+    """The value of ``key`` of ``doc`` through ``check`` (``default`` when absent or empty)."""
+    value = doc.get(key)
+    if value is None:
+        return default
+    try:
+        return check(value)
+    except ValueError as exc:
+        raise ctx.fail(doc, key, str(exc)) from None
 
 
 def _scalar(ctx: _Ctx, doc: Any, label: str, value: Any) -> ValueT:
-    if isinstance(value, bool | int | str) or (isinstance(value, float) and math.isfinite(value)):
-        return value
-    raise ctx.fail(doc, label, f"{value!r}: expected a number, true/false or a string")
+    try:
+        return checked.scalar(value)
+    except ValueError as exc:
+        raise ctx.fail(doc, label, str(exc)) from None
 
 
 def _var_name(ctx: _Ctx, doc: Any, label: str, value: Any) -> str:
@@ -179,36 +204,87 @@ def _paths(ctx: _Ctx, base: Path, doc: Any, key: str, value: Any) -> tuple[Path,
 
 def _named_files(ctx: _Ctx, base: Path, doc: Any, key: str, value: Any,
                  allow_none: bool) -> tuple[tuple[str, Path | None], ...]:
+    """Named files (missions, scenarios): a mapping name -> file, or a list of files named by their stems
+    (two files of one stem by as much of their folders as tells them apart). A file given twice is refused."""
     if value is None:
         return ()
-    if isinstance(value, list):  # a list of files: named by their stems
-        value = _Lines({Path(str(v)).stem if v else "none": v for v in value})
+    if isinstance(value, list):
+        if not value:
+            raise ctx.fail(doc, key, "expected a mapping name: file (or a list of files), got an empty list")
+        return _listed_files(ctx, base, doc, key, value, allow_none)
     if not isinstance(value, dict) or not value:
-        raise ctx.fail(doc, key, "expected a mapping name: file (or a list of files)")
+        raise ctx.fail(doc, key, f"expected a mapping name: file (or a list of files), got {checked.show(value)}")
     out: list[tuple[str, Path | None]] = []
     for k, v in value.items():
         label = f"{key}.{k}"
-        if v is None and allow_none:
-            out.append((_name(ctx, value, label, k), None))
-        else:
-            out.append((_name(ctx, value, label, k), _path(ctx, base, value, k, label, v)))
+        name = _name(ctx, value, label, k)
+        out.append((name, None if v is None and allow_none else _path(ctx, base, value, k, label, v)))
+    _distinct(ctx, doc, key, out)
     return tuple(out)
 
 
+def _listed_files(ctx: _Ctx, base: Path, doc: Any, key: str, items: list[Any],
+                  allow_none: bool) -> tuple[tuple[str, Path | None], ...]:
+    paths = [None if v is None and allow_none else _path(ctx, base, doc, key, f"{key}[{i}]", v)
+             for i, v in enumerate(items)]
+    _distinct(ctx, doc, key, [(str(v), p) for v, p in zip(items, paths, strict=True) if p is not None])
+    parts = [p.parts if p is not None else ("none",) for p in paths]
+    depth = 1
+    while True:  # the shortest tail of the path that names each file apart (the stem, then its folders)
+        names = ["_".join((*part[-depth:-1], Path(part[-1]).stem)) if part != ("none",) else "none"
+                 for part in parts]
+        if len(set(names)) == len(names) or depth >= max(len(part) for part in parts):
+            break
+        depth += 1
+    out = [(_name(ctx, doc, f"{key}[{i}]", n), p) for i, (n, p) in enumerate(zip(names, paths, strict=True))]
+    _distinct(ctx, doc, key, out)
+    return tuple(out)
+
+
+def _distinct(ctx: _Ctx, doc: Any, key: str, named: list[tuple[str, Path | None]]) -> None:
+    """Refuse a name or a file given twice: each would run the same case twice, or one hide the other."""
+    seen: dict[Any, str] = {}
+    for name, path in named:
+        for what in (("name", name.lower()), ("file", path)):
+            if what[1] is None:
+                continue
+            if what in seen:
+                given = f"the file {path}" if what[0] == "file" else f"the name '{name}'"
+                raise ctx.fail(doc, key, f"{given} is given twice (as '{seen[what]}' and '{name}'); give each "
+                               "once")
+            seen[what] = name
+
+
 def _grid_values(ctx: _Ctx, doc: Any, label: str, value: Any) -> tuple[ValueT, ...]:
+    """The values of one grid axis: a list, or a range {from, to, num}; each finite, none twice."""
     if isinstance(value, dict):
         unknown = set(value) - {"from", "to", "num"}
         if unknown or not {"from", "to", "num"} <= set(value):
             raise ctx.fail(doc, label, "a range is {from: X, to: Y, num: N}")
         a = _number(ctx, value, label + ".from", value["from"], -math.inf, math.inf)
         b = _number(ctx, value, label + ".to", value["to"], -math.inf, math.inf)
-        n = value["num"]
-        if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_GRID_POINTS:
-            raise ctx.fail(value, label + ".num", f"{n!r}: expected an integer from 1 to {MAX_GRID_POINTS}")
-        return tuple(a + (b - a) * i / (n - 1) if n > 1 else a for i in range(n))
-    if not isinstance(value, list) or not value:
-        raise ctx.fail(doc, label, "expected a non-empty list of values or {from, to, num}")
-    return tuple(_scalar(ctx, doc, label, v) for v in value)
+        try:
+            n = checked.integer(value["num"], 1, MAX_GRID_POINTS)
+        except ValueError as exc:
+            raise ctx.fail(value, label + ".num", str(exc)) from None
+        # a (1 - t) + b t, not a + (b - a) t: b - a overflows from -1e308 to 1e308 (NaN cases)
+        vals: tuple[ValueT, ...] = tuple(a * (1.0 - i / (n - 1)) + b * (i / (n - 1)) if n > 1 else a
+                                         for i in range(n))
+        if not all(math.isfinite(v) for v in vals):  # type: ignore[arg-type]
+            raise ctx.fail(value, label, f"the range from {a:g} to {b:g} gives values that are not finite numbers")
+    elif isinstance(value, list) and value:
+        vals = tuple(_scalar(ctx, doc, label, v) for v in value)
+    else:
+        raise ctx.fail(doc, label, f"expected a non-empty list of values or {{from, to, num}}, got "
+                       f"{checked.show(value)}")
+    seen: set[tuple[type, ValueT]] = set()
+    for v in vals:
+        key = (bool if isinstance(v, bool) else str if isinstance(v, str) else float, v)
+        if key in seen:
+            raise ctx.fail(doc, label, f"the value {v!r} is given twice (each case would run twice); give each "
+                           "value once")
+        seen.add(key)
+    return vals
 
 
 def _variants(ctx: _Ctx, base: Path, doc: Any, value: Any) -> tuple[Variant, ...]:
@@ -247,17 +323,17 @@ def parse_study(doc: Any, source: Path) -> StudyDef:
     for k in ("study", "system"):
         if k not in doc:
             raise StudyError(f"{source}: field '{k}' is required")
-    algorithm = doc.get("algorithm", algorithm_registry.DEFAULT)
-    if algorithm not in algorithm_registry.REGISTRY:
-        raise ctx.fail(doc, "algorithm", f"{algorithm!r}: expected one of {', '.join(algorithm_registry.names())}")
+    try:
+        algorithm = checked.choice(doc.get("algorithm", algorithm_registry.DEFAULT), algorithm_registry.names())
+    except ValueError as exc:
+        raise ctx.fail(doc, "algorithm", str(exc)) from None
     record = doc.get("record") or []
     if isinstance(record, str):
         record = [record]
-    if not isinstance(record, list) or not all(isinstance(r, str) for r in record):
+    if not isinstance(record, list) or not all(isinstance(r, str) and r.strip() for r in record):
         raise ctx.fail(doc, "record", "expected a list of component.variable patterns")
-    every = doc.get("record_every", 1)
-    if isinstance(every, bool) or not isinstance(every, int) or every < 1:
-        raise ctx.fail(doc, "record_every", f"{every!r}: expected an integer >= 1")
+    every = _typed(ctx, doc, "record_every", lambda v: checked.integer(v, 1, MAX_RECORD_EVERY), 1)
+    description = _typed(ctx, doc, "description", checked.text, "")
     grid_doc = doc.get("grid") or _Lines()
     if not isinstance(grid_doc, dict):
         raise ctx.fail(doc, "grid", "expected a mapping component.variable: [values] or {from, to, num}")
@@ -270,10 +346,10 @@ def parse_study(doc: Any, source: Path) -> StudyDef:
         raise ctx.fail(doc, "redesign", "expected a mapping (see studies/engine_redesign.yaml)")
     stop = doc.get("stop_time_s")
     rate = doc.get("rate_hz")
-    return StudyDef(
+    study = StudyDef(
         name=_name(ctx, doc, "study", doc["study"]), source=source.resolve(),
         system=_path(ctx, base, doc, "system", "system", doc["system"]),
-        description=str(doc.get("description") or ""),
+        description=description,
         stop_time_s=None if stop is None else _number(ctx, doc, "stop_time_s", stop, 1e-9, 1e9),
         rate_hz=None if rate is None else _number(ctx, doc, "rate_hz", rate, 0.1, 100.0),
         algorithm=algorithm, record=tuple(record), record_every=every,
@@ -287,6 +363,28 @@ def parse_study(doc: Any, source: Path) -> StudyDef:
         scenarios=_named_files(ctx, base, doc, "scenarios", doc.get("scenarios"), True),
         redesign=redesign,  # keeps the line of each key for errors
     )
+    _set_once(ctx, doc, study)
+    return study
+
+
+def _set_once(ctx: _Ctx, doc: Any, study: StudyDef) -> None:
+    """Refuse a variable that two parts of the study set (one would silently replace the other in a case):
+    ``values``, a variant's values, the grid, the missions (``mission_parameter``)."""
+    setters: list[tuple[str, Any, str]] = [("values", doc.get("values"), k) for k, _ in study.values]
+    variants = doc.get("variants") if isinstance(doc.get("variants"), list) else []
+    for i, v in enumerate(study.variants):
+        setters += [(f"variants[{i}].values", variants[i].get("values"), k) for k, _ in v.values]
+    setters += [("grid", doc.get("grid"), k) for k, _ in study.grid]
+    if study.missions:
+        setters.append(("missions", doc, study.mission_parameter))
+    first: dict[str, str] = {}
+    for part, where, var in setters:
+        earlier = first.get(var)
+        if earlier is not None and not (earlier.startswith("variants[") and part.startswith("variants[")):
+            raise ctx.fail(where if isinstance(where, dict) else doc, var if part != "missions" else "missions",
+                           f"'{var}' is set by both {earlier} and {part}: one would replace the other in every case; "
+                           "set it in one place")
+        first.setdefault(var, part)
 
 
 def load_study(path: str | Path) -> StudyDef:

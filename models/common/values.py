@@ -45,8 +45,7 @@ def show(v: Any) -> str:
     if isinstance(v, str):
         shown = repr(v if len(v) <= 40 else v[:37] + "...")
         if _NUMBER_TEXT.match(v):
-            hint = ("; YAML reads a number with an exponent but no decimal point, 1e5, as text: write 1.0e5"
-                    if "." not in v and "e" in v.lower() else "")
+            hint = ("; YAML reads 1e5 and 1.0e5 as text: write 1.0e+5" if re.search(r"[eE]\d", v) else "")
             return f"the text {shown} (write a number without quotes{hint})"
         return f"the text {shown}"
     if isinstance(v, dict):

@@ -39,10 +39,10 @@ def test_cases_are_every_combination_typed_as_the_fmu_variables(tmp_path: Path, 
 
 
 @pytest.mark.parametrize(("text", "line", "needle"), [
-    ("study: x\nsystem: {osc}\nstop_time_s: -1\n", 3, "field 'stop_time_s': -1: expected a number"),
+    ("study: x\nsystem: {osc}\nstop_time_s: -1\n", 3, "field 'stop_time_s': value -1 outside the allowed range [1e-09,"),
     ("study: x\nsystem: {osc}\ngrid:\n  mass1.m1_kg: []\n", 4, "field 'grid.mass1.m1_kg': expected a non-empty list"),
     ("study: x\nsystem: {osc}\ngrid:\n  m1_kg: [1]\n", 4, "field 'grid.m1_kg': 'm1_kg': expected component.variable"),
-    ("study: x\nsystem: {osc}\nrate_hz: 500\n", 3, "field 'rate_hz': 500: expected a number from 0.1 to 100"),
+    ("study: x\nsystem: {osc}\nrate_hz: 500\n", 3, "field 'rate_hz': value 500 outside the allowed range [0.1, 100.0]"),
     ("study: x\nsystem: nowhere\n", 2, "field 'system': 'nowhere' does not exist"),
     ("study: x\nsystem: {osc}\nmissoins: {{}}\n", 3, "field 'missoins': unknown key"),
     ("study: x\nsystem: {osc}\nvariants:\n  - {{name: a}}\n  - {{name: a}}\n", 3, "two variants are named 'a'"),

@@ -13,7 +13,8 @@
   registering its release) runs whole; the signal is raised at its end.
 * :func:`report`: the one line and the exit code.
 
-The run itself stops between two steps instead (:func:`openemss.orchestrator.results.stop_on_signals`).
+The run itself stops between two steps instead (:func:`openemss.orchestrator.results.stop_on_signals`, told to
+:func:`stopping_run`).
 """
 from __future__ import annotations
 
@@ -29,7 +30,7 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 __all__ = ["Interrupted", "install", "received", "phase", "deferred", "entered_whole", "report", "HOLD_ENV",
-           "NOTHING_RUN", "signal_of"]
+           "NOTHING_RUN", "signal_of", "stopping_run"]
 
 SIGNALS = (signal.SIGINT, signal.SIGTERM)
 #: ``KEY=FILE``: on entering the phase ``KEY`` the program writes its pid to ``FILE`` and waits there for a
@@ -59,7 +60,7 @@ class Phase:
 
 
 _state: dict[str, Any] = {"phase": Phase("start-up", "during start-up", NOTHING_RUN), "signals": [],
-                          "deferring": 0, "raised": False}
+                          "deferring": 0, "raised": False, "run_stop": False}
 
 
 def _handler(signum: int, frame: object) -> None:
@@ -85,6 +86,14 @@ def install() -> None:
                 signal.signal(s, _handler)
 
 
+def stopping_run(signum: int) -> None:
+    """Note a signal the run takes as a request to stop after its current step (safe in a signal handler):
+    a second signal then does not cut the run's closing (run.json, the lock), a third ends the process, and
+    the report of the interrupted run is still made."""
+    _state["signals"].append(signum)
+    _state["run_stop"] = True
+
+
 def received() -> int:
     """The first signal received since :func:`install` (0 for none)."""
     seen: list[int] = _state["signals"]
@@ -99,7 +108,7 @@ def phase(key: str, during: str, outcome: str | None = None) -> None:
     """Enter a phase: ``during`` says what the program does, ``outcome`` what an interruption now leaves
     (None keeps the current one). A signal received but swallowed meanwhile is raised here."""
     _state["phase"] = Phase(key, during, current().outcome if outcome is None else outcome)
-    if received() and not _state["deferring"]:
+    if received() and not _state["deferring"] and not _state["run_stop"]:
         raise Interrupted(received())
     hold = os.environ.get(HOLD_ENV, "")
     name, _, marker = hold.partition("=")

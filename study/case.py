@@ -31,6 +31,7 @@ from openemss.orchestrator.master import algorithm_registry
 from openemss.orchestrator.results import atomic_write, check_name
 
 from .child import PARENT_ENV
+from .lock import LOCK_NAME, wait_released
 
 __all__ = ["CaseDef", "CaseResult", "command", "run_case", "read_done", "DONE_FILE", "CASE_SSV"]
 
@@ -38,6 +39,8 @@ DONE_FILE = "done.json"
 #: Exit codes of a case ended by SIGINT or SIGTERM (emss run stops cleanly with 128 + the signal).
 INTERRUPTED_CODES = (128 + signal.SIGINT, 128 + signal.SIGTERM)
 CASE_SSV = "case.ssv"
+#: How long a case waits for an earlier attempt of it to release its folder [s]; then its run says it is busy.
+RELEASE_TIMEOUT_S = 60.0
 ValueT = float | int | bool | str
 
 
@@ -169,6 +172,7 @@ def run_case(case: CaseDef, out: str, attempt: int = 1) -> CaseResult:
     """
     folder = case_dir(out, case.name)
     folder.mkdir(parents=True, exist_ok=True)
+    wait_released(folder / LOCK_NAME, RELEASE_TIMEOUT_S)  # an earlier attempt still stopping (its worker died)
     (folder / DONE_FILE).unlink(missing_ok=True)
     for stale in ("run.json", "summary.json"):
         (folder / stale).unlink(missing_ok=True)

@@ -1,8 +1,11 @@
 """``python -m openemss.study.child ARGS``: ``emss ARGS`` in a case's own process, tied to its worker.
 
-On Linux the process asks to be killed when the worker process that started it
-dies (``PR_SET_PDEATHSIG``), so that the retry of a case whose worker was killed
-never shares the case folder with an orphan of the first attempt.
+On Linux the process asks for SIGTERM when the worker process that started it
+dies (``PR_SET_PDEATHSIG``): it then stops as ``emss run`` does on SIGTERM (its rows
+kept, run.json closed, its folder's lock released), and the retry of the case waits
+for that lock (:func:`.case.run_case`), so that it never shares the case folder
+with an orphan of the first attempt. Signals are handled as by the ``emss`` command
+(:func:`openemss.orchestrator.cli.entry.emss`).
 """
 from __future__ import annotations
 
@@ -19,7 +22,7 @@ def _tie_to_parent() -> None:
     import ctypes
 
     try:
-        ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGKILL))  # PR_SET_PDEATHSIG
+        ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGTERM))  # PR_SET_PDEATHSIG
     except (OSError, AttributeError):
         return
     expected = os.environ.get(PARENT_ENV)
@@ -30,9 +33,9 @@ def _tie_to_parent() -> None:
 def main() -> int:
     """Run the ``emss`` command with this process's arguments."""
     _tie_to_parent()
-    from openemss.orchestrator.cli.main import main as emss_main
+    from openemss.orchestrator.cli.entry import emss
 
-    return emss_main(sys.argv[1:])
+    return emss(sys.argv[1:])
 
 
 if __name__ == "__main__":

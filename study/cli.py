@@ -20,8 +20,11 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from openemss.orchestrator import interrupt
 from openemss.orchestrator.cli.main import finite_number, folder_name
+from openemss.orchestrator.results import os_reason
 
+from .lock import study_lock
 from .spec import StudyDef, StudyError, load_study
 
 __all__ = ["register", "run_study", "cmd_run", "cmd_cases"]
@@ -118,9 +121,6 @@ def run_study(path: Path, out: Path | None = None, scheduler: str | None = None,
     """Run a study file end to end; returns what the command prints (see ``--json``)."""
     from dataclasses import replace
 
-    from .plan import expand_cases
-    from .runner import run_cases
-
     study = load_study(path)
     if stop_time_s is not None:
         if not (0.0 < stop_time_s < 1e9):
@@ -129,7 +129,21 @@ def run_study(path: Path, out: Path | None = None, scheduler: str | None = None,
     if workers is not None and workers < 1:
         raise StudyError(f"--workers {workers}: must be an integer >= 1")
     folder = (out or Path("results") / f"study-{study.name}").resolve()
-    folder.mkdir(parents=True, exist_ok=True)
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise StudyError(f"--out {folder}: cannot create the study folder: {os_reason(exc)}") from None
+    with study_lock(folder):  # one study run per folder
+        interrupt.phase("study", "during the study", f"the cases done so far are kept in {folder}; run the study "
+                                                     "again to go on")
+        return _run_locked(study, folder, scheduler, workers, retry_failed)
+
+
+def _run_locked(study: StudyDef, folder: Path, scheduler: str | None, workers: int | None,
+                retry_failed: bool) -> dict[str, Any]:
+    from .plan import expand_cases
+    from .runner import run_cases
+
     study, redesign = _with_redesign(study, folder)
     cases = expand_cases(study)
     outcome = run_cases(cases, folder, scheduler=scheduler, workers=workers, retry_failed=retry_failed)

@@ -10,6 +10,7 @@ case, and the progress (done, running, failed, waiting, ETA) goes to stderr.
 from __future__ import annotations
 
 import collections
+import contextlib
 import os
 import sys
 import time
@@ -18,7 +19,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TextIO
 
-from .case import CaseDef, CaseResult, read_done, run_case
+from .case import CaseDef, CaseResult, case_dir, read_done, run_case
+from .lock import LOCK_NAME, wait_released
 from .spec import StudyError
 from .table import write_table
 
@@ -27,6 +29,8 @@ __all__ = ["StudyOutcome", "Progress", "run_cases", "TABLE_FILE"]
 TABLE_FILE = "study.csv"
 #: Attempts of a case whose worker or process died (the first run and one retry).
 MAX_ATTEMPTS = 2
+#: How long an interrupted study waits for its running cases to stop [s] (a run stops after its current step).
+STOP_TIMEOUT_S = 60.0
 Task = Callable[[CaseDef, str, int], CaseResult]
 
 
@@ -103,6 +107,17 @@ def _client(scheduler: str | None, workers: int) -> tuple[Any, Any]:
     return Client(cluster), cluster
 
 
+def _stop(client: Any, cluster: Any, out: Path, running: Sequence[CaseDef]) -> None:
+    """Close the cluster (its workers end; each running case's process gets SIGTERM from its worker's end,
+    :mod:`.child`) and wait for those cases to stop, their folders' locks released and run.json closed."""
+    with contextlib.suppress(Exception):  # the study ends: whatever the cluster says while closing
+        client.close()
+        if cluster is not None:
+            cluster.close()
+    for c in running:
+        wait_released(case_dir(out, c.name) / LOCK_NAME, STOP_TIMEOUT_S)
+
+
 def run_cases(cases: Sequence[CaseDef], out: Path, scheduler: str | None = None, workers: int | None = None,
               retry_failed: bool = False, task: Task = run_case, stream: TextIO | None = None) -> StudyOutcome:
     """Run every case not yet done into ``out/cases/<name>``; write ``out/study.csv``.
@@ -155,13 +170,13 @@ def run_cases(cases: Sequence[CaseDef], out: Path, scheduler: str | None = None,
     # was still waiting is not charged an attempt for it.
     with dask.config.set({"distributed.scheduler.allowed-failures": 0, "distributed.scheduler.worker-saturation": 1.0}):
         client, cluster = _client(scheduler, n_workers)
+        by_key: dict[str, tuple[CaseDef, int]] = {}
         try:
             slots = sum(client.nthreads().values()) or n_workers
             outcome.workers = len(client.nthreads())
             progress = Progress(len(cases), len(skipped), slots, stream)
             where = f"scheduler {scheduler}" if scheduler else f"a LocalCluster of {n_workers} worker process(es)"
             progress.note(f"{len(todo)} case(s) to run on {where} ({len(skipped)} already done); results in {out}")
-            by_key: dict[str, tuple[CaseDef, int]] = {}
             pending: set[Any] = set()
             waiting: collections.deque[tuple[CaseDef, int]] = collections.deque((c, 1) for c in todo)
 
@@ -203,8 +218,13 @@ def run_cases(cases: Sequence[CaseDef], out: Path, scheduler: str | None = None,
                     write_table(table, cases, results, ran)
                     progress.case(r, len(pending) + len(waiting))
                 fill()
+        except KeyboardInterrupt:  # SIGINT or SIGTERM: the running cases stop as emss run does, then we go
+            _stop(client, cluster, out, [c for c, _ in by_key.values()])
+            client = cluster = None
+            raise
         finally:
-            client.close()
+            if client is not None:
+                client.close()
             if cluster is not None:
                 cluster.close()
     outcome.wall_time_s = time.perf_counter() - t0

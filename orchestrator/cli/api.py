@@ -380,7 +380,7 @@ def _run(system: Path, sysdef: SystemDef, out: Path, stop_time: float | None, pa
         say(line)
     error: BaseException | None = None
     try:
-        with stop_on_signals(ex.request_stop):
+        with stop_on_signals(lambda signum: (interrupt.stopping_run(signum), ex.request_stop(signum))):
             ex.run(stop)
     except (EmssError, KeyboardInterrupt) as exc:
         error = RunInterrupted(interrupt.signal_of(exc), ex.time_s) if isinstance(exc, KeyboardInterrupt) else exc

@@ -353,8 +353,7 @@ def build_fmu(script: Path, out_dir: Path, vendor: bool = False, link: bool = Fa
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
         with tempfile.TemporaryDirectory(prefix="emss_build_") as tmp:
-            interrupt.phase("build-stage", f"while building {target.name}")
-            built = _build_in(src, digest, options, Path(tmp))
+            built = _build_in(src, digest, options, Path(tmp), target.name)
             atomic_copy(built, target)
     except OSError as exc:
         where = f"{exc.filename}: " if exc.filename else ""
@@ -364,13 +363,14 @@ def build_fmu(script: Path, out_dir: Path, vendor: bool = False, link: bool = Fa
     return target
 
 
-def _build_in(src: SlaveSource, digest: str, options: dict[str, bool], tmp: Path) -> Path:
+def _build_in(src: SlaveSource, digest: str, options: dict[str, bool], tmp: Path, name: str) -> Path:
     """Stage, build (pythonfmu, in a child process whose temporary files stay in ``tmp``), complete and
-    validate the FMU of ``src`` in the folder ``tmp``; returns the FMU there."""
+    validate the FMU ``name`` of ``src`` in the folder ``tmp``; returns the FMU there."""
     script = src.script
     stage = tmp / "stage"
     stage.mkdir()
     staged, project_files = _stage(src, digest, stage, options)
+    interrupt.phase("build-stage", f"while building {name}")
     dest = tmp / "out"
     code = ("import sys; from pythonfmu.builder import FmuBuilder; "
             "p = FmuBuilder.build_FMU(sys.argv[1], dest=sys.argv[2], project_files=sys.argv[3:]); print(p)")

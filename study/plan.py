@@ -69,10 +69,10 @@ def expand_cases(study: StudyDef) -> list[CaseDef]:
     try:
         bound = bind_system(load_system(study.system), list(study.params))
     except EmssError as exc:
-        raise StudyError(f"{study.source}: field 'system': {str(exc).splitlines()[0]}") from None
+        raise StudyError(f"{study.where('system')}: {str(exc).splitlines()[0]}") from None
 
     def typed(path: str, value: ValueT, field_name: str) -> ValueT:
-        where = f"{study.source}: field '{field_name}'"
+        where = study.where(field_name)
         try:
             _, var = bound.variable(path)
         except EmssError:

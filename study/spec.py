@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 from collections.abc import Callable
@@ -108,6 +108,14 @@ class StudyDef:
     grid: tuple[tuple[str, tuple[ValueT, ...]], ...] = ()
     scenarios: tuple[tuple[str, Path | None], ...] = ()
     redesign: dict[str, Any] = field(default_factory=dict)
+    #: the line of each field that sets a variable ('values.k', 'variants[i].values.k', 'grid.k', 'system',
+    #: 'mission_parameter'), for the errors of the checks against the system (:mod:`.plan`)
+    lines: tuple[tuple[str, int], ...] = ()
+
+    def where(self, label: str) -> str:
+        """``file:line: field 'label'`` (the line where known)."""
+        line = dict(self.lines).get(label)
+        return f"{self.source}{f':{line}' if line else ''}: field '{label}'"
 
 
 class _Ctx:
@@ -364,7 +372,25 @@ def parse_study(doc: Any, source: Path) -> StudyDef:
         redesign=redesign,  # keeps the line of each key for errors
     )
     _set_once(ctx, doc, study)
-    return study
+    return replace(study, lines=tuple(_field_lines(doc)))
+
+
+def _field_lines(doc: Any) -> list[tuple[str, int]]:
+    """The line of each field that names a variable or the system (see :attr:`StudyDef.lines`)."""
+    def line(m: Any, key: Any) -> int | None:
+        return getattr(m, "lines", {}).get(key)
+
+    out = [(k, line(doc, k)) for k in ("system", "mission_parameter", "missions")]
+    for key in ("values", "grid"):
+        m = doc.get(key)
+        if isinstance(m, dict):
+            out += [(f"{key}.{k}", line(m, k) or line(doc, key)) for k in m]
+    variants = doc.get("variants")
+    for i, v in enumerate(variants if isinstance(variants, list) else []):
+        m = v.get("values") if isinstance(v, dict) else None
+        if isinstance(m, dict):
+            out += [(f"variants[{i}].values.{k}", line(m, k) or line(v, "values")) for k in m]
+    return [(label, n) for label, n in out if n is not None]
 
 
 def _set_once(ctx: _Ctx, doc: Any, study: StudyDef) -> None:

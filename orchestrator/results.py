@@ -128,6 +128,42 @@ def check_archive(zf: zipfile.ZipFile, archive: Path | str) -> None:
         raise ConfigurationError(f"{problems[0][0]}: {problems[0][1]}")
 
 
+def lock_file(lock: Path, where: str, busy: str) -> int:
+    """The descriptor of the file ``lock``, exclusively locked (flock; released by the system if the holder
+    dies). The lock file is removed by its holder when done; a lock taken on a file removed meanwhile is
+    taken again. A link in its place is replaced, never followed.
+
+    Raises
+    ------
+    ConfigurationError
+        ``where: busy (pid N); ...`` when another process holds it (N read from the file), or when it
+        cannot be created.
+    """
+    for _ in range(5):
+        try:
+            if lock.is_symlink():
+                lock.unlink()
+            fd = os.open(lock, os.O_RDWR | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0), 0o644)
+        except OSError as exc:
+            raise ConfigurationError(f"{where}: cannot create its lock file: {os_reason(exc)}") from None
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            holder = os.pread(fd, 64, 0).decode("ascii", "replace").strip() or "?"
+            os.close(fd)
+            raise ConfigurationError(f"{where}: {busy} (pid {holder}); wait for it to end or give another "
+                                     "folder") from None
+        held = os.fstat(fd)
+        try:
+            now = os.stat(lock, follow_symlinks=False)
+        except FileNotFoundError:
+            now = None
+        if now is not None and (now.st_ino, now.st_dev) == (held.st_ino, held.st_dev):
+            return fd
+        os.close(fd)  # the previous holder removed the file between our open and our lock: again
+    raise ConfigurationError(f"{where}: cannot take its lock (it keeps changing)")
+
+
 class ResultsFolder:
     """The folder of one run: checked, locked for the run, cleared of what earlier runs wrote, and kept
     from replacing anything else.
@@ -207,32 +243,8 @@ class ResultsFolder:
         return self
 
     def _lock(self, lock: Path) -> int:
-        """The descriptor of ``lock``, exclusively locked (flock; released by the system if the run dies).
-        The lock file is removed when the run ends; a lock taken on a file removed meanwhile is taken again."""
-        for _ in range(5):
-            try:
-                if lock.is_symlink():
-                    lock.unlink()
-                fd = os.open(lock, os.O_RDWR | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0), 0o644)
-            except OSError as exc:
-                raise ConfigurationError(f"{self.what} {self.path}: cannot create its lock file: "
-                                         f"{os_reason(exc)}") from None
-            try:
-                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-            except OSError:
-                holder = os.pread(fd, 64, 0).decode("ascii", "replace").strip() or "?"
-                os.close(fd)
-                raise ConfigurationError(f"{self.what} {self.path}: the results folder is in use by another run "
-                                         f"(pid {holder}); wait for it to end or give another folder") from None
-            held = os.fstat(fd)
-            try:
-                now = os.stat(lock, follow_symlinks=False)
-            except FileNotFoundError:
-                now = None
-            if now is not None and (now.st_ino, now.st_dev) == (held.st_ino, held.st_dev):
-                return fd
-            os.close(fd)  # the previous run removed the file between our open and our lock: again
-        raise ConfigurationError(f"{self.what} {self.path}: cannot take the folder's lock (it keeps changing)")
+        """The descriptor of ``lock``, exclusively locked (:func:`lock_file`)."""
+        return lock_file(lock, f"{self.what} {self.path}", "the results folder is in use by another run")
 
     # -- the manifest ---------------------------------------------------------------------------
     def _read_manifest(self) -> dict[str, list[int]]:

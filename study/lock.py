@@ -18,17 +18,11 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from openemss.orchestrator import interrupt
-from openemss.orchestrator.results import LOCK_NAME, os_reason
-
-from .spec import StudyError
+from openemss.orchestrator.results import LOCK_NAME, lock_file
 
 __all__ = ["STUDY_LOCK", "study_lock", "held", "wait_released", "LOCK_NAME"]
 
 STUDY_LOCK = ".emss-study.lock"
-
-
-def _open(lock: Path) -> int:
-    return os.open(lock, os.O_RDWR | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0), 0o644)
 
 
 def held(lock: Path) -> bool:
@@ -62,7 +56,7 @@ def study_lock(folder: Path, what: str = "--out") -> Iterator[Path]:
 
     Raises
     ------
-    StudyError
+    ConfigurationError
         When another study run holds it (naming its pid), or the lock file cannot be made.
     """
     lock = Path(folder) / STUDY_LOCK
@@ -79,26 +73,9 @@ def study_lock(folder: Path, what: str = "--out") -> Iterator[Path]:
 
 
 def _take(lock: Path, what: str) -> int:
-    """The descriptor of ``lock``, exclusively locked, holding this process's pid."""
-    folder = lock.parent
-    for _ in range(5):
-        try:
-            fd = _open(lock)
-        except OSError as exc:
-            raise StudyError(f"{what} {folder}: cannot create the study's lock file {lock.name}: "
-                             f"{os_reason(exc)}") from None
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
-            holder = os.pread(fd, 64, 0).decode("ascii", "replace").strip() or "?"
-            os.close(fd)
-            raise StudyError(f"{what} {folder}: the study folder is in use by another study run (pid {holder}); "
-                             "wait for it to end or give another folder") from None
-        with contextlib.suppress(OSError):
-            now, mine = os.stat(lock, follow_symlinks=False), os.fstat(fd)
-            if (now.st_ino, now.st_dev) == (mine.st_ino, mine.st_dev):
-                os.ftruncate(fd, 0)
-                os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
-                return fd
-        os.close(fd)  # the previous holder removed the file between our open and our lock: again
-    raise StudyError(f"{what} {folder}: cannot take the study's lock (it keeps changing)")
+    """The descriptor of ``lock``, exclusively locked (:func:`openemss.orchestrator.results.lock_file`),
+    holding this process's pid."""
+    fd = lock_file(lock, f"{what} {lock.parent}", "the study folder is in use by another study run")
+    os.ftruncate(fd, 0)
+    os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
+    return fd

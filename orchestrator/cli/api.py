@@ -328,8 +328,9 @@ def run(system: Path | str | None = None, *, stop_time: float | None = None, par
             return _run(system, sysdef, out, stop_time, params, set, scenario, rate, algorithm, step_multiple,
                         record, record_inputs, record_every, format, until, realtime, status, pre_run, post_run,
                         progress, say)
-        except KeyboardInterrupt as exc:
-            _record_not_run(out, system, exc)
+        except BaseException as exc:  # a signal, also one that surfaced as an FMU's error (its code cut)
+            if isinstance(exc, KeyboardInterrupt) or interrupt.received():
+                _record_not_run(out, system, exc)
             raise
 
 

@@ -52,6 +52,11 @@ class SystemStructureError(EmssError):
         super().__init__(first + more)
 
 
+class SettingError(SystemStructureError, ConfigurationError):
+    """``--set`` values (or the Python API's ``set=``) that cannot be applied: malformed, given twice, naming
+    no variable, or not of the variable's type; every problem named by its item (``--set 'a.k=nan'``)."""
+
+
 class SlaveError(EmssError):
     """An FMU returned error/fatal/discard, or a Python slave raised.
 

@@ -40,7 +40,7 @@ from openemss.models.fcs.errors import FcsError
 from openemss.models.fcs.feasibility import MissionCheck, check_mission
 from openemss.models.fcs.feasibility_perf import Limits, from_dotted
 from openemss.models.fcs.geo import LatLon
-from openemss.models.fcs.mission import Mission, load_mission, parse_mission
+from openemss.models.fcs.mission import Mission, load_mission, parse_mission_file
 from openemss.models.fcs.weather import Turbulence, Weather, WindLayer, WindProfile, parse_weather_text
 
 from .errors import ReportError
@@ -294,7 +294,7 @@ def pre_run(components: Mapping[str, Path], parameters: Mapping[str, Any]) -> li
         return []
     text, source = setup.mission_file
     try:
-        mission = parse_mission(text, source)
+        mission = parse_mission_file(text, source)
     except FcsError:
         return []  # the flight control refuses it at its start, with the file and line
     warnings = setup_warnings(mission, setup)

@@ -64,7 +64,7 @@ from .tecs import SpeedCommand, SpeedKind
 from .weather import WEATHER_KEYS, Weather, parse_weather
 
 __all__ = ["SECTION_TYPES", "SECTION_FIELDS", "Section", "Mission", "load_mission", "parse_mission",
-           "speed_from_mapping", "departure_runway"]
+           "parse_mission_file", "speed_from_mapping", "departure_runway"]
 
 #: The fields of each section type (a view on :data:`.sections.REGISTRY`, where each type's class
 #: declares them): field -> (kind, required, default, (min, max) or choices, unit and help).
@@ -370,11 +370,17 @@ def load_mission(path: str | Path) -> Mission:
         text = safe_yaml.read_text(p, "mission file")
     except safe_yaml.YamlError as e:
         raise MissionError(str(e)) from None
-    if p.suffix == ".plan":
+    return parse_mission_file(text, str(p))
+
+
+def parse_mission_file(text: str, source: str) -> Mission:
+    """Validate the text of a mission file named ``source``: a QGroundControl plan when ``source`` ends in
+    ``.plan`` (converted, errors naming the plan's lines), else a mission YAML file."""
+    if source.endswith(".plan"):
         from .qgc import parse_plan
 
-        return parse_plan(text, str(p))
-    return parse_mission(text, str(p))
+        return parse_plan(text, source)
+    return parse_mission(text, source)
 
 
 def departure_runway(mission: Mission) -> Any:

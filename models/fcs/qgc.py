@@ -24,6 +24,7 @@ QGroundControl Developer Guide, "Plan File Format"; MAVLink common message set.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from importlib import resources
 from typing import TYPE_CHECKING, Any
@@ -228,7 +229,7 @@ def parse_plan(text: str, source: str = "<plan>") -> Mission:
     converted, rd = _convert(text, source)
     tag = f"{source} (converted)"
     try:
-        return parse_mission(converted, tag)
+        return dataclasses.replace(parse_mission(converted, tag), source=source)
     except MissionError as exc:
         msg = str(exc)
         head, _, rest = msg.partition(": ")

@@ -14,9 +14,7 @@ Example
 from __future__ import annotations
 
 import difflib
-import math
 import sys
-import tempfile
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -26,16 +24,17 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .. import interrupt
-from ..errors import ConfigurationError, EmssError
+from ..errors import ConfigurationError, EmssError, Problem, SettingError
 from ..fmu.build import PACKAGE_ROOT, ensure_built
 from ..master.execution import Execution
 from ..results import ResultsError, ResultsFolder, RunInterrupted, atomic_write, check_name, stop_on_signals
-from ..scenarios.manipulators import INT32_RANGE, ScenarioManipulator, load_scenario
+from ..scenarios.manipulators import ScenarioManipulator, load_scenario
 from ..scenarios.observers import Progress, RealTimePacer, RunRecord
 from ..scenarios.timeseries import DEFAULT_FORMAT, FILE_NAMES, TimeSeries, default_record, read_timeseries, recorder
-from ..ssp.model import SystemDef
+from ..ssp.model import ParameterValue, SystemDef
 from ..ssp.read import load_system
-from ..ssp.system import BoundSystem, bind_system
+from ..ssp.system import BoundSystem, VariableInfo, bind_system
+from ..ssp.values import ValueT, is_file_parameter, parse_value, short
 
 if TYPE_CHECKING:
     import pandas
@@ -45,7 +44,7 @@ __all__ = ["run", "RunResult", "load", "DEFAULT_SYSTEM"]
 #: The system run without a SYSTEM argument: the project's coupled system in ssp/ (the Munich mission).
 DEFAULT_SYSTEM = PACKAGE_ROOT / "ssp"
 MIN_REALTIME, MAX_REALTIME = 1e-3, 1e6  #: pacing factors allowed (a factor of 1e-300 would sleep for ever)
-ValueT = bool | int | float | str
+SETTINGS_FILE = "cli_parameters.ssv"  #: the ``--set`` values as a parameter set, kept with a run's results
 
 
 @dataclass
@@ -120,23 +119,30 @@ class RunResult:
 def load(system: Path | str | SystemDef, params: Sequence[Path | str] = (),
          settings: Mapping[str, Any] | Sequence[str] = (), folder: Path | None = None) -> BoundSystem:
     """Bind ``system`` (read once, here or by the caller) with its parameter sets and ``settings``
-    (``{"comp.var": value}`` or ``["comp.var=value"]``), typed by the variables they set, written as one
-    more parameter set (``cli_parameters.ssv``) into ``folder`` (the results, so a run records what it
-    was given) and applied last. An unknown name is refused with the closest names of the system."""
+    (``{"comp.var": value}`` or ``["comp.var=value"]``), typed by the variables they set and applied
+    last, as one more parameter set whose messages name each item (``--set 'a.k=nan': ...``). With
+    ``folder`` (the results), the settings are also written there as ``cli_parameters.ssv``, so that
+    a run records what it was given; nothing is written elsewhere.
+
+    Raises
+    ------
+    SettingError
+        With every item that is malformed, given twice, names no variable (with the closest names of
+        the system) or whose value is not one of the variable's type.
+    SystemStructureError
+        With every problem of the system and its parameter sets.
+    """
+    items = setting_items(settings)
     sysdef = system if isinstance(system, SystemDef) else load_system(Path(system))
     params = [Path(p) for p in params]
     model_descriptions: dict[Path, Any] = {}
     bound = bind_system(sysdef, params, model_descriptions)
-    items = _setting_items(settings)
     if not items:
         return bound
-    from lxml import etree
-
-    from ..ssp.write import ParameterSet
-
-    values: dict[str, ValueT] = {}
+    problems: list[Problem] = []
+    values: list[ParameterValue] = []
     every: list[str] | None = None
-    for path, text, item in items:
+    for path, text, where in items:
         try:
             _, var = bound.variable(path)
         except EmssError:
@@ -144,51 +150,87 @@ def load(system: Path | str | SystemDef, params: Sequence[Path | str] = (),
             close = difflib.get_close_matches(path, every, n=3, cutoff=0.6)
             hint = f"; did you mean {', '.join(close)}?" if close else " (write component.variable with a " \
                                                                        "component of this system)"
-            raise ConfigurationError(f"--set {item!r}: no variable '{path}'{hint}") from None
-        if not isinstance(text, str):  # a Python value: as it would be written on the command line
-            text = str(text).lower() if isinstance(text, bool) else str(text)
-        values[path] = typed(text, var.type_name, item)
-    target = (folder or Path(tempfile.mkdtemp(prefix="emss-set-"))) / "cli_parameters.ssv"
-    target.parent.mkdir(parents=True, exist_ok=True)
-    atomic_write(target, etree.tostring(ParameterSet("cli_parameters", values).element(), xml_declaration=True,
-                                        encoding="UTF-8", pretty_print=True))
-    return bind_system(sysdef, [*params, target], model_descriptions)
+            problems.append(Problem(where, f"no variable '{path}'{hint}"))
+            continue
+        try:
+            values.append(ParameterValue(path, var.type_name, typed(text, var), None, where))
+        except ValueError as exc:
+            problems.append(Problem(where, f"not a valid {var.type_name} value: {short(text)} is {exc}"))
+    if problems:
+        raise SettingError(problems)
+    if folder is not None:
+        from lxml import etree
+
+        from ..ssp.write import ParameterSet
+
+        folder.mkdir(parents=True, exist_ok=True)
+        atomic_write(folder / SETTINGS_FILE, etree.tostring(
+            ParameterSet("cli_parameters", {v.name: v.value for v in values}).element(), xml_declaration=True,
+            encoding="UTF-8", pretty_print=True))
+    return bind_system(sysdef, params, model_descriptions, settings=values)
 
 
-def _setting_items(settings: Mapping[str, Any] | Sequence[str]) -> list[tuple[str, Any, str]]:
+def setting_items(settings: Mapping[str, Any] | Sequence[str]) -> list[tuple[str, str, str]]:
+    """(variable, value as text, where: ``--set 'item'``) of every setting; a Python value is written as on
+    the command line (``True`` as ``true``).
+
+    Raises
+    ------
+    SettingError
+        For items without ``=`` and for a variable given twice (the last would silently win).
+    """
+    if isinstance(settings, str):
+        settings = [settings]
+    pairs: list[tuple[str, Any, str]] = []
     if isinstance(settings, Mapping):
-        return [(str(k).strip(), v, f"{k}={v}") for k, v in settings.items()]
+        pairs = [(str(k).strip(), v, f"{k}={v}") for k, v in settings.items()]
+    else:
+        for item in settings:
+            path, eq, text = str(item).partition("=")
+            pairs.append((path.strip() if eq else "", text.strip(), str(item)))
+    problems: list[Problem] = []
+    first: dict[str, str] = {}
     out = []
-    for item in settings:
-        path, eq, text = str(item).partition("=")
-        if not eq:
-            raise ConfigurationError(f"--set {item!r}: write component.variable=value")
-        out.append((path.strip(), text.strip(), str(item)))
+    for path, value, item in pairs:
+        where = f"--set {short(item, 80)}"
+        if not path:
+            problems.append(Problem(where, "write component.variable=value"))
+            continue
+        if path in first:
+            problems.append(Problem(where, f"'{path}' is given twice (first: {first[path]}); give each parameter "
+                                           "once"))
+            continue
+        first[path] = where
+        text = value if isinstance(value, str) else str(value).lower() if isinstance(value, bool) else str(value)
+        out.append((path, text, where))
+    if problems:
+        raise SettingError(problems)
     return out
 
 
-def typed(text: str, type_name: str, item: str) -> ValueT:
-    """``text`` as a value of an FMI type; a String that names an existing file becomes its absolute path."""
-    try:
-        if type_name == "Real":
-            value = float(text)
-            if not math.isfinite(value):
-                raise ValueError
-            return value
-        if type_name in ("Integer", "Enumeration"):
-            ivalue = int(text)
-            if not INT32_RANGE[0] <= ivalue <= INT32_RANGE[1]:
-                raise ConfigurationError(f"--set {item!r}: outside the range of an FMI Integer "
-                                         f"({INT32_RANGE[0]} to {INT32_RANGE[1]})")
-            return ivalue
-        if type_name == "Boolean":
-            if text.lower() not in ("true", "false", "1", "0"):
-                raise ValueError
-            return text.lower() in ("true", "1")
-    except ValueError:
-        raise ConfigurationError(f"--set {item!r}: not a valid {type_name} value"
-                                 + (" (a finite number)" if type_name == "Real" else "")) from None
-    return str(Path(text).resolve()) if Path(text).is_file() else text
+def typed(text: str, var: VariableInfo) -> ValueT:
+    """``text`` as a value of the variable ``var`` (:func:`..ssp.values.parse_value`; an enumeration by item
+    name or value). A String stays the text given, except for a file parameter (its name ends in ``_file``):
+    a relative path naming a file in the working directory becomes that file's absolute path, so that the FMU
+    (which takes relative paths from its own resources folder) opens the user's file.
+
+    Raises
+    ------
+    ValueError
+        Saying what is allowed.
+    """
+    if var.enum_items is not None:
+        if text.strip() in var.enum_items:
+            return var.enum_items[text.strip()]
+        value = parse_value("Integer", text)
+        if value not in var.enum_items.values():
+            raise ValueError("not an item of the enumeration (allowed: "
+                             + ", ".join(f"{k} ({v})" for k, v in var.enum_items.items()) + ")")
+        return value
+    value = parse_value(var.type_name, text)
+    if is_file_parameter(var.name, var.type_name) and text and Path(text).is_file():
+        return str(Path(text).resolve())
+    return value
 
 
 def default_system() -> Path:
@@ -200,12 +242,13 @@ def default_system() -> Path:
 
 def ensure_project_fmus(system: Path, report: Callable[[str], None] | None = None) -> None:
     """The project's own systems (ssp/ and its sub-folders, e.g. ssp/hybrid/) get their FMUs built from fmus/
-    when they are missing or stale."""
+    when they are missing or stale; ``report`` (default: stderr) hears of each FMU built, nothing of those up
+    to date."""
     project = PACKAGE_ROOT / "ssp"
     if system.is_dir() and project.is_dir() and project.resolve() in (system.resolve(), system.resolve().parent):
         before = interrupt.current()
         interrupt.phase("build", "during the FMU build")
-        ensure_built(PACKAGE_ROOT / "fmus", system / "resources",
+        ensure_built(PACKAGE_ROOT / "fmus", system / "resources", report_up_to_date=False,
                      report=report or (lambda m: print(m, file=sys.stderr)))
         interrupt.phase(before.key, before.during, before.outcome)
 
@@ -311,9 +354,10 @@ def run(system: Path | str | None = None, *, stop_time: float | None = None, par
         For bad input (one line: what, where, what is allowed), before anything runs.
     """
     say = warn or (lambda line: print(f"emss run: warning: {line}", file=sys.stderr))
+    setting_items(set)  # malformed or repeated items are refused before anything is built or read
     system = Path(system) if system is not None else default_system()
     interrupt.phase("start", "before the run", interrupt.NOTHING_RUN)
-    ensure_project_fmus(system)
+    ensure_project_fmus(system, say)
     interrupt.phase("load", "while loading the system", interrupt.NOTHING_RUN)
     sysdef = load_system(system)  # the one reading of the SSD in this run
     if out is None:  # the default folder is named after the system: that name must be one path component
@@ -367,7 +411,7 @@ def _run(system: Path, sysdef: SystemDef, out: Path, stop_time: float | None, pa
                         {"system_name": bound.definition.name, "stop_time_s": stop,
                          "scenario": str(scenario) if scenario else None, "format": fmt},
                         reporters=[pacer] if pacer else [])
-    record_.add_files([FILE_NAMES[fmt]] + (["cli_parameters.ssv"] if settings else []))
+    record_.add_files([FILE_NAMES[fmt]] + ([SETTINGS_FILE] if settings else []))
     bar = Progress(stop, status=hooks.status_variable(bound, status)) if progress else None
     for o in (pacer, rec, record_, bar):
         if o is not None:

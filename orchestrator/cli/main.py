@@ -250,7 +250,7 @@ def _describe(bound: BoundSystem) -> dict[str, Any]:
     names = [c.name for c in bound.components]
     return {
         "name": sysdef.name,
-        "ssd": str(sysdef.ssd_path),
+        "ssd": sysdef.origin.shown(sysdef.ssd_path),
         "default_experiment": {"start_time_s": sysdef.start_time_s, "stop_time_s": sysdef.stop_time_s},
         "rate_hz": 1.0 / sysdef.step_size_s if sysdef.step_size_s else DEFAULT_RATE_HZ,
         "components": [{
@@ -344,7 +344,7 @@ def _fmu_problems(bound: BoundSystem) -> list[Problem]:
     problems: list[Problem] = []
     for path in sorted({c.fmu_path for c in bound.components}):
         for message in validate_fmu(str(path)):
-            problems.append(Problem(str(path), f"fmpy validate: {message.strip()}"))
+            problems.append(Problem(bound.definition.origin.shown(path), f"fmpy validate: {message.strip()}"))
     return problems
 
 

@@ -2,12 +2,39 @@
 and the writer."""
 from __future__ import annotations
 
+import os
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import Problem
 from .units import Unit
+
+
+@dataclass(frozen=True)
+class Origin:
+    """Where the files of a system come from, for messages and confinement: a folder (``archive`` None),
+    or the ``.ssp`` archive the user gave, extracted into the folder ``root`` (a real path).
+
+    Every message names a file as the user knows it: ``archive.ssp!SystemStructure.ssd``, never
+    the temporary folder the archive was extracted into (removed when the run ends).
+    """
+
+    archive: Path | None = None
+    root: str = ""
+
+    def inside(self, path: Path | str) -> bool:
+        """Whether ``path`` (after ``..`` and links) is inside the archive; always True for a folder."""
+        if self.archive is None:
+            return True
+        real = os.path.realpath(path)
+        return real == self.root or real.startswith(self.root.rstrip(os.sep) + os.sep)
+
+    def shown(self, path: Path | str) -> str:
+        """``path`` as the user knows it: as given, or ``archive.ssp!entry`` for a file of the archive."""
+        if self.archive is None or not self.inside(path):
+            return str(path)
+        return f"{self.archive}!{Path(os.path.relpath(os.path.realpath(path), self.root)).as_posix()}"
 
 
 @dataclass(frozen=True)
@@ -209,6 +236,8 @@ class SystemDef:
     step_size_s : float | None
         Master step [s] from the DefaultExperiment's OSP annotation
         (``osp:Algorithm/osp:FixedStepAlgorithm@baseStepSize``, as libcosim reads it), None when absent.
+    origin : Origin
+        The folder or ``.ssp`` archive the files come from; ``origin.shown(path)`` names a file in messages.
     """
 
     name: str
@@ -223,6 +252,7 @@ class SystemDef:
     step_size_s: float | None = None
     archive_dir: tempfile.TemporaryDirectory[str] | None = field(default=None, compare=False, repr=False)
     problems: tuple[Problem, ...] = ()  # found while flattening; bind_system reports them with its own
+    origin: Origin = field(default_factory=Origin)  # the folder or archive the files come from (for messages)
 
     def component(self, name: str) -> ComponentDef:
         """The component called ``name``; KeyError if there is none."""

@@ -2,7 +2,9 @@
 
 Order of application (later wins): each component's own bindings, then the
 system-level bindings (nested systems' bindings with their path as prefix), then
-the ``--params`` files. Within a binding, a name is first prefixed, then looked
+the ``--params`` files, then ``--set``. Within one binding (one parameter set) a variable
+is set once: a second value for it (the same name twice, two mapped names, aliases) is a
+problem naming both places, never the last silently winning. Within a binding, a name is first prefixed, then looked
 up in the binding's parameter mapping: a mapped parameter goes to the mapping
 entry's target, through its transformation; an unmapped one keeps its name. A
 value whose unit differs from the variable's is converted (unless the mapping
@@ -24,6 +26,7 @@ from .model import (
 )
 from .system_model import BoundSystem, ParameterAssignment, VariableInfo
 from .units import Unit
+from .values import INT32_RANGE
 
 
 def _coerce(value: float | int | bool | str, type_name: str, var: VariableInfo) -> float | int | bool | str | None:
@@ -40,8 +43,8 @@ def _out_of_range(value: float | int | bool | str, type_name: str) -> str:
     not finite (a transformation can overflow), an Integer beyond 32 bits (it would wrap silently)."""
     if type_name == "Real" and not math.isfinite(float(value)):  # type: ignore[arg-type]
         return f"value {value} is not a finite number"
-    if type_name in ("Integer", "Enumeration") and not -(2 ** 31) <= int(value) <= 2 ** 31 - 1:  # type: ignore[arg-type]
-        return f"value {value} is outside the range of an FMI Integer (-2147483648 to 2147483647)"
+    if type_name in ("Integer", "Enumeration") and not INT32_RANGE[0] <= int(value) <= INT32_RANGE[1]:  # type: ignore[arg-type]
+        return f"value {value} is outside the range of an FMI Integer ({INT32_RANGE[0]} to {INT32_RANGE[1]})"
     return ""
 
 
@@ -83,6 +86,7 @@ def resolve_parameters(bound: BoundSystem, bindings: list[tuple[ParameterBinding
     ssd_units = bound.definition.units
     resolved: dict[tuple[int, str, int], ParameterAssignment] = {}
     for binding, owner in bindings:
+        first: dict[tuple[int, str, int], str] = {}  # variable -> where this binding set it
         mapping: dict[str, list[MappingEntryDef]] = {}
         for entry in binding.mapping:
             mapping.setdefault(entry.source, []).append(entry)
@@ -133,5 +137,11 @@ def resolve_parameters(bound: BoundSystem, bindings: list[tuple[ParameterBinding
                 if out_of_range:
                     problems.append(Problem(pv.where, f"parameter '{name}': {out_of_range}"))
                     continue
-                resolved[(idx, var.type_name, var.vr)] = ParameterAssignment(idx, var, coerced, pv.where)
+                key = (idx, var.type_name, var.vr)
+                if key in first:
+                    problems.append(Problem(pv.where, f"parameter '{name}': given twice (first at {first[key]}); "
+                                                      "give each parameter once"))
+                    continue
+                first[key] = pv.where
+                resolved[key] = ParameterAssignment(idx, var, coerced, pv.where)
     return list(resolved.values())

@@ -8,6 +8,7 @@ problems are collected before failing.
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 
 from fmpy import read_model_description
@@ -15,7 +16,7 @@ from fmpy.model_description import ModelDescription
 
 from ..errors import Problem, SystemStructureError
 from .conversion import ConversionError, discrete_path, real_path
-from .model import ComponentDef, FlatConnection, ParameterBindingDef, SystemDef
+from .model import ComponentDef, FlatConnection, Origin, ParameterBindingDef, ParameterValue, SystemDef
 from .parameters import resolve_parameters
 from .read import read_ssv
 from .system_model import (  # re-exported: the types of a bound system are named through this module too
@@ -57,10 +58,10 @@ def _fmu_units(md: ModelDescription) -> dict[str, Unit]:
 
 
 def _load_component(c: ComponentDef, cache: dict[Path, ModelDescription], enumerations: dict[str, dict[str, int]],
-                    problems: list[Problem]) -> ComponentModel | None:
+                    origin: Origin, problems: list[Problem]) -> ComponentModel | None:
     if not c.source_path.is_file():
         problems.append(Problem(c.where, f"component '{c.name}': FMU file '{c.source}' not found "
-                                         f"(looked for {c.source_path})"))
+                                         f"(looked for {origin.shown(c.source_path)})"))
         return None
     md = cache.get(c.source_path)
     if md is None:
@@ -144,8 +145,10 @@ def _link(conn: FlatConnection, comps: dict[str, tuple[int, ComponentModel]], ss
 
 
 def bind_system(sysdef: SystemDef, parameter_files: list[Path] | tuple[Path, ...] = (),
-                model_descriptions: dict[Path, ModelDescription] | None = None) -> BoundSystem:
-    """Resolve a system against its FMUs; ``parameter_files`` (.ssv, system-level names) override the SSD.
+                model_descriptions: dict[Path, ModelDescription] | None = None,
+                settings: Sequence[ParameterValue] = ()) -> BoundSystem:
+    """Resolve a system against its FMUs; ``parameter_files`` (.ssv, system-level names) override the SSD,
+    and ``settings`` (system-level names, one parameter set: ``--set``) override them.
 
     Raises
     ------
@@ -163,7 +166,7 @@ def bind_system(sysdef: SystemDef, parameter_files: list[Path] | tuple[Path, ...
         if c.name in names:
             problems.append(Problem(c.where, f"two components are named '{c.name}'; names must be unique"))
         names.add(c.name)
-        m = _load_component(c, cache, sysdef.enumerations, problems)
+        m = _load_component(c, cache, sysdef.enumerations, sysdef.origin, problems)
         if m is not None:
             models.append(m)
     comps = {m.name: (i, m) for i, m in enumerate(models)}
@@ -180,6 +183,8 @@ def bind_system(sysdef: SystemDef, parameter_files: list[Path] | tuple[Path, ...
             bindings.append((ParameterBindingDef("", values, str(f), (), units), None))
         except SystemStructureError as exc:
             problems.extend(exc.problems)
+    if settings:
+        bindings.append((ParameterBindingDef("", tuple(settings), settings[0].where), None))
     bound = BoundSystem(sysdef, models, links)
     if len(models) == len(sysdef.components):
         bound.parameters = resolve_parameters(bound, bindings, problems)

@@ -40,7 +40,6 @@ from openemss.models.engine.engine_model import (
     condition_from_ambient,
 )
 from openemss.models.engine.engine_signals import DESIGN_FIELDS, FLAMEOUT_STARVED, SIGNALS
-from openemss.models.engine.errors import FlameoutError
 from openemss.models.engine.fuel_supply import FuelSupply
 
 REQUIREMENTS = ["numpy>=1.24", "scipy>=1.10", "numba>=0.59"]
@@ -97,9 +96,6 @@ class Engine(InitialOutputs, SignalIO, Fmi2Slave):
         return p
 
     def compute_start(self) -> None:
-        if not self.fuel_kg > 0.0:
-            raise FlameoutError(f"engine: no fuel to start on: its input fuel_kg (the tanks feeding it) is "
-                                f"{self.fuel_kg:g} kg; give the aircraft fuel (e.g. the airframe's fuel0_kg > 0)")
         m = EngineModel(self._params(), I_lp_kg_m2=self.I_lp_kg_m2 or None, I_hp_kg_m2=self.I_hp_kg_m2 or None,
                         dt_internal_s=self.dt_internal_s, method="heun" if self.integrator == 1 else "euler",
                         tol=self.tol, limits=EngineLimits(self.N1_max_pct, self.N2_max_pct, self.FAR_lean,

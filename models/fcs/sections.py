@@ -34,6 +34,7 @@ from .approach import AutoLand, centreline_steer
 from .atmosphere import cas_from_tas, isa
 from .geo import LatLon, wrap_pi
 from .guidance import L1Guidance, OrbitTracker, WaypointSequencer
+from .runway_checks import check_on_runway
 from .state import AircraftState, Targets
 from .tecs import SpeedCommand, SpeedKind
 from .vertical import SectionVnav
@@ -72,6 +73,10 @@ class SectionType:
         ``guidance.outer_period_s`` only, its targets held in between (its step must not integrate
         ``dt_s``). False (the default) for the sections that fly the aircraft near the ground
         (take-off, landing) or by the clock (custom commands): they run every step.
+    departs_from_runway : bool
+        A ground run on the section's ``runway``: a mission that begins with it starts there, on the ground
+        (:func:`.runway_checks.check_departure`), and the aircraft must not leave the runway on the ground
+        (:func:`.runway_checks.check_on_runway`).
     """
 
     type_name: ClassVar[str] = ""
@@ -79,6 +84,7 @@ class SectionType:
     completion: ClassVar[str] = ""
     speed_field: ClassVar[str | None] = "speed"
     outer_rate: ClassVar[bool] = False
+    departs_from_runway: ClassVar[bool] = False
 
     def __init__(self, sec: Section, x: AircraftState, t_s: float, ctx: MissionRunner) -> None:
         self.sec, self.t0, self.ctx = sec, t_s, ctx
@@ -99,11 +105,21 @@ class SectionType:
         """The last waypoint of the completed section when it was flown by (the next leg starts there)."""
         return None
 
+    @property
+    def label(self) -> str:
+        """The section as messages name it (:func:`section_label`)."""
+        return section_label(self.sec)
+
     def targets(self, **kw: Any) -> Targets:
         return Targets.make(self.sec.index, self.sec.name, self.sec.type, **kw)
 
     def step(self, t_s: float, dt_s: float, x: AircraftState) -> Targets:  # pragma: no cover - abstract
         raise NotImplementedError
+
+
+def section_label(sec: Section) -> str:
+    """A section as messages name it: ``section 0 (Rolling 'take-off roll')``."""
+    return f"section {sec.index} ({sec.type} '{sec.name}')"
 
 
 #: The section types by their ``type`` name, in the order of the documentation: the one registry
@@ -125,6 +141,7 @@ class Rolling(SectionType):
 
     type_name = "Rolling"
     speed_field = None
+    departs_from_runway = True
     completion = "calibrated airspeed >= ``rotate_cas_m_s``"
     fields: ClassVar[dict[str, Field]] = {
         "runway": ("runway", True, None, None, "runway of the take-off roll"),
@@ -136,6 +153,7 @@ class Rolling(SectionType):
         s, rwy = self.sec, self.sec["runway"]
         cas = cas_from_tas(x.tas_m_s, isa(x.alt_m, x.dT_isa_K))
         self.done = cas >= s["rotate_cas_m_s"]
+        check_on_runway(rwy, x, t_s, self.label, cas, f"rotation at {s['rotate_cas_m_s']:g} m/s")
         steer = centreline_steer(rwy, self.ctx.approach_params, x.pos, x.psi_rad)
         return self.targets(phase="ROLL", theta_cmd_rad=self.ctx.approach_params.theta_ground_rad, lever=s["lever"],
                             phi_cmd_rad=0.0, align_heading_rad=rwy.heading_rad, track_cmd_rad=rwy.heading_rad,
@@ -148,6 +166,7 @@ class TakeOff(SectionType):
 
     type_name = "TakeOff"
     speed_field = "climb_speed"
+    departs_from_runway = True
     completion = "height above the runway >= ``until_height_agl_m`` (after lift-off)"
     fields: ClassVar[dict[str, Field]] = {
         "runway": ("runway", True, None, None, "runway (centre line and elevation)"),
@@ -174,6 +193,9 @@ class TakeOff(SectionType):
                       gear_down=self.gear_down)
         if not self.climbing and not x.on_ground and h_agl > ap.climb_engage_agl_m:
             self.climbing = True
+        if x.on_ground:
+            check_on_runway(rwy, x, t_s, self.label, cas_from_tas(x.tas_m_s, isa(x.alt_m, x.dT_isa_K)),
+                            f"rotating to {s['pitch_deg']:g} deg of pitch")
         if not self.climbing:
             self.theta_cmd = min(self.theta_cmd + math.radians(s["rotation_rate_deg_s"]) * dt_s,
                                  math.radians(s["pitch_deg"]))

@@ -22,7 +22,8 @@ from .geo import LatLon
 from .guidance import L1Guidance
 from .mission import Mission
 from .performance import Performance
-from .sections import REGISTRY, SectionType
+from .runway_checks import check_departure
+from .sections import REGISTRY, SectionType, section_label
 from .state import AircraftState, Targets
 from .tecs import SpeedCommand, TecsParams
 from .vertical import HoldRecord
@@ -109,6 +110,8 @@ class MissionRunner:
         while not self.finished:
             sec = self.mission.sections[self.active_index]
             if self._exec is None:
+                if not self.history and REGISTRY[sec.type].departs_from_runway:  # the mission's start
+                    check_departure(sec["runway"], x, section_label(sec), self.mission.source)
                 self._exec = REGISTRY[sec.type](sec, x, t_s, self)
                 self.history.append((t_s, sec.index, sec.name))
             tg = self._exec.step(t_s, dt_s, x)

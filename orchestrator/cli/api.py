@@ -132,14 +132,14 @@ def load(system: Path | str | SystemDef, params: Sequence[Path | str] = (),
     SystemStructureError
         With every problem of the system and its parameter sets.
     """
-    items = setting_items(settings)
+    problems: list[Problem] = []
+    items = setting_items(settings, problems)
     sysdef = system if isinstance(system, SystemDef) else load_system(Path(system))
     params = [Path(p) for p in params]
     model_descriptions: dict[Path, Any] = {}
     bound = bind_system(sysdef, params, model_descriptions)
-    if not items:
+    if not items and not problems:
         return bound
-    problems: list[Problem] = []
     values: list[ParameterValue] = []
     every: list[str] | None = None
     for path, text, where in items:
@@ -170,15 +170,18 @@ def load(system: Path | str | SystemDef, params: Sequence[Path | str] = (),
     return bind_system(sysdef, params, model_descriptions, settings=values)
 
 
-def setting_items(settings: Mapping[str, Any] | Sequence[str]) -> list[tuple[str, str, str]]:
-    """(variable, value as text, where: ``--set 'item'``) of every setting; a Python value is written as on
-    the command line (``True`` as ``true``).
+def setting_items(settings: Mapping[str, Any] | Sequence[str],
+                  problems: list[Problem] | None = None) -> list[tuple[str, str, str]]:
+    """(variable, value as text, where: ``--set 'item'``) of every well-formed setting; a Python value is
+    written as on the command line (``True`` as ``true``). Items without ``=`` and a variable given twice
+    (the last would silently win) are added to ``problems``, or raised without it.
 
     Raises
     ------
     SettingError
-        For items without ``=`` and for a variable given twice (the last would silently win).
+        Without ``problems``, for the items that are not well formed.
     """
+    own: list[Problem] = []
     if isinstance(settings, str):
         settings = [settings]
     pairs: list[tuple[str, Any, str]] = []
@@ -188,23 +191,23 @@ def setting_items(settings: Mapping[str, Any] | Sequence[str]) -> list[tuple[str
         for item in settings:
             path, eq, text = str(item).partition("=")
             pairs.append((path.strip() if eq else "", text.strip(), str(item)))
-    problems: list[Problem] = []
     first: dict[str, str] = {}
     out = []
     for path, value, item in pairs:
         where = f"--set {short(item, 80)}"
         if not path:
-            problems.append(Problem(where, "write component.variable=value"))
+            own.append(Problem(where, "write component.variable=value"))
             continue
         if path in first:
-            problems.append(Problem(where, f"'{path}' is given twice (first: {first[path]}); give each parameter "
-                                           "once"))
+            own.append(Problem(where, f"'{path}' is given twice (first: {first[path]}); give each parameter once"))
             continue
         first[path] = where
         text = value if isinstance(value, str) else str(value).lower() if isinstance(value, bool) else str(value)
         out.append((path, text, where))
-    if problems:
-        raise SettingError(problems)
+    if problems is None and own:
+        raise SettingError(own)
+    if problems is not None:
+        problems.extend(own)
     return out
 
 

@@ -329,39 +329,20 @@ def _repository_path(source: str) -> str:
 
 # -- emss mission check -----------------------------------------------------------------------
 def _bind(system: Path, params: Sequence[Path], settings: Sequence[str]) -> tuple[dict[str, Path], dict[str, Any]]:
-    """Components (name -> FMU) and bound parameters of a system with its parameter sets and ``--set`` values."""
+    """Components (name -> FMU) and bound parameters of a system with its parameter sets and ``--set`` values,
+    the values read as ``emss run`` reads them (:func:`openemss.orchestrator.cli.api.load`: typed by their
+    variables, finite, none twice)."""
+    from openemss.orchestrator.cli.api import load
     from openemss.orchestrator.fmu.build import PACKAGE_ROOT, ensure_built
-    from openemss.orchestrator.errors import ConfigurationError, EmssError
-    from openemss.orchestrator.ssp.read import load_system
-    from openemss.orchestrator.ssp.system import bind_system
 
     project = PACKAGE_ROOT / "ssp"
     if system.is_dir() and project.is_dir() and system.resolve() == project.resolve():
         ensure_built(PACKAGE_ROOT / "fmus", project / "resources",
                      report=lambda m: None if m.startswith("up to date") else print(m, file=sys.stderr))
-    bound = bind_system(load_system(system), list(params))
+    bound = load(system, list(params), list(settings))
     components = {c.name: c.fmu_path for c in bound.components}
     values: dict[str, Any] = {f"{bound.components[p.component].name}.{p.variable.name}": p.value
                               for p in bound.parameters}
-    for item in settings:
-        path, eq, text = item.partition("=")
-        try:
-            if not eq:
-                raise EmssError
-            _, var = bound.variable(path.strip())
-        except EmssError:
-            raise ConfigurationError(f"--set {item!r}: write component.variable=value with a variable of the "
-                                     "system") from None
-        text = text.strip()
-        try:
-            value: Any = {"Real": float, "Integer": int}.get(var.type_name, str)(text)
-        except ValueError:
-            raise ConfigurationError(f"--set {item!r}: not a valid {var.type_name} value") from None
-        if var.type_name == "Boolean":
-            value = text.lower() in ("true", "1")
-        elif var.type_name == "String" and Path(text).is_file():
-            value = str(Path(text).resolve())
-        values[path.strip()] = value
     return components, values
 
 

@@ -309,3 +309,27 @@ def test_design_override_on_a_preset_sized_by_thrust(project_fmus: dict[str, Pat
     assert setup.engine.PR_hpc == _fmu_start(project_fmus["engine"], "design_PR_hpc")
     lines = pre_run(comps, bound)
     assert all(ln.startswith("mission check: ") for ln in lines)
+
+
+@pytest.fixture(scope="module")
+def system(project_fmus: dict[str, Path], tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The project's system (ssp/SystemStructure.ssd) with the FMUs built for this session."""
+    folder = tmp_path_factory.mktemp("system")
+    shutil.copy(ROOT / "ssp" / "SystemStructure.ssd", folder)
+    (folder / "resources").mkdir()
+    for name, fmu in (("fcs", "Fcs.fmu"), ("engine", "Engine.fmu"), ("airframe", "Airframe.fmu")):
+        shutil.copy(project_fmus[name], folder / "resources" / fmu)
+    return folder
+
+
+@pytest.mark.parametrize("value", ["nan", "1e999", "yes"])
+def test_mission_check_reads_set_values_as_emss_run_does(system: Path, tmp_path: Path, value: str,
+                                                         capsys: pytest.CaptureFixture[str]) -> None:
+    """``--set airframe.fuel0_kg=nan`` was taken by Python's float: a NaN take-off mass, no word."""
+    mission = tmp_path / "m.yaml"
+    mission.write_text(MISSION, encoding="utf-8")
+    rc, err = run(capsys, "mission", "check", str(mission), "--system", str(system), "--set",
+                  f"airframe.fuel0_kg={value}")
+    err = [ln for ln in err if not ln.startswith(("built:", "up to"))]
+    assert rc == 1 and len(err) == 1 and "internal error" not in err[0], err
+    assert "--set" in err[0] and f"airframe.fuel0_kg={value}" in err[0] and "not a valid Real value" in err[0], err

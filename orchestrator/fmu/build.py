@@ -43,6 +43,7 @@ from openemss.models.common.files import atomic_copy
 
 from .. import interrupt
 from ..errors import BuildError, EmssError
+from ..master.slave import BUILD_RECORD, FREE_AFTER_FAILURE
 from ..results import os_reason
 from .fmu_deps import insert_guard, link_libpython, requirements_guard, vendor_packages
 from .lifecycle import lifecycle_head, lifecycle_tail
@@ -50,9 +51,7 @@ from .lifecycle import lifecycle_head, lifecycle_tail
 PACKAGE_ROOT = Path(__file__).resolve().parent.parent.parent  # folder holding orchestrator/, models/, fmus/
 MODELS_DIR = PACKAGE_ROOT / "models"
 DEFAULT_SOURCE_DIR = PACKAGE_ROOT / "fmus"
-BUILD_INFO = "openemss_build.json"
-#: Key of BUILD_INFO: the FMU's instances may be freed after any failure, fmi2Fatal included (fmu/lifecycle.py)
-FREE_AFTER_FAILURE = "free_after_failure"
+BUILD_INFO = BUILD_RECORD
 #: pythonfmu runs the slave in the host's interpreter: the host needs it too (requirements.txt lists it)
 PYTHONFMU_REQUIREMENT = "pythonfmu>=0.6.5"
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import atexit
 import collections
+import json
 import shutil
 import tempfile
 import time
@@ -35,6 +36,20 @@ from ..ssp.system_model import ComponentModel, VariableInfo
 
 _STATUS = ("ok", "warning", "discard", "error", "fatal", "pending")
 _EXTRACTED: dict[tuple[str, int, int], str] = {}
+#: The record build-fmus writes into an FMU's resources folder (fmu/build.py) and its key saying that the FMU's
+#: instances may be freed after any failure, fmi2Fatal included (fmu/lifecycle.py: pythonfmu reports every
+#: Python exception as fmi2Fatal, after which FMI 2.0 allows no call to an FMU that does not say so)
+BUILD_RECORD = "openemss_build.json"
+FREE_AFTER_FAILURE = "free_after_failure"
+
+
+def frees_after_failure(unzip_dir: str | Path) -> bool:
+    """Whether the FMU extracted in ``unzip_dir`` says its instances may be freed after fmi2Fatal."""
+    try:
+        record = json.loads((Path(unzip_dir) / "resources" / BUILD_RECORD).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return False
+    return isinstance(record, dict) and record.get(FREE_AFTER_FAILURE) is True
 
 
 def extracted(fmu_path: Path) -> str:
@@ -170,6 +185,8 @@ class Slave:
         self._sent: list[bytes | None] = []
         self.time_s: float | None = None
         self.fatal = False
+        #: The FMU says its instances may be freed after fmi2Fatal (:func:`frees_after_failure`)
+        self.free_after_fatal = False
         #: Input modifiers (see :mod:`.exchange`): (input vector, index, value) written before every set.
         self.modifiers: list[tuple[np.ndarray, int, float]] = []
 
@@ -179,6 +196,7 @@ class Slave:
         md = self.model.model_description
         try:
             self._unzip_dir = extracted(self.model.fmu_path)
+            self.free_after_fatal = frees_after_failure(self._unzip_dir)
             self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=self._unzip_dir,
                                  modelIdentifier=md.coSimulation.modelIdentifier, instanceName=self.name)
             self.fmu.instantiate(callbacks=self.log.callbacks, loggingOn=True)
@@ -242,7 +260,7 @@ class Slave:
 
     def free_state(self, state: object) -> None:
         """Free a state from :meth:`get_state`; never raises (the instance may have failed)."""
-        if self.fmu is not None and not self.fatal:
+        if self.fmu is not None and (not self.fatal or self.free_after_fatal):
             try:
                 self.fmu.fmi2FreeFMUstate(self.fmu.component, byref(state))
             except Exception:  # a failed FMU may refuse; the state goes with the instance
@@ -257,10 +275,11 @@ class Slave:
         The shared library stays loaded: a pythonfmu FMU runs in this interpreter, and
         unloading its library while Python still holds objects it created crashes the
         process at the next garbage collection. After a fatal status FMI 2.0 allows no
-        further call at all, so such an instance is left alone.
+        further call at all, so such an instance is left alone, unless its FMU says it may be
+        freed (ours do: :func:`frees_after_failure`); after any other failure it is freed.
         """
         if self.fmu is not None:
-            if not self.fatal:
+            if not self.fatal or self.free_after_fatal:
                 try:
                     self.fmu.fmi2FreeInstance(self.fmu.component)
                 except Exception:  # a failed FMU may refuse to be freed; nothing more to do

@@ -1,12 +1,12 @@
 """Plots of one mission run, or of several on the same figures (PNG, matplotlib's Agg canvas).
 
-Figures are built on :class:`matplotlib.figure.Figure` directly (no pyplot, no global
-backend): ground track, altitude and Mach against the commands with the sections shaded
-(the altitude constraints as markers, planned holds shaded, the airbrake and lever below),
-burned fuel, fuel flow and Tt4 over a window, spool speeds, attitude. Runs are told apart
-by line style and named in the legends; sections and the mission's places come from the
-first run that has them. A figure whose signals a run lacks is left out for that run, and
-not drawn at all when no run has them.
+Figures are built on :class:`.agg.Figure`, on the Agg canvas (no pyplot, no global
+backend, whatever ``MPLBACKEND`` says): ground track, altitude and Mach against the
+commands with the sections shaded (the altitude constraints as markers, planned holds
+shaded, the airbrake and lever below), burned fuel, fuel flow and Tt4 over a window, spool
+speeds, attitude. Runs are told apart by line style and named in the legends; sections and
+the mission's places come from the first run that has them. A figure whose signals a run
+lacks is left out for that run, and not drawn at all when no run has them.
 """
 from __future__ import annotations
 
@@ -17,14 +17,13 @@ from enum import StrEnum
 from pathlib import Path
 
 import numpy as np
-from matplotlib.axes import Axes
-from matplotlib.figure import Figure
 
 from openemss.models.common.files import figure_bytes
 from openemss.models.fcs.geo import R_EARTH_M
 from openemss.models.fcs.mission import Mission
 from openemss.orchestrator.results import atomic_write
 
+from .agg import Axes, Figure  # matplotlib imported whatever MPLBACKEND says, figures on the Agg canvas
 from .errors import ReportError
 from .panels import runway_lines, waypoints_deg
 from .rundata import RunData

@@ -2,12 +2,13 @@
 weather files share them; each reader imports this module, neither imports the other)."""
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
 from typing import Any
 
-from ..common import safe_yaml
+from ..common import safe_yaml, values
 from .errors import MissionError
 
-__all__ = ["Lines", "Context"]
+__all__ = ["Lines", "Context", "check_notes"]
 
 
 class Lines:
@@ -46,3 +47,15 @@ class Context:
 
     def fail(self, path: tuple, what: str) -> MissionError:
         return MissionError(f"{self.source}:{self.lines.line(path)}: {what}")
+
+
+def check_notes(m: Mapping, keys: tuple[str, ...], what: str, path: tuple,
+                fail: Callable[[tuple, str], Exception]) -> None:
+    """The free-text fields ``keys`` of the mapping ``m`` at ``path`` (a note, a source): text, when given;
+    ``fail(path, what)`` makes the error (with the file and line)."""
+    for k in keys:
+        if k in m:
+            try:
+                values.text(m[k])
+            except ValueError as e:
+                raise fail(path + (k,), f"{what} field '{k}': {e}") from None

@@ -58,6 +58,7 @@ from ..common import safe_yaml, values
 from .errors import MissionError
 from .geo import LatLon, leg_problem
 from .marks import Context as _Ctx
+from .marks import check_notes
 from .sections import REGISTRY, Field
 from .marks import Lines as _Lines
 from .tecs import SpeedCommand, SpeedKind
@@ -154,16 +155,6 @@ def _place_name(ctx: _Ctx, path: tuple, key: Any, what: str) -> str:
         raise ctx.fail(path, f"{what} {key!r}: {e}") from None
 
 
-def _notes(ctx: _Ctx, path: tuple, m: dict, keys: tuple[str, ...], what: str) -> None:
-    """The free-text fields ``keys`` of ``m``: text, when given."""
-    for k in keys:
-        if k in m:
-            try:
-                values.text(m[k])
-            except ValueError as e:
-                raise ctx.fail(path + (k,), f"{what} field '{k}': {e}") from None
-
-
 def _places(doc: dict, ctx: _Ctx) -> tuple[dict, dict]:
     from .approach import Runway  # local import: approach imports guidance, keep mission light
 
@@ -194,7 +185,7 @@ def _places(doc: dict, ctx: _Ctx) -> tuple[dict, dict]:
                 vals[k] = values.number(r[k], lo, hi)
             except ValueError as e:
                 raise ctx.fail(path + (k,), f"runway '{name}' field '{k}': {e}") from None
-        _notes(ctx, path, r, ("source", "uncertainty"), f"runway '{name}'")
+        check_notes(r, ("source", "uncertainty"), f"runway '{name}'", path, ctx.fail)
         if name in runways:
             raise ctx.fail(path, f"runway '{name}' is defined twice (keys {key!r} and {str(key)!r} name the same "
                            "runway); give each name once")
@@ -214,7 +205,7 @@ def _places(doc: dict, ctx: _Ctx) -> tuple[dict, dict]:
                 coords.append(values.number(w[k], lo, hi))
             except ValueError as e:
                 raise ctx.fail(path + (k,), f"waypoint '{name}' field '{k}': {e}") from None
-        _notes(ctx, path, w, ("note",), f"waypoint '{name}'")
+        check_notes(w, ("note",), f"waypoint '{name}'", path, ctx.fail)
         if name in waypoints:
             raise ctx.fail(path, f"waypoint '{name}' is defined twice (keys {key!r} and {str(key)!r} name the same "
                            "waypoint); give each name once")

@@ -47,7 +47,7 @@ from typing import Any
 
 from ..common import safe_yaml, values
 from .errors import MissionError
-from .marks import Context, Lines
+from .marks import Context, Lines, check_notes
 
 __all__ = ["WindLayer", "WindProfile", "Turbulence", "Weather", "WEATHER_KEYS", "SEVERITIES", "KT_M_S",
            "parse_weather", "parse_weather_text", "load_weather"]
@@ -189,6 +189,7 @@ def _wind(w: Any, fail: Fail) -> WindProfile:
     extra = sorted(map(str, set(w) - {"layers", "note", "source"}))
     if extra:
         raise fail(path + (extra[0],), f"wind: unknown key '{extra[0]}'; allowed: layers, note, source")
+    check_notes(w, ("note", "source"), "wind", path, fail)
     raw = w["layers"]
     if not isinstance(raw, list) or not raw:
         raise fail(path + ("layers",), "wind field 'layers': expected a non-empty list of "
@@ -205,6 +206,7 @@ def _wind(w: Any, fail: Fail) -> WindProfile:
         if extra:
             raise fail(lp + (extra[0],), f"{what}: unknown field '{extra[0]}'; allowed: alt_m, from_deg, "
                        "speed_m_s, speed_kt, note")
+        check_notes(layer, ("note",), what, lp, fail)
         vals = {}
         for key, rng in (("alt_m", _ALT_RANGE_M), ("from_deg", (0.0, 360.0))):
             if key not in layer:
@@ -231,6 +233,7 @@ def _turbulence(t: Any, fail: Fail) -> Turbulence:
     if extra:
         raise fail(path + (extra[0],), f"turbulence: unknown field '{extra[0]}'; allowed: severity, seed, "
                    "wind_20ft_m_s, wind_20ft_kt, note")
+    check_notes(t, ("note",), "turbulence", path, fail)
     sev = t["severity"]
     if isinstance(sev, str) and sev in SEVERITIES:
         severity, label = SEVERITIES[sev], sev

@@ -59,16 +59,17 @@ def _mission(tmp_path: Path, old: str, new: str, count: int = 1) -> Path:
 
 
 # -- fuel -----------------------------------------------------------------------------------------
-def test_zero_fuel_flames_out_at_the_first_step(munich: Path, tmp_path: Path,
-                                                capsys: pytest.CaptureFixture[str]) -> None:
-    """No fuel on board: the engine starts (its start is a steady state, burning nothing yet) and flames out in the
-    first step, burning nothing; the run fails saying so (the airframe's start is not blamed on the engine)."""
+def test_zero_fuel_flames_out_at_the_start(munich: Path, tmp_path: Path,
+                                           capsys: pytest.CaptureFixture[str]) -> None:
+    """No fuel on board: the engine is out from the start (it publishes no fuel flow and no thrust, so nothing is
+    taken from the empty tank) and its first step fails saying so; nothing is flown, nothing burned."""
     out = tmp_path / "out"
     rc, err = _run(capsys, "run", str(munich), "--set", "airframe.fuel0_kg=0", "--out", str(out), "--no-pre-run")
-    assert_one_line(rc, err, "component 'engine'", "flame-out at t = 0.05 s", "fuel tank empty", "the tanks hold 0 kg")
+    assert_one_line(rc, err, "component 'engine'", "flame-out at t = 0 s", "fuel tank empty at the start",
+                    "fuel0_kg")
     summary = json.loads((out / "summary.json").read_text(encoding="utf-8"))
-    assert summary["status"] == "failed" and summary["flameout"]["time_s"] == pytest.approx(0.05)
-    assert summary["fuel_burned_kg"] == 0.0
+    assert summary["status"] == "failed" and summary["flameout"]["time_s"] == 0.0
+    assert summary["flameout"]["cause"].startswith("fuel starvation") and summary["fuel_burned_kg"] == 0.0
 
 
 def test_tank_running_dry_flames_the_engine_out(munich: Path, tmp_path: Path,

@@ -17,7 +17,7 @@ from scipy.optimize import curve_fit
 
 from openemss.models.airframe.adapter import FT, SLUG, Airframe
 from openemss.models.airframe.aero import aero_model, isa
-from openemss.models.airframe.errors import AirframeError, OutOfEnvelopeError, TrimError
+from openemss.models.airframe.errors import AirframeError, FuelExhaustedError, OutOfEnvelopeError, TrimError
 from openemss.models.airframe.trim import trim_level
 
 A = aero_model()
@@ -273,12 +273,16 @@ def test_fuel_burn_reduces_mass_exactly(af: Airframe) -> None:
     assert af.state().fuel_kg == af.fuel_kg
 
 
-def test_fuel_runs_out_at_zero(af: Airframe) -> None:
+def test_fuel_runs_out_at_zero_then_is_refused(af: Airframe) -> None:
+    """1 kg at 0.5 kg/s: the tank is empty after 2 s (to round-off); a step that asks for more fuel is refused
+    (an engine burning from the tank must flame out), the tank never goes below zero."""
     af.start_air(3000.0, 150.0, 0.0, alpha_rad=0.05, fuel_kg=1.0)
     af.set_fuel_flow(0.5)
-    af.step(5.0)
-    assert af.fuel_kg == 0.0
+    af.step(2.0)
+    assert af.fuel_kg == pytest.approx(0.0, abs=1e-12) and af.fuel_kg >= 0.0
     assert af.mass_kg == pytest.approx(G.oem_kg, rel=1e-6)
+    with pytest.raises(FuelExhaustedError, match="tank empty at t = 2 s"):
+        af.step(0.05)
     with pytest.raises(OutOfEnvelopeError, match="fuel flow"):
         af.set_fuel_flow(-1.0)
 

@@ -49,6 +49,7 @@ MAV_CMD_NAV_LAND (21), MAV_CMD_NAV_TAKEOFF (22), https://mavlink.io/en/messages/
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -367,11 +368,15 @@ def load_mission(path: str | Path) -> Mission:
 def parse_mission_file(text: str, source: str) -> Mission:
     """Validate the text of a mission file named ``source``: a QGroundControl plan when ``source`` ends in
     ``.plan`` (converted, errors naming the plan's lines), else a mission YAML file."""
-    if source.endswith(".plan"):
-        from .qgc import parse_plan
+    if not source.endswith(".plan"):
+        return parse_mission(text, source)
+    from .qgc import convert_plan
 
-        return parse_plan(text, source)
-    return parse_mission(text, source)
+    converted, locate = convert_plan(text, source)
+    try:
+        return dataclasses.replace(parse_mission(converted, f"{source} (converted)"), source=source)
+    except MissionError as exc:
+        raise locate(exc) from None
 
 
 def departure_runway(mission: Mission) -> Any:

@@ -24,10 +24,10 @@ QGroundControl Developer Guide, "Plan File Format"; MAVLink common message set.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from importlib import resources
-from typing import TYPE_CHECKING, Any
+from collections.abc import Callable
+from typing import Any
 
 import yaml
 
@@ -35,10 +35,7 @@ from ..common import safe_yaml, values
 from .errors import MissionError
 from .geo import LatLon, initial_bearing_rad, leg_problem
 
-if TYPE_CHECKING:
-    from .mission import Mission
-
-__all__ = ["plan_to_yaml", "parse_plan", "MAV_CMD"]
+__all__ = ["plan_to_yaml", "convert_plan", "MAV_CMD"]
 
 MAV_CMD = {"WAYPOINT": 16, "LOITER_TURNS": 18, "LAND": 21, "TAKEOFF": 22}
 _FRAME_GLOBAL, _FRAME_RELATIVE = 0, 3
@@ -214,32 +211,31 @@ def plan_to_yaml(text: str, source: str = "<plan>") -> str:
     return _convert(text, source)[0]
 
 
-def parse_plan(text: str, source: str = "<plan>") -> Mission:
-    """The mission of the JSON text of a QGroundControl plan: converted (:func:`plan_to_yaml`) and validated
-    as a mission file; every error names the plan's file, the line and the mission item it comes from.
+def convert_plan(text: str, source: str = "<plan>") -> tuple[str, Callable[[MissionError], MissionError]]:
+    """The mission YAML of a QGroundControl plan (:func:`plan_to_yaml`), and the function that turns an error of
+    that YAML read as ``source (converted)`` into one naming the plan's line and mission item.
 
     Raises
     ------
     MissionError
-        One line: ``source:line: mission item n (...): what``.
+        A plan that cannot be converted (:func:`plan_to_yaml`).
     """
     from .marks import Lines
-    from .mission import parse_mission
 
     converted, rd = _convert(text, source)
     tag = f"{source} (converted)"
-    try:
-        return dataclasses.replace(parse_mission(converted, tag), source=source)
-    except MissionError as exc:
-        msg = str(exc)
-        head, _, rest = msg.partition(": ")
+
+    def locate(exc: MissionError) -> MissionError:
+        head, _, rest = str(exc).partition(": ")
         line = head.removeprefix(tag + ":")
         if not head.startswith(tag) or not line.isdigit():
-            raise
+            return exc
         paths = [p for p, n in Lines(converted).map.items() if n == int(line)]
         for path in sorted(paths, key=len):
             for depth in (3, 2):
                 origin = rd.origin.get(tuple(str(x) for x in path[:depth]))
                 if origin is not None:
-                    raise MissionError(f"{source}:{origin[0]}: {origin[1]}: {rest}") from None
-        raise MissionError(f"{source}: {rest} (in the mission converted from the plan)") from None
+                    return MissionError(f"{source}:{origin[0]}: {origin[1]}: {rest}")
+        return MissionError(f"{source}: {rest} (in the mission converted from the plan)")
+
+    return converted, locate

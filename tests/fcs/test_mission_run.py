@@ -270,7 +270,7 @@ places:
 sections:
   - {type: Levelling, altitude_m: 5000, speed: {mach: 0.5}, heading_deg: 90, tolerance_m: 10, hold_s: 5}
   - {type: WaypointFollowing, name: steep, waypoints: [A, B], fly_by: true, altitude_m: 1500, speed: {mach: 0.4}}
-  - {type: WaypointFollowing, name: on, waypoints: [C], fly_by: true, altitude_m: 1500, speed: {mach: 0.4}}
+  - {type: WaypointFollowing, name: 'on', waypoints: [C], fly_by: true, altitude_m: 1500, speed: {mach: 0.4}}
 """
 
 
@@ -315,7 +315,7 @@ places:
 sections:
   - {type: Levelling, altitude_m: 1000, speed: {mach: 0.35}, heading_deg: 90, tolerance_m: 10, hold_s: 5}
   - {type: WaypointFollowing, name: steep, waypoints: [A, B], fly_by: true, altitude_m: 5000, speed: {mach: 0.4}}
-  - {type: WaypointFollowing, name: on, waypoints: [C], fly_by: true, altitude_m: 5000, speed: {mach: 0.4}}
+  - {type: WaypointFollowing, name: 'on', waypoints: [C], fly_by: true, altitude_m: 5000, speed: {mach: 0.4}}
 """
 
 

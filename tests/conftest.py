@@ -35,6 +35,17 @@ def project_fmus(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
 
 
 @pytest.fixture(scope="session")
+def project_system(project_fmus: dict[str, Path], tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The project's system (ssp/SystemStructure.ssd) with the FMUs built for this session."""
+    folder = tmp_path_factory.mktemp("project_system")
+    shutil.copy(ROOT / "ssp" / "SystemStructure.ssd", folder)
+    (folder / "resources").mkdir()
+    for name, fmu in (("fcs", "Fcs.fmu"), ("engine", "Engine.fmu"), ("airframe", "Airframe.fmu")):
+        shutil.copy(project_fmus[name], folder / "resources" / fmu)
+    return folder
+
+
+@pytest.fixture(scope="session")
 def state_fmu(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """LoopElement.fmu with canGetAndSetFMUstate="true" (pythonfmu saves and restores its variables)."""
     out = tmp_path_factory.mktemp("state_fmu")

@@ -312,14 +312,9 @@ def test_design_override_on_a_preset_sized_by_thrust(project_fmus: dict[str, Pat
 
 
 @pytest.fixture(scope="module")
-def system(project_fmus: dict[str, Path], tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """The project's system (ssp/SystemStructure.ssd) with the FMUs built for this session."""
-    folder = tmp_path_factory.mktemp("system")
-    shutil.copy(ROOT / "ssp" / "SystemStructure.ssd", folder)
-    (folder / "resources").mkdir()
-    for name, fmu in (("fcs", "Fcs.fmu"), ("engine", "Engine.fmu"), ("airframe", "Airframe.fmu")):
-        shutil.copy(project_fmus[name], folder / "resources" / fmu)
-    return folder
+def system(project_system: Path) -> Path:
+    """The project's system with this session's FMUs (conftest.project_system)."""
+    return project_system
 
 
 @pytest.mark.parametrize("value", ["nan", "1e999", "yes"])

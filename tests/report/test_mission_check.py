@@ -13,7 +13,6 @@
 from __future__ import annotations
 
 import json
-import shutil
 from pathlib import Path
 
 import pytest
@@ -42,14 +41,9 @@ sections:
 
 
 @pytest.fixture(scope="module")
-def system(project_fmus: dict[str, Path], tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """The project's system (ssp/SystemStructure.ssd) with the FMUs built for this session."""
-    folder = tmp_path_factory.mktemp("system")
-    shutil.copy(ROOT / "ssp" / "SystemStructure.ssd", folder)
-    (folder / "resources").mkdir()
-    for name, fmu in (("fcs", "Fcs.fmu"), ("engine", "Engine.fmu"), ("airframe", "Airframe.fmu")):
-        shutil.copy(project_fmus[name], folder / "resources" / fmu)
-    return folder
+def system(project_system: Path) -> Path:
+    """The project's system with this session's FMUs (conftest.project_system)."""
+    return project_system
 
 
 @pytest.fixture()

@@ -140,6 +140,33 @@ def test_a_string_stays_as_given_unless_it_is_a_file(tmp_path: Path, fmu_dir: Pa
     assert int(last[header.index("t.table_file_chars")]) == len(str(work / "reference_study"))
 
 
+@pytest.mark.parametrize("value", ["a\udcffb", "bell\x07", "nul\x00"])
+def test_a_string_that_is_no_text(tmp_path: Path, fmu_dir: Path, capsys: pytest.CaptureFixture[str],
+                                  value: str) -> None:
+    """Bytes of a command line that are not UTF-8 (a lone surrogate), control characters, NUL: an FMI String
+    (UTF-8, NUL-terminated) would fail at run time or be cut silently; refused where they enter."""
+    folder = tmp_path / "tsys"
+    write_system(folder, fmu_dir, [Comp("t", "TextProbe.fmu", TEXT_CONNECTORS)], [], stop_time=0.2)
+    if "\x00" in value:  # no command line holds a NUL: the Python API does
+        with pytest.raises(ConfigurationError, match="not text an FMU can take"):
+            openemss.run(folder, set={"t.label": value}, out=tmp_path / "out")
+        return
+    rc, err = emss(capsys, "run", str(folder), "--set", f"t.label={value}", "--out", str(tmp_path / "out"))
+    one_line(rc, err, "--set 't.label=", "not text an FMU can take")
+
+
+def test_step_multiple_twice_and_stop_time_not_a_number(system: Path, tmp_path: Path,
+                                                        capsys: pytest.CaptureFixture[str]) -> None:
+    rc, err = emss(capsys, "run", str(system), "--step-multiple", "a=2", "a=3", "--out", str(tmp_path / "o"))
+    one_line(rc, err, "--step-multiple 'a=3'", "given twice")
+    rc, err = emss(capsys, "run", str(system), "--step-multiple", "a=\u00b2", "--out", str(tmp_path / "o"))
+    one_line(rc, err, "--step-multiple", "an integer N")
+    for bad in (float("nan"), "1", True):
+        with pytest.raises(ConfigurationError, match="--stop-time"):
+            openemss.run(system, stop_time=bad, out=tmp_path / "o")  # type: ignore[arg-type]
+        assert not (tmp_path / "o" / "run.json").exists()  # refused before anything runs
+
+
 # -- .ssv files ----------------------------------------------------------------------------------
 SSV_CASES: dict[str, tuple[str, str, list[str]]] = {
     "parameter_twice": ('<ssv:Parameter name="a.k"><ssv:Real value="1"/></ssv:Parameter>\n'
@@ -259,6 +286,21 @@ def test_ssp_holding_one_entry_twice(system: Path, tmp_path: Path, capsys: pytes
         z.writestr(second, text.replace('endConnector="u_real"', 'endConnector="y_real"'))
     rc, err = emss(capsys, "run", str(archive), "--out", str(tmp_path / "out"))
     one_line(rc, err, f"{archive}!{second}", "a second entry", "given once")
+
+
+def test_ssp_holding_a_zip_bomb_fmu(system: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """An FMU of the archive beyond the limits of an archive: refused before anything runs, named inside
+    the archive the user gave."""
+    fmu = tmp_path / "Gain.fmu"
+    with zipfile.ZipFile(system / "resources" / "Gain.fmu") as src, \
+            zipfile.ZipFile(fmu, "w", zipfile.ZIP_DEFLATED) as dst:
+        for info in src.infolist():
+            dst.writestr(info, src.read(info))
+        dst.writestr("resources/zeros.bin", b"\0" * (8 * 2 ** 20))  # 8 MiB of zeros: about 1000 to 1
+    archive = make_ssp(tmp_path / "bomb.ssp", (system / "SystemStructure.ssd").read_text(), fmu)
+    rc, err = emss(capsys, "run", str(archive), "--out", str(tmp_path / "out"))
+    one_line(rc, err, f"{archive}!resources/Gain.fmu!resources/zeros.bin", "zip bomb")
+    assert not (tmp_path / "out" / "run.json").exists()
 
 
 def test_ssp_corrupt_entry(system: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

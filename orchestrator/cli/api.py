@@ -14,6 +14,8 @@ Example
 from __future__ import annotations
 
 import difflib
+import math
+import numbers
 import sys
 import time
 from collections.abc import Callable, Mapping, Sequence
@@ -276,10 +278,17 @@ def multiples(items: Mapping[str, int] | Sequence[str]) -> dict[str, int]:
     out: dict[str, int] = {}
     for item in pairs:
         name, sep, value = item.partition("=")
-        if not sep or not value.strip().isdigit() or not 1 <= int(value) <= MAX_STEP_MULTIPLE:
-            raise ConfigurationError(f"--step-multiple '{item}': expected COMPONENT=N with an integer N from 1 "
+        try:
+            n = parse_value("Integer", value) if sep else 0
+        except ValueError:
+            n = 0
+        if not 1 <= n <= MAX_STEP_MULTIPLE:
+            raise ConfigurationError(f"--step-multiple {short(item)}: expected COMPONENT=N with an integer N from 1 "
                                      f"to {MAX_STEP_MULTIPLE}")
-        out[name.strip()] = int(value)
+        if name.strip() in out:
+            raise ConfigurationError(f"--step-multiple {short(item)}: component '{name.strip()}' is given twice "
+                                     f"(first: {out[name.strip()]}); give each component once")
+        out[name.strip()] = int(n)
     return out
 
 
@@ -358,6 +367,11 @@ def run(system: Path | str | None = None, *, stop_time: float | None = None, par
     """
     say = warn or (lambda line: print(f"emss run: warning: {line}", file=sys.stderr))
     setting_items(set)  # malformed or repeated items are refused before anything is built or read
+    multiples(step_multiple)
+    if stop_time is not None and (isinstance(stop_time, bool) or not isinstance(stop_time, numbers.Real)
+                                  or not math.isfinite(stop_time)):
+        raise ConfigurationError(f"--stop-time {short(str(stop_time))}: not a finite number of seconds")
+    stop_time = float(stop_time) if stop_time is not None else None  # a NumPy number as a Python float
     system = Path(system) if system is not None else default_system()
     interrupt.phase("start", "before the run", interrupt.NOTHING_RUN)
     ensure_project_fmus(system, say)

@@ -8,6 +8,7 @@ problems are collected before failing.
 """
 from __future__ import annotations
 
+import zipfile
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -15,6 +16,7 @@ from fmpy import read_model_description
 from fmpy.model_description import ModelDescription
 
 from ..errors import Problem, SystemStructureError
+from ..results import archive_problems
 from .conversion import ConversionError, discrete_path, real_path
 from .model import ComponentDef, FlatConnection, Origin, ParameterBindingDef, ParameterValue, SystemDef
 from .parameters import resolve_parameters
@@ -65,7 +67,12 @@ def _load_component(c: ComponentDef, cache: dict[Path, ModelDescription], enumer
         return None
     md = cache.get(c.source_path)
     if md is None:
-        try:
+        try:  # an FMU beyond the limits of an archive (a zip bomb) is refused here, before anything runs
+            with zipfile.ZipFile(c.source_path) as zf:
+                bad = archive_problems(zf, origin.shown(c.source_path))
+            if bad:
+                problems.extend(Problem(where, f"component '{c.name}': {what}") for where, what in bad)
+                return None
             md = read_model_description(str(c.source_path), validate=False)
         except Exception as exc:  # fmpy raises bare Exception for unreadable FMUs
             problems.append(Problem(c.where, f"component '{c.name}': cannot read FMU '{c.source}': {exc}"))

@@ -4,7 +4,8 @@ One grammar for every way a value reaches an FMU variable, stricter than Python'
 ``float`` and ``int`` (which take ``nan``, ``1_000``, Arabic-Indic digits and, for ``int``,
 refuse more than 4300 digits with a message about Python): a Real is a finite decimal number
 that does not underflow to zero, an Integer is a run of ASCII digits inside the range of an
-FMI 2.0 Integer, a Boolean is ``true``, ``false``, ``1`` or ``0``. A String is taken as given.
+FMI 2.0 Integer, a Boolean is ``true``, ``false``, ``1`` or ``0``. A String is taken as given,
+if it is text an FMU can take (no NUL, no control characters, no bytes that are not UTF-8).
 """
 from __future__ import annotations
 
@@ -18,6 +19,9 @@ ValueT = bool | int | float | str
 
 _REAL = re.compile(r"[+-]?(?:(\d+)(?:\.(\d*))?|\.(\d+))(?:[eE][+-]?\d+)?", re.ASCII)
 _INTEGER = re.compile(r"[+-]?\d+", re.ASCII)
+#: What an FMI String (UTF-8, NUL-terminated) and an .ssv file (XML 1.0) cannot hold: NUL and other
+#: control characters, lone surrogates (the bytes of a command line that are not UTF-8), U+FFFE/U+FFFF.
+_NOT_TEXT = re.compile("[^\t\n\r\x20-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
 _NON_FINITE = ("nan", "inf", "infinity")
 _BOOLEANS = {"true": True, "false": False, "1": True, "0": False}
 #: The suffix of a String variable that names a file (house naming: ``mission_file``, ``weather_file``).
@@ -34,6 +38,11 @@ def parse_value(type_name: str, text: str) -> ValueT:
         was given), e.g. ``not a finite number (allowed: ...)``.
     """
     if type_name == "String":
+        bad = _NOT_TEXT.search(text)
+        if bad is not None:
+            raise ValueError(f"not text an FMU can take: character {bad.group()!r} at position {bad.start()} "
+                             "(allowed: Unicode text without NUL, control characters other than tab and newline, "
+                             "or bytes that are not UTF-8)")
         return text
     t = text.strip()
     if type_name == "Real":

@@ -41,6 +41,7 @@ from openemss.models.common import safe_yaml
 from ..errors import ScenarioError
 from ..master.condition import OPERATORS, Condition, parse_condition
 from ..master.exchange import InputModifier
+from ..ssp.values import INT32_RANGE
 
 if TYPE_CHECKING:
     from ..master.execution import Execution
@@ -49,7 +50,6 @@ __all__ = ["INT32_RANGE", "KINDS", "OPERATORS", "Condition", "Event", "ScenarioE
            "load_scenario", "parse_condition"]
 
 KINDS = ("set", "ramp", "hold", "release")
-INT32_RANGE = (-(2 ** 31), 2 ** 31 - 1)  #: values of an FMI 2.0 Integer (fmi2Integer is a C int)
 
 
 @dataclass(frozen=True)

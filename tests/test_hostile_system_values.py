@@ -20,6 +20,8 @@ import zipfile
 from pathlib import Path
 
 import pytest
+from test_hostile_runs import assert_one_line as one_line
+from test_hostile_runs import run_cli as emss
 
 import openemss
 from openemss.orchestrator.cli import api
@@ -36,27 +38,11 @@ TEXT_CONNECTORS = [("label_chars", "output", "Integer"), ("table_file_chars", "o
 
 @pytest.fixture()
 def system(tmp_path: Path, fmu_dir: Path) -> Path:
+    """Two Gain FMUs, a -> b -> a (the system of the run corpus)."""
     folder = tmp_path / "sys"
     write_system(folder, fmu_dir, [Comp("a", "Gain.fmu", GAIN_CONNECTORS), Comp("b", "Gain.fmu", GAIN_CONNECTORS)],
                  [("a.y_real", "b.u_real"), ("b.y_int", "a.u_int")], stop_time=1.0)
     return folder
-
-
-def emss(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, list[str]]:
-    try:
-        rc = main(list(argv))
-    except SystemExit as exc:  # argparse's usage errors
-        rc = int(exc.code or 0)
-    return rc, [ln for ln in capsys.readouterr().err.splitlines() if ln.strip()]
-
-
-def one_line(rc: int, err: list[str], *fragments: str) -> str:
-    assert rc != 0, err
-    assert len(err) == 1, err
-    assert "Traceback" not in err[0] and "internal error" not in err[0], err[0]
-    for f in fragments:
-        assert f in err[0], (f, err[0])
-    return err[0]
 
 
 def line_of(text: str, fragment: str, nth: int = 1) -> int:

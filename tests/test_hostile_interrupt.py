@@ -69,9 +69,11 @@ def held(argv: list[str], phase: str, tmp_path: Path, **popen: object) -> subpro
     return proc
 
 
-def interrupt_it(proc: subprocess.Popen[bytes], signum: int) -> list[str]:
-    """Send ``signum``; the exit code must be 128 + it and stderr one line without a traceback."""
-    proc.send_signal(signum)
+def interrupt_it(proc: subprocess.Popen[bytes], signum: int, send: bool = True) -> list[str]:
+    """Send ``signum`` (unless sent already); the exit code must be 128 + it and stderr one line without a
+    traceback."""
+    if send:
+        proc.send_signal(signum)
     _, err = proc.communicate(timeout=HOLD_TIMEOUT_S)
     lines = [ln for ln in err.decode().splitlines() if ln.strip()]
     assert proc.returncode == 128 + signum, lines
@@ -327,3 +329,63 @@ def test_a_study_interrupted_stops_its_cases_cleanly(system: Path, tmp_path: Pat
         case = out / "cases" / name
         assert not (case / ".emss.lock").exists() and not (case / "done.json").exists()
         assert json.loads((case / "run.json").read_text())["status"] == "interrupted"
+
+
+
+SLOW_START = '''
+import os
+import time
+
+from pythonfmu import Fmi2Causality, Fmi2Slave, Real
+
+
+class SlowStart(Fmi2Slave):
+    """When SLOW_START_MARKER names a file, writes it in its constructor (fmi2Instantiate) and waits there
+    until the file SLOW_START_RELEASE exists: the run is inside the FMU's own code when the signal comes."""
+
+    def __init__(self, **kwargs) -> None:
+        super().__init__(**kwargs)
+        self.y = 0.0
+        self.register_variable(Real("y", causality=Fmi2Causality.output, description="Zero [-]"))
+        marker = os.environ.get("SLOW_START_MARKER")
+        if marker:
+            with open(marker, "w") as f:
+                f.write(str(os.getpid()))
+            while not os.path.exists(os.environ["SLOW_START_RELEASE"]):
+                time.sleep(0.05)
+
+    def do_step(self, current_time: float, step_size: float) -> bool:
+        return True
+'''
+
+
+def test_a_signal_inside_an_fmu_call_stops_the_run_after_it(tmp_path: Path) -> None:
+    """SIGTERM while the FMU's Python code runs inside fmi2Instantiate: the call is not cut (an FMU left in
+    the middle of its own code is not freed safely); when it returns, the run stops before its first step,
+    with one line, 143, no lock and run.json 'interrupted'."""
+    from openemss.orchestrator.fmu.build import ensure_built
+
+    src = tmp_path / "src"
+    src.mkdir()
+    (src / "slow_start.py").write_text(SLOW_START, encoding="utf-8")
+    ensure_built(src, tmp_path / "fmus")
+    system = tmp_path / "sys"
+    write_system(system, tmp_path / "fmus", [Comp("s", "SlowStart.fmu", [("y", "output", "Real")])], [],
+                 stop_time=1.0)
+    out, marker, release = tmp_path / "out", tmp_path / "in-the-fmu", tmp_path / "release"
+    proc = subprocess.Popen(_run_argv(system, out), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            env=dict(_env(tmp_path), SLOW_START_MARKER=str(marker), SLOW_START_RELEASE=str(release)))
+    t0 = time.monotonic()
+    while not marker.exists():
+        assert proc.poll() is None, proc.communicate()
+        assert time.monotonic() - t0 < HOLD_TIMEOUT_S
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGTERM)
+    with pytest.raises(subprocess.TimeoutExpired):
+        proc.wait(timeout=1)  # still in the FMU's call (the bound of a negative, not a measurement)
+    release.touch()
+    line = interrupt_it(proc, signal.SIGTERM, send=False)[0]
+    assert line.startswith("emss run: interrupted by SIGTERM at t = 0 s"), line
+    assert not (out / ".emss.lock").exists()
+    info = json.loads((out / "run.json").read_text())
+    assert info["status"] == "interrupted" and info["steps"] == 0

@@ -220,17 +220,13 @@ def test_run_interrupted_during_its_report(system: Path, tmp_path: Path) -> None
 
 
 def test_run_interrupted_during_the_project_fmu_build(tmp_path: Path) -> None:
-    """The project's own system (ssp/): held where its FMUs are checked and built, before anything of them
-    is written; nothing runs and ssp/resources/ holds no temporary file."""
-    resources = ROOT / "ssp" / "resources"
-    before = sorted(p.name for p in resources.iterdir()) if resources.is_dir() else []
+    """The project's own system (ssp/): held where its FMUs are checked and built (the build itself is
+    build-fmus's code, interrupted above); nothing runs, no results folder is made."""
     out = tmp_path / "out"
     proc = held([*EMSS, "run", "--out", str(out), "--stop-time", "1"], "build", tmp_path)
     assert interrupt_it(proc, signal.SIGTERM) == ["emss run: interrupted by SIGTERM during the FMU build; "
                                                   "nothing was run"]
     assert not out.exists() and leftovers(tmp_path) == []
-    after = sorted(p.name for p in resources.iterdir()) if resources.is_dir() else []
-    assert [n for n in after if n.endswith(".tmp")] == [] and set(before) <= set(after) | {".emss.lock"}
 
 
 def test_a_second_signal_does_not_cut_the_clean_up(system: Path, tmp_path: Path) -> None:

@@ -48,10 +48,10 @@ REPEAT = 6  # failures per case: the class lost one reference per failure, freed
 
 # -- the child ----------------------------------------------------------------------------------------------
 def _open(fmu: str, unzip: str | None = None, name: str = "probe") -> tuple[Any, dict[str, Any], str]:
+    import tempfile
+
     from fmpy import extract, read_model_description
     from fmpy.fmi2 import FMU2Slave
-
-    import tempfile
 
     md = read_model_description(fmu)
     folder = unzip or extract(fmu, unzipdir=tempfile.mkdtemp(prefix="hostile_hosts_"))

@@ -20,12 +20,13 @@ has two faults this code works around from the Python side, where a build can re
   instance, a second FMU file of the same build) then ran the first extraction's code and found its
   data files beside it: gone when the host removed that folder (a second ``fmpy.simulate_fmu`` failed
   with "Failed to instantiate model"), or another FMU's when that one was tampered with or failed (a
-  failed run poisoned the next run of an intact system). Here, an instance always runs the code of its
-  own extraction: modules of this FMU's vendored package imported from another folder are dropped from
-  ``sys.modules`` and, when the slave module itself came from another folder, the copy in the
-  instance's resources is imported and its slave class handed to pythonfmu (which takes the class by
-  name from the first module). Instances of one extraction (our master's: one per FMU file and
-  process) share one module as before.
+  failed run poisoned the next run of an intact system). Here, an instance runs the code of its own
+  extraction, or the first module's when that is still there and the same byte for byte (the slave
+  module and its vendored package: our master's instances of one FMU file share one extraction, of two
+  copies of one build one module, as before). Otherwise the modules of this FMU's vendored package
+  imported from another folder are dropped from ``sys.modules`` (with the numba cache locators they
+  installed: ``models/common/jit.py`` keeps one per process), the copy in the instance's resources is
+  imported and its slave class handed to pythonfmu (which takes the class by name from the first module).
 
 :func:`lifecycle_head` goes after the requirements check, before the slave's imports;
 :func:`lifecycle_tail` at the end of the script.
@@ -46,24 +47,49 @@ import importlib as _emss_importlib
 
 _emss_lib = {lib!r}
 # pythonfmu runs this file again in the module it imported first, for every new instance, compiled under the
-# bare module name and with that instance's resources first on sys.path
+# bare module name and with that instance's resources first on sys.path. What that run defines is local to
+# it: a function defined here sees the first run's globals, so these take everything as arguments.
 _emss_rerun = _emss_sys._getframe(0).f_code.co_filename != __file__
-_emss_own = _emss_Path(_emss_sys.path[0] if _emss_rerun else __file__).resolve()
-_emss_own = _emss_own if _emss_rerun else _emss_own.parent
+_emss_own = _emss_Path(_emss_sys.path[0]).resolve() if _emss_rerun else _emss_Path(__file__).resolve().parent
 
 
-def _emss_outside(module, own) -> bool:  # a module not loaded from the folder own (names passed: see below)
+def _emss_outside(module, own) -> bool:
+    """Whether a module was not loaded from the folder ``own``."""
+    from pathlib import Path
+
     f = getattr(module, "__file__", None)
-    return not f or not _emss_Path(f).resolve().is_relative_to(own)
+    return not f or not Path(f).resolve().is_relative_to(own)
 
 
-# (when pythonfmu runs the file again, what it defines here is local to that run: a function of it sees the
-# first run's globals, so everything is passed as arguments)
-for _emss_name in [_n for _n, _m in list(_emss_sys.modules.items())
-                   if (_n == _emss_lib or _n.startswith(_emss_lib + ".")) and _emss_outside(_m, _emss_own)]:
-    del _emss_sys.modules[_emss_name]
-if _emss_rerun and (_emss_own / (__name__ + ".py")).is_file() \
-        and _emss_outside(_emss_sys.modules.get(__name__), _emss_own):
+def _emss_code(folder, lib, module) -> bytes:
+    """A digest of the slave module and its vendored package in ``folder``."""
+    import hashlib
+
+    h = hashlib.sha256()
+    for p in [folder / (module + ".py"), *sorted((folder / lib).rglob("*"))]:
+        if p.is_file() and "__pycache__" not in p.parts:
+            h.update(str(p.relative_to(folder)).encode() + b"\\0" + p.read_bytes())
+    return h.digest()
+
+
+_emss_stale = True  # a first run: nothing of the vendored package may stay from another folder
+if _emss_rerun:  # the first module's copy serves when it still exists and is this one's, byte for byte
+    _emss_first = getattr(_emss_sys.modules.get(__name__), "__file__", None)
+    _emss_first = _emss_Path(_emss_first).resolve().parent if _emss_first else None
+    _emss_stale = _emss_first != _emss_own and not (
+        _emss_first is not None and _emss_first.is_dir()
+        and _emss_code(_emss_first, _emss_lib, __name__) == _emss_code(_emss_own, _emss_lib, __name__))
+if _emss_stale:
+    _emss_gone = {{_n for _n, _m in list(_emss_sys.modules.items())
+                  if (_n == _emss_lib or _n.startswith(_emss_lib + ".")) and _emss_outside(_m, _emss_own)}}
+    for _emss_name in _emss_gone:
+        del _emss_sys.modules[_emss_name]
+    _emss_numba = _emss_sys.modules.get("numba.core.caching")  # cache locators those modules installed go too
+    for _emss_impl in (getattr(_emss_numba, "CacheImpl", None), getattr(_emss_numba, "_CacheImpl", None)):
+        if _emss_gone and isinstance(getattr(_emss_impl, "_locator_classes", None), list):
+            _emss_impl._locator_classes[:] = [_c for _c in _emss_impl._locator_classes
+                                              if _c.__module__ not in _emss_gone]
+if _emss_stale and _emss_rerun and (_emss_own / (__name__ + ".py")).is_file():
     _emss_sys.modules.pop(__name__, None)
     _emss_fresh = _emss_importlib.import_module(__name__)  # from _emss_own, first on sys.path
     for _emss_key, _emss_value in vars(_emss_fresh).items():  # the slave class pythonfmu takes by name

@@ -372,15 +372,20 @@ def test_hostile_ssp_entry_outside(tmp_path: Path, fmu_dir: Path) -> None:
 
 
 def test_hostile_fmu_zip_bomb(tmp_path: Path, fmu_dir: Path) -> None:
-    """A component's FMU that is a zip bomb is refused before it is extracted, naming the component."""
+    """A component's FMU that is a zip bomb is refused before it is extracted, naming the component: when
+    the system is bound, and (an FMU replaced after binding) when it is instantiated."""
     from openemss.orchestrator.master.execution import Execution
     from openemss.orchestrator.ssp.system import bind_system
 
     folder = gain_system(tmp_path / "sys", fmu_dir)
     fmu = folder / "resources" / "Gain.fmu"
+    bound = bind_system(load_system(folder))
     with zipfile.ZipFile(fmu, "a", zipfile.ZIP_DEFLATED) as z:
         z.writestr("resources/zeros.bin", bytes(8 * 1024 ** 2))
-    ex = Execution(bind_system(load_system(folder)))
+    with pytest.raises(SystemStructureError) as bind_exc:
+        bind_system(load_system(folder))
+    one_line(bind_exc.value, f"{fmu}!resources/zeros.bin", "component 'a'", "zip bomb")
+    ex = Execution(bound)
     with pytest.raises(EmssError) as exc:
         ex.run(0.1)
     one_line(exc.value, "component 'a'", "fmi2Instantiate", "zip bomb")

@@ -289,6 +289,25 @@ def test_ssp_holding_a_zip_bomb_fmu(system: Path, tmp_path: Path, capsys: pytest
     assert not (tmp_path / "out" / "run.json").exists()
 
 
+@pytest.mark.parametrize("packed", [False, True])
+def test_an_fmu_error_names_the_fmu_not_its_extraction(tmp_path: Path, fmu_dir: Path,
+                                                       capsys: pytest.CaptureFixture[str], packed: bool) -> None:
+    """A file an FMU looks for in its resources: the error names the FMU as the user gave it (inside the
+    archive, for an .ssp), not the temporary folder it was extracted into (removed when the run ends)."""
+    folder = tmp_path / "tsys"
+    write_system(folder, fmu_dir, [Comp("t", "TextProbe.fmu", TEXT_CONNECTORS)], [], stop_time=0.2)
+    system = folder
+    if packed:
+        system = tmp_path / "t.ssp"
+        with zipfile.ZipFile(system, "w") as z:
+            z.write(folder / "SystemStructure.ssd", "SystemStructure.ssd")
+            z.write(folder / "resources" / "TextProbe.fmu", "resources/TextProbe.fmu")
+    rc, err = emss(capsys, "run", str(system), "--set", "t.table_file=nope.csv", "--out", str(tmp_path / "out"))
+    fmu = f"{system}!resources/TextProbe.fmu" if packed else str(folder / "resources" / "TextProbe.fmu")
+    line = one_line(rc, err, "component 't'", f"(looked at {fmu}!resources/nope.csv)")
+    assert "emss_fmu_" not in line and "emss_ssp_" not in line
+
+
 def test_ssp_corrupt_entry(system: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     archive = make_ssp(tmp_path / "bad.ssp", (system / "SystemStructure.ssd").read_text(),
                        system / "resources" / "Gain.fmu", {"resources/notes.txt": "x" * 5000})

@@ -11,6 +11,7 @@ from __future__ import annotations
 import atexit
 import collections
 import json
+import os
 import shutil
 import tempfile
 import time
@@ -201,7 +202,8 @@ class Slave:
                                  modelIdentifier=md.coSimulation.modelIdentifier, instanceName=self.name)
             self.fmu.instantiate(callbacks=self.log.callbacks, loggingOn=True)
         except Exception as exc:
-            raise SlaveError(self.name, "fmi2Instantiate", None, self.log.last(self.name) or str(exc)) from None
+            raise SlaveError(self.name, "fmi2Instantiate", None, self._said(self.log.last(self.name) or str(exc))) \
+                from None
         self._do_step_fn = self.fmu._functions["fmi2DoStep"]
         self._component = self.fmu.component
         self._forget_sent()
@@ -212,7 +214,18 @@ class Slave:
             fn(*args)
         except Exception as exc:
             self.fatal = self.fatal or getattr(exc, "status", None) == 4
-            raise SlaveError(self.name, call, self.time_s, self.log.last(self.name) or str(exc)) from None
+            raise SlaveError(self.name, call, self.time_s, self._said(self.log.last(self.name) or str(exc))) from None
+
+    def _said(self, detail: str) -> str:
+        """What the FMU said, with the folder it was extracted into (temporary) named as the FMU the user
+        gave: ``/tmp/emss_fmu_x/resources/m.yaml`` as ``ssp/resources/Fcs.fmu!resources/m.yaml``."""
+        if not self._unzip_dir or not detail:
+            return detail
+        folder = str(self._unzip_dir)
+        fmu = self.model.shown_fmu or str(self.model.fmu_path)
+        for f in dict.fromkeys((folder, os.path.realpath(folder))):
+            detail = detail.replace(f.rstrip("/") + "/", f"{fmu}!")
+        return detail
 
     def _forget_sent(self) -> None:
         """Send every input batch again at the next set (the FMU's inputs may no longer hold them)."""
@@ -389,5 +402,5 @@ class Slave:
     def _failed(self, call: str, status: int | None = None) -> None:
         self.fatal = self.fatal or status == 4
         label = f" (status {_STATUS[status]})" if status is not None and 0 <= status < len(_STATUS) else ""
-        raise SlaveError(self.name, call + label, self.time_s, self.log.last(self.name))
+        raise SlaveError(self.name, call + label, self.time_s, self._said(self.log.last(self.name)))
 

@@ -85,7 +85,7 @@ def _load_component(c: ComponentDef, cache: dict[Path, ModelDescription], enumer
     if md.coSimulation is None:
         problems.append(Problem(c.where, f"component '{c.name}': FMU has no co-simulation interface"))
         return None
-    model = ComponentModel(c, md, _variables(md), _fmu_units(md))
+    model = ComponentModel(c, md, _variables(md), _fmu_units(md), origin.shown(c.source_path))
     for k in c.connectors:
         v = model.variables.get(k.name)
         if v is None:

@@ -50,6 +50,7 @@ class ComponentModel:
     model_description: ModelDescription
     variables: dict[str, VariableInfo]
     units: dict[str, Unit] = field(default_factory=dict)  # the FMU's UnitDefinitions
+    shown_fmu: str = ""  # the FMU as the user knows it, for messages (``archive.ssp!resources/x.fmu``)
 
     @property
     def name(self) -> str:

@@ -35,8 +35,17 @@ from types import MappingProxyType
 from typing import Any
 
 from ..common import safe_yaml, values
-from .element_kinds import (BLEED_ATTRS, DESIGN_ATTRS, FUEL_ATTRS, KINDS, REQUIRED, SCHEDULE_ATTRS, SHAFT_ATTRS,
-                            Attr, check_attr)
+from .element_kinds import (
+    BLEED_ATTRS,
+    DESIGN_ATTRS,
+    FUEL_ATTRS,
+    KINDS,
+    REQUIRED,
+    SCHEDULE_ATTRS,
+    SHAFT_ATTRS,
+    Attr,
+    check_attr,
+)
 from .errors import ModelError
 
 __all__ = ["EngineFileError", "ElementDef", "FlowLink", "BleedDef", "ShaftDef", "EngineDef", "read_engine_file",

@@ -3,12 +3,12 @@ design point.
 
 An element's ``map`` attribute is a shipped map name (``axi5``: ``models/engine/maps/axi5.json``) or a file,
 relative to the engine file: ``.json`` (our format, :func:`.maps.load_map_data`), ``.map``/``.npss``/``.txt``
-(NPSS's table syntax, :mod:`.map_npss`) or ``.py`` (a pyCycle map module, read as data by :mod:`.map_pycycle`,
-never imported). Each becomes a :class:`.maps.MapData` (one map type), is extended below its lowest speed line
-(:mod:`.map_extension`, attribute ``map_extended``) and is scaled as pyCycle does: the map's design point (its
-own, or ``map_Nc_rel`` and ``map_line``) onto the design's corrected flow, pressure ratio, efficiency and
-corrected speed (:mod:`.map_scaled`). A map that does not cover the design point it is asked to place is
-refused with the file and line of the element's ``map``.
+(NPSS's table syntax, :mod:`.map_npss`) or ``.py`` or ``.py.txt`` (a pyCycle map module, read as data by
+:mod:`.map_pycycle`, never imported). Each becomes a :class:`.maps.MapData` (one map type), is extended below
+its lowest speed line (:mod:`.map_extension`, attribute ``map_extended``) and is scaled as pyCycle does: the
+map's design point (its own, or ``map_Nc_rel`` and ``map_line``) onto the design's corrected flow, pressure
+ratio, efficiency and corrected speed (:mod:`.map_scaled`). A map that does not cover the
+design point it is asked to place is refused with the file and line of the element's ``map``.
 """
 
 from __future__ import annotations
@@ -41,7 +41,7 @@ def map_data_of(ref: str, base: Path, kind: str) -> MapData:
     if key not in _CACHE:
         if path.suffix == ".json":
             _CACHE[key] = load_map_data(path)
-        elif path.suffix == ".py":
+        elif path.suffix == ".py" or path.name.endswith(".py.txt"):
             from .map_pycycle import read_pycycle_map
             _CACHE[key] = read_pycycle_map(path, kind)
         else:

@@ -58,7 +58,8 @@ def test_larzac_file_offdesign_is_the_presets(graph: EngineGraph, preset: Turbof
               "Wf_kg_s": ("Wf_kg_s", value)}[kind]
     p = graph.solve(alt_m, Mach, demand=demand)
     q = preset.solve(alt_m, Mach, **{kind: value})
-    print(f"\n{alt_m} m M{Mach} {kind}={value}: Fn {p.Fn_N:.3f} / {q.Fn_N:.3f} N, handling bleed {q.handling_bleed_frac}")
+    print(f"\n{alt_m} m M{Mach} {kind}={value}: Fn {p.Fn_N:.3f} / {q.Fn_N:.3f} N, handling bleed "
+          f"{q.handling_bleed_frac}")
     for a, b in ((p.Fn_N, q.Fn_N), (p.Wf_kg_s, q.Wf_kg_s), (p.W_kg_s, q.stations["2"].W_kg_s), (p.OPR, q.OPR),
                  (p.shafts["lp"]["N_rpm"], q.N1_rpm), (p.shafts["hp"]["N_rpm"], q.N2_rpm),
                  (p.elements["fan"]["BPR"], q.BPR), (p.elements["hpt"]["PR"], q.PR_hpt),
@@ -93,7 +94,8 @@ def _line(text: str, needle: str) -> int:
 
 
 @pytest.mark.parametrize("old, new, needle, words", [
-    ('  "17": bypass_duct -> bypass_nozzle\n', "", "  bypass_duct: {kind", ["bypass_duct", "port 'out' is not connected"]),
+    ('  "17": bypass_duct -> bypass_nozzle\n', "", "  bypass_duct: {kind",
+     ["bypass_duct", "port 'out' is not connected"]),
     ('  "7": jet_pipe -> core_nozzle\n', '  "7": jet_pipe -> bypass_nozzle\n', '"17": bypass_duct',
      ["element 'bypass_nozzle'", "already connected"]),
     ("  hp: {N_rpm: 22900.0, eta_mech: 0.99, I_kg_m2: 0.25}\n",
@@ -123,10 +125,12 @@ def test_bad_engine_files_are_one_line_naming_file_line_element(tmp_path: Path, 
 
 
 def test_a_flow_path_that_does_not_close(tmp_path: Path) -> None:
-    text = LARZAC.read_text().replace('  "4": burner -> hpt\n', '  "4": burner -> hpt\n  "99": spare -> bypass_nozzle\n')
+    text = LARZAC.read_text().replace('  "4": burner -> hpt\n',
+                                      '  "4": burner -> hpt\n  "99": spare -> bypass_nozzle\n')
     text = text.replace("  bypass_nozzle: {kind", "  spare: {kind: duct}\n  bypass_nozzle: {kind")
     text = text.replace('  "17": bypass_duct -> bypass_nozzle\n', '  "17": bypass_duct -> spare\n')
-    text = text.replace('  "99": spare -> bypass_nozzle\n', '  "99": spare -> bypass_nozzle\n  "98": spare2 -> spare2\n')
+    text = text.replace('  "99": spare -> bypass_nozzle\n',
+                        '  "99": spare -> bypass_nozzle\n  "98": spare2 -> spare2\n')
     text = text.replace("  spare: {kind: duct}\n", "  spare: {kind: duct}\n  spare2: {kind: duct}\n")
     f = _write(tmp_path, text)
     with pytest.raises(EngineFileError) as ei:

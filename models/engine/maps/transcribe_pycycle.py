@@ -13,13 +13,14 @@ numbers with :mod:`ast` (``ast.literal_eval`` of the literal lists passed to
 
 from __future__ import annotations
 
-import ast
 import csv
 import io
 import json
 import subprocess
 import sys
 from pathlib import Path
+
+from openemss.models.engine.map_pycycle import parse_map_module  # the one parser of pyCycle's map modules
 
 REPO = "https://github.com/OpenMDAO/pyCycle"
 COMMIT = "65faca6c95506122812f74a3e66079266327d95e"
@@ -32,24 +33,6 @@ MAPS = {
     "hpt1269.py": ("hpt1269", "turbine", "HPT (1 stage)", "hpt1269.map of NPSS"),
     "lpt2269.py": ("lpt2269", "turbine", "LPT (1 stage)", "lpt2269.map of NPSS"),
 }
-
-
-def parse_map_module(text: str) -> dict[str, object]:
-    """Return the ``X.attr = np.array(literal)``, ``X.attr = number`` and ``X.defaults[...]`` of a module."""
-    out: dict[str, object] = {"defaults": {}}
-    for node in ast.parse(text).body:
-        if not (isinstance(node, ast.Assign) and len(node.targets) == 1):
-            continue
-        target, value = node.targets[0], node.value
-        if isinstance(target, ast.Attribute):
-            if isinstance(value, ast.Call) and getattr(value.func, "attr", "") == "array":
-                out[target.attr] = ast.literal_eval(value.args[0])
-            elif isinstance(value, ast.Constant) and isinstance(value.value, (int, float)):
-                out[target.attr] = value.value
-        elif (isinstance(target, ast.Subscript) and isinstance(target.value, ast.Attribute)
-              and target.value.attr == "defaults"):
-            out["defaults"][ast.literal_eval(target.slice)] = ast.literal_eval(value)  # type: ignore[index]
-    return out
 
 
 def to_json(obj: object, indent: str = "") -> str:

@@ -236,7 +236,12 @@ def _rewrite_imports(code: str, path: Path, lib: str, siblings: set[str]) -> str
 
 
 def _check_relative_only(pkg_dir: Path) -> None:
+    """Every module of the vendored packages imports its own package relatively. A script in a data folder
+    (no ``__init__.py``, e.g. ``models/engine/maps/transcribe_pycycle.py``) is no module of the package: the
+    FMU never imports it, and it may import the installed ``openemss``."""
     for f in pkg_dir.rglob("*.py"):
+        if not (f.parent / "__init__.py").is_file():
+            continue
         for name in _imports(ast.parse(f.read_text(encoding="utf-8"), filename=str(f))):
             if name == "openemss" or name.startswith("openemss."):
                 raise BuildError(f"{f}: model code must import its own package relatively "

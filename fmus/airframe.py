@@ -80,7 +80,7 @@ class Airframe(InitialOutputs, SignalIO, Fmi2Slave):
         return load_weather(p)
 
     def compute_start(self) -> None:
-        check_loading(self.fuel0_kg, self.added_mass_kg, ("fuel0_kg", "added_mass_kg"))
+        check_loading(self.fuel0_kg, self.added_mass_kg, ("fuel0_kg", "added_mass_kg"), engine_fed=True)
         if not self.start_on_runway:
             check_air_start(self.alt0_m, self.ground_elevation_m, ("alt0_m", "ground_elevation_m"))
         w = self._weather()

@@ -123,10 +123,6 @@ class Engine(InitialOutputs, SignalIO, Fmi2Slave):
         self._model = m
         self._supply = FuelSupply()
         self._y, self._yb, self._yi = m.values, m.flags, [m.events, int(m.flags[FLAMEOUT])]
-        if not self.fuel_kg > 0.0:  # an empty tank: out from the start (its first step fails, saying so)
-            m.flame_out(0.0, f"fuel tank empty at the start: the tanks feeding it hold {self.fuel_kg:g} kg (its "
-                             "input fuel_kg; the aircraft's fuel, e.g. the airframe's fuel0_kg)")
-            self._yi[1] = FLAMEOUT_STARVED
 
     def model_inputs(self) -> np.ndarray:
         """The model's input array (:attr:`.EngineModel.input_array`) filled from the FMU's inputs."""

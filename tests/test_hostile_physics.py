@@ -59,17 +59,13 @@ def _mission(tmp_path: Path, old: str, new: str, count: int = 1) -> Path:
 
 
 # -- fuel -----------------------------------------------------------------------------------------
-def test_zero_fuel_flames_out_at_the_start(munich: Path, tmp_path: Path,
+def test_zero_fuel_is_refused_before_flying(munich: Path, tmp_path: Path,
                                            capsys: pytest.CaptureFixture[str]) -> None:
-    """No fuel on board: the engine is out from the start (it publishes no fuel flow and no thrust, so nothing is
-    taken from the empty tank) and its first step fails saying so; nothing is flown, nothing burned."""
-    out = tmp_path / "out"
-    rc, err = _run(capsys, "run", str(munich), "--set", "airframe.fuel0_kg=0", "--out", str(out), "--no-pre-run")
-    assert_one_line(rc, err, "component 'engine'", "flame-out at t = 0 s", "fuel tank empty at the start",
-                    "fuel0_kg")
-    summary = json.loads((out / "summary.json").read_text(encoding="utf-8"))
-    assert summary["status"] == "failed" and summary["flameout"]["time_s"] == 0.0
-    assert summary["flameout"]["cause"].startswith("fuel starvation") and summary["fuel_burned_kg"] == 0.0
+    """No fuel on board: the airframe (whose tank feeds the engine) refuses to start, naming the parameter."""
+    rc, err = _run(capsys, "run", str(munich), "--set", "airframe.fuel0_kg=0", "--out", str(tmp_path / "out"),
+                   "--no-pre-run")
+    assert_one_line(rc, err, "component 'airframe'", "fmi2ExitInitializationMode", "fuel0_kg = 0",
+                    "no fuel on board")
 
 
 def test_tank_running_dry_flames_the_engine_out(munich: Path, tmp_path: Path,
@@ -190,7 +186,8 @@ def test_air_start_below_the_ground_is_refused_by_the_airframe(munich: Path, tmp
 
 @pytest.mark.parametrize(("old", "new", "fragments"), [
     # the other runway of EDDM: the aircraft stays on the airframe's default, 26R, 2.3 km away
-    ("- {type: Rolling, runway: EDDM_26R", "- {type: Rolling, runway: EDDM_26L", ("EDDM_26L", "m right of")),
+    ("runway: EDDM_26R, lever: 1.0, rotate_cas_m_s", "runway: EDDM_26L, lever: 1.0, rotate_cas_m_s",
+     ("EDDM_26L", "m right of")),
     # another airport: EDDM_26R moved to Frankfurt's 25C threshold (the airframe starts at Munich's)
     ("threshold_lat_deg: 48.366887, threshold_lon_deg: 11.821173", "threshold_lat_deg: 50.0451, "
      "threshold_lon_deg: 8.5869", ("50.04510 N 8.58690 E", "48.36")),

@@ -20,13 +20,17 @@ __all__ = ["check_loading", "check_air_start", "above_mtow", "MASS_ROUNDOFF_KG"]
 MASS_ROUNDOFF_KG = 0.1
 
 
-def check_loading(fuel_kg: float, added_mass_kg: float, names: tuple[str, str] = ("fuel_kg", "added_mass_kg")) \
-        -> float:
-    """Refuse a loading that cannot be: fuel below zero or above the tank's capacity, a negative added mass
-    (:class:`OutOfEnvelopeError`, naming the values by ``names``); return the take-off mass [kg] (operating
-    empty mass + fuel + added mass), which may exceed the maximum take-off mass (:func:`above_mtow`)."""
+def check_loading(fuel_kg: float, added_mass_kg: float, names: tuple[str, str] = ("fuel_kg", "added_mass_kg"),
+                  engine_fed: bool = False) -> float:
+    """Refuse a loading that cannot be: fuel below zero (with `engine_fed`, an aircraft whose engine burns from
+    its tank: no fuel at all) or above the tank's capacity, a negative added mass (:class:`OutOfEnvelopeError`,
+    naming the values by ``names``); return the take-off mass [kg] (operating empty mass + fuel + added mass),
+    which may exceed the maximum take-off mass (:func:`above_mtow`)."""
     g = load_geometry()
     f, a = float(fuel_kg), float(added_mass_kg)
+    if engine_fed and f == 0.0:
+        raise OutOfEnvelopeError(f"{names[0]} = {fuel_kg} kg: no fuel on board for the engine to start on; give "
+                                 f"{names[0]} above 0, up to the tank's {g.fuel_capacity_kg:g} kg")
     if not 0.0 <= f <= g.fuel_capacity_kg:
         raise OutOfEnvelopeError(f"{names[0]} = {fuel_kg} kg: the fuel on board must be from 0 to the tank's "
                                  f"capacity, {g.fuel_capacity_kg:g} kg (models/airframe/data/upera_geometry.json)")

@@ -22,7 +22,10 @@ runs below zero; under a Gauss-Seidel master that steps the airframe after the e
 nothing and the first is one step conservative. Either way the fuel the engine burned is fuel that
 left the tank.
 
-A host that connects no tank leaves ``fuel_kg`` at its start value, :data:`.engine_signals.FUEL_UNLIMITED_KG`: the
+A reading of 0 kg before any positive one is taken as a tank not fed yet, not as an empty one: FMPy's SSP
+runner starts every input at 0 and feeds the connections from its second step on (the airframe refuses to
+start without fuel, so a run of ours never starts on an empty tank). A host that connects no tank leaves
+``fuel_kg`` at its start value, :data:`.engine_signals.FUEL_UNLIMITED_KG`: the
 engine is then not limited (it neither starves nor is fed by a tank it does not know).
 """
 from __future__ import annotations
@@ -68,9 +71,12 @@ class FuelSupply:
         -------
         float
             The lesser of ``tank_kg - owed_kg`` and the first reading's content less what was burned
-            since [kg]; may be negative (nothing can be delivered). NaN reads as nothing.
+            since [kg]; may be negative (nothing can be delivered). NaN reads as nothing; a first reading
+            of 0 or less as a tank not fed yet (infinite).
         """
         if self.ref_kg is None:
+            if tank_kg <= 0.0:  # not fed yet: a host that starts every input at 0 (see the module)
+                return math.inf
             self.ref_kg = tank_kg + burned_kg
         a = tank_kg - owed_kg
         b = self.ref_kg - burned_kg

@@ -28,6 +28,10 @@ def test_available_is_the_tank_less_what_it_still_owes() -> None:
     assert s.available_kg(10.0, 3.0, 0.2) == pytest.approx(7.0)
     assert FuelSupply().available_kg(FUEL_UNLIMITED_KG, 5.0, 0.2) > 1e11  # no tank connected: not limited
     assert FuelSupply().available_kg(math.nan, 0.0, 0.0) == -math.inf  # nothing known: nothing delivered
+    # a first reading of 0 kg is a tank not fed yet (FMPy's SSP runner starts every input at 0), not an empty one
+    s = FuelSupply()
+    assert s.available_kg(0.0, 0.0, 0.2) == math.inf and s.ref_kg is None
+    assert s.available_kg(5.0, 0.3, 0.2) == pytest.approx(4.8) and s.ref_kg == pytest.approx(5.3)
 
 
 @pytest.fixture(scope="module")

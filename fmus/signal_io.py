@@ -67,6 +67,12 @@ def _attrs_getter(names: list[str]) -> Callable[[Any], tuple[Any, ...]]:
     return attrgetter(*names)  # type: ignore[return-value]
 
 
+def fmi_guarded(method: Callable[..., Any]) -> Callable[..., Any]:
+    """Mark a method that calls ``self.fmi_escaping(self)`` before an exception leaves it (see SignalIO)."""
+    method.fmi_guarded = True  # type: ignore[attr-defined]
+    return method
+
+
 class SignalIO:
     """Mix-in of a pythonfmu slave whose variables come from signal tables (see the module)."""
 
@@ -156,6 +162,11 @@ class SignalIO:
         self._ys: Sequence[str] = ()
 
     # -- batched access -----------------------------------------------------------------------
+    # An exception that leaves these methods for pythonfmu's C layer goes through ``fmi_escaping`` first, which
+    # build-fmus sets on the slave class (orchestrator/fmu/lifecycle.py: that layer releases the instance once
+    # too often after a failure); marked ``fmi_guarded``, they are not wrapped there (no call added per step).
+    fmi_escaping: Callable[[Any], None] = staticmethod(lambda slave: None)  # type: ignore[assignment]
+
     # A plan is (value references, function): the function serves a call for exactly those references,
     # and is replaced when a call brings others. Outputs come from the type's vector with one itemgetter,
     # attributes are written with one __dict__.update; anything else goes through pythonfmu's getters and
@@ -218,53 +229,93 @@ class SignalIO:
                 f(x)
         return list(vrs), each
 
+    @fmi_guarded
     def get_real(self, vrs: list[int]) -> list[float]:
-        p = self._gr
-        if p[0] != vrs:
-            p = self._gr = self._get_plan("Real", vrs)
-        return p[1]()
+        try:
+            p = self._gr
+            if p[0] != vrs:
+                p = self._gr = self._get_plan("Real", vrs)
+            return p[1]()
+        except BaseException:
+            self.fmi_escaping(self)
+            raise
 
+    @fmi_guarded
     def get_boolean(self, vrs: list[int]) -> list[bool]:
-        p = self._gb
-        if p[0] != vrs:
-            p = self._gb = self._get_plan("Boolean", vrs)
-        return p[1]()
+        try:
+            p = self._gb
+            if p[0] != vrs:
+                p = self._gb = self._get_plan("Boolean", vrs)
+            return p[1]()
+        except BaseException:
+            self.fmi_escaping(self)
+            raise
 
+    @fmi_guarded
     def get_integer(self, vrs: list[int]) -> list[int]:
-        p = self._gi
-        if p[0] != vrs:
-            p = self._gi = self._get_plan("Integer", vrs)
-        return p[1]()
+        try:
+            p = self._gi
+            if p[0] != vrs:
+                p = self._gi = self._get_plan("Integer", vrs)
+            return p[1]()
+        except BaseException:
+            self.fmi_escaping(self)
+            raise
 
+    @fmi_guarded
     def get_string(self, vrs: list[int]) -> list[str]:
-        p = self._gs
-        if p[0] != vrs:
-            p = self._gs = self._get_plan("String", vrs)
-        return p[1]()
+        try:
+            p = self._gs
+            if p[0] != vrs:
+                p = self._gs = self._get_plan("String", vrs)
+            return p[1]()
+        except BaseException:
+            self.fmi_escaping(self)
+            raise
 
+    @fmi_guarded
     def set_real(self, vrs: list[int], values: list[float]) -> None:
-        p = self._sr
-        if p[0] != vrs:
-            p = self._sr = self._set_plan("Real", vrs)
-        p[1](values)
+        try:
+            p = self._sr
+            if p[0] != vrs:
+                p = self._sr = self._set_plan("Real", vrs)
+            p[1](values)
+        except BaseException:
+            self.fmi_escaping(self)
+            raise
 
+    @fmi_guarded
     def set_boolean(self, vrs: list[int], values: list[bool]) -> None:
-        p = self._sb
-        if p[0] != vrs:
-            p = self._sb = self._set_plan("Boolean", vrs)
-        p[1](values)  # pythonfmu passes Python bools
+        try:
+            p = self._sb
+            if p[0] != vrs:
+                p = self._sb = self._set_plan("Boolean", vrs)
+            p[1](values)  # pythonfmu passes Python bools
+        except BaseException:
+            self.fmi_escaping(self)
+            raise
 
+    @fmi_guarded
     def set_integer(self, vrs: list[int], values: list[int]) -> None:
-        p = self._si
-        if p[0] != vrs:
-            p = self._si = self._set_plan("Integer", vrs)
-        p[1](values)
+        try:
+            p = self._si
+            if p[0] != vrs:
+                p = self._si = self._set_plan("Integer", vrs)
+            p[1](values)
+        except BaseException:
+            self.fmi_escaping(self)
+            raise
 
+    @fmi_guarded
     def set_string(self, vrs: list[int], values: list[str]) -> None:
-        p = self._ss
-        if p[0] != vrs:
-            p = self._ss = self._set_plan("String", vrs)
-        p[1](values)
+        try:
+            p = self._ss
+            if p[0] != vrs:
+                p = self._ss = self._set_plan("String", vrs)
+            p[1](values)
+        except BaseException:
+            self.fmi_escaping(self)
+            raise
 
     # -- model description ----------------------------------------------------------------------
     def to_xml(self, model_options: dict[str, str] | None = None) -> Element:

@@ -13,7 +13,10 @@ has two faults this code works around from the Python side, where a build can re
   leaves it towards the C layer, the three references the C layer is about to drop are taken first
   (``Py_IncRef``), so the C layer's extra release balances and ``fmi2FreeInstance`` frees the instance
   once, as it should. An exception caught by the slave's own code (the wrapper's caller is code of this
-  FMU) takes nothing.
+  FMU) takes nothing. A method marked ``fmi_guarded`` is left as it is: it calls the class's
+  ``fmi_escaping`` itself (``fmus/signal_io.py``'s batched get and set, called every step: no call added);
+  functions a slave sets on an instance for the C layer are wrapped with the class's ``fmi_guard``
+  (``fmus/initial_outputs.py``).
 * **One module per process.** pythonfmu imports the slave module once per process (by its name) and for
   every later instance runs the script again inside that first module, with the new instance's
   resources folder first on ``sys.path``. An instance extracted elsewhere (a host that extracts per
@@ -112,7 +115,7 @@ def _emss_method_{n}(fn):
         except BaseException:
             _emss_escaping(self)
             raise
-    method._emss_guarded = True
+    method.fmi_guarded = True
     return method
 
 
@@ -123,7 +126,7 @@ def _emss_bound_{n}(fn, slave):
         except BaseException:
             _emss_escaping(slave)
             raise
-    bound._emss_guarded = True
+    bound.fmi_guarded = True
     return bound
 ''' for n, (params, args) in templates.items())
     return f'''
@@ -162,7 +165,7 @@ def _emss_escaping(slave) -> None:
 def _emss_guard(fn, slave=None):
     """``fn`` (a method of the class, or with ``slave`` a function set on that instance) with the references
     the C layer drops on an exception taken first."""
-    if getattr(fn, "_emss_guarded", False):
+    if getattr(fn, "fmi_guarded", False):  # wrapped already, or calls fmi_escaping itself (fmus/signal_io.py)
         return fn
     code = fn.__code__ if isinstance(fn, _EmssFunctionType) else None
     exact = code is not None and not code.co_flags & 0x0C and not code.co_kwonlyargcount  # no *a, **k, k=
@@ -181,5 +184,6 @@ if not _emss_rerun:
             if callable(_emss_fn) and not isinstance(_emss_fn, (staticmethod, classmethod)):
                 setattr(_emss_cls, _emss_method, _emss_guard(_emss_fn))
         _emss_cls.fmi_guard = staticmethod(_emss_guard)  # for functions a slave sets on its instances
+        _emss_cls.fmi_escaping = staticmethod(_emss_escaping)  # for methods that guard themselves
 # ---------------------------------------------------------------------------------------------------
 '''

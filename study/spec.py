@@ -395,7 +395,9 @@ def _field_lines(doc: Any) -> list[tuple[str, int]]:
 
 def _set_once(ctx: _Ctx, doc: Any, study: StudyDef) -> None:
     """Refuse a variable that two parts of the study set (one would silently replace the other in a case):
-    ``values``, a variant's values, the grid, the missions (``mission_parameter``)."""
+    ``values``, the grid, the missions (``mission_parameter``); a variant's values may replace the study's
+    ``values`` (defaults of every case; the variant is the documented exception), not the grid's or the
+    missions'."""
     setters: list[tuple[str, Any, str]] = [("values", doc.get("values"), k) for k, _ in study.values]
     variants = doc.get("variants") if isinstance(doc.get("variants"), list) else []
     for i, v in enumerate(study.variants):
@@ -406,7 +408,8 @@ def _set_once(ctx: _Ctx, doc: Any, study: StudyDef) -> None:
     first: dict[str, str] = {}
     for part, where, var in setters:
         earlier = first.get(var)
-        if earlier is not None and not (earlier.startswith("variants[") and part.startswith("variants[")):
+        if earlier is not None and not ((earlier == "values" or earlier.startswith("variants["))
+                                        and part.startswith("variants[")):
             raise ctx.fail(where if isinstance(where, dict) else doc, var if part != "missions" else "missions",
                            f"'{var}' is set by both {earlier} and {part}: one would replace the other in every case; "
                            "set it in one place")

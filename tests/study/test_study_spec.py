@@ -38,6 +38,13 @@ def test_cases_are_every_combination_typed_as_the_fmu_variables(tmp_path: Path, 
     assert cases[1].scenario == str((tmp_path / "sc.yaml").resolve()) and cases[0].scenario is None
 
 
+def test_a_variant_replaces_the_studys_values_for_its_cases_only(tmp_path: Path, oscillator: Path) -> None:
+    p = study(tmp_path, f"study: defaults\nsystem: {oscillator}\nstop_time_s: 1\nvalues: {{mass2.m2_kg: 2}}\n"
+                        "variants:\n  - {name: light}\n  - {name: heavy, values: {mass2.m2_kg: 5}}\n")
+    cases = {c.name: dict(c.values) for c in expand_cases(load_study(p))}
+    assert cases == {"light": {"mass2.m2_kg": 2.0}, "heavy": {"mass2.m2_kg": 5.0}}
+
+
 @pytest.mark.parametrize(("text", "line", "needle"), [
     ("study: x\nsystem: {osc}\nstop_time_s: -1\n", 3, "field 'stop_time_s': value -1 outside the allowed range [1e-09,"),
     ("study: x\nsystem: {osc}\ngrid:\n  mass1.m1_kg: []\n", 4, "field 'grid.mass1.m1_kg': expected a non-empty list"),

@@ -13,33 +13,15 @@ Reference: OpenMDAO/pyCycle, ``pycycle/maps/`` (Apache-2.0); the map format of `
 
 from __future__ import annotations
 
-import ast
 from pathlib import Path
 from types import MappingProxyType
 from typing import Any
 
 from .errors import ModelError
 from .maps import MapData, MapSource
+from .pycycle_module import parse_map_module
 
 __all__ = ["parse_map_module", "read_pycycle_map"]
-
-
-def parse_map_module(text: str) -> dict[str, Any]:
-    """The ``X.attr = np.array(literal)``, ``X.attr = number`` and ``X.defaults[...] = literal`` of a module."""
-    out: dict[str, Any] = {"defaults": {}}
-    for node in ast.parse(text).body:
-        if not (isinstance(node, ast.Assign) and len(node.targets) == 1):
-            continue
-        target, value = node.targets[0], node.value
-        if isinstance(target, ast.Attribute):
-            if isinstance(value, ast.Call) and getattr(value.func, "attr", "") == "array" and value.args:
-                out[target.attr] = ast.literal_eval(value.args[0])
-            elif isinstance(value, ast.Constant) and isinstance(value.value, int | float):
-                out[target.attr] = value.value
-        elif (isinstance(target, ast.Subscript) and isinstance(target.value, ast.Attribute)
-              and target.value.attr == "defaults"):
-            out["defaults"][ast.literal_eval(target.slice)] = ast.literal_eval(value)
-    return out
 
 
 def _plane(d: dict[str, Any], key: str) -> list[list[float]]:

@@ -14,13 +14,19 @@ numbers with :mod:`ast` (``ast.literal_eval`` of the literal lists passed to
 from __future__ import annotations
 
 import csv
+import importlib.util
 import io
 import json
 import subprocess
 import sys
 from pathlib import Path
 
-from openemss.models.engine.map_pycycle import parse_map_module  # the one parser of pyCycle's map modules
+_spec = importlib.util.spec_from_file_location("pycycle_module", Path(__file__).resolve().parent.parent
+                                               / "pycycle_module.py")
+assert _spec is not None and _spec.loader is not None
+_mod = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(_mod)
+parse_map_module = _mod.parse_map_module    # the one parser of pyCycle's map modules (models/engine/pycycle_module.py)
 
 REPO = "https://github.com/OpenMDAO/pyCycle"
 COMMIT = "65faca6c95506122812f74a3e66079266327d95e"

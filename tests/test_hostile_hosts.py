@@ -176,16 +176,22 @@ def child_simulate_twice(fmu: str, output: str) -> dict[str, Any]:
     return {"runs": runs}
 
 
-def child_runs(systems: list[str], out: str) -> dict[str, Any]:
-    """``openemss.run`` of each system in turn, in this one process: status and error of each."""
+def child_runs(systems: list[str], out: str, settings: list[list[str]] | None = None) -> dict[str, Any]:
+    """``openemss.run`` of each system in turn (with its ``settings``), in this one process: status and error of
+    each, and per slave class loaded the number of its instances still alive after them all."""
+    from pythonfmu import Fmi2Slave
+
     import openemss
 
     result = []
     for i, system in enumerate(systems):
         r = openemss.run(system, stop_time=0.5, out=f"{out}/run{i}", pre_run=False, post_run=False,
-                         warn=lambda line: None)
+                         warn=lambda line: None, set=(settings or [[]] * len(systems))[i])
         result.append([r.status, r.error or ""])
-    return {"runs": result}
+    classes = {c for m in list(sys.modules.values()) for c in vars(m).values()
+               if isinstance(c, type) and issubclass(c, Fmi2Slave) and c.__module__ == m.__name__
+               and m.__name__.startswith("emss_")}
+    return {"runs": result, "live": sorted(_live(c) for c in classes)}
 
 
 def host(function: str, **kwargs: Any) -> dict[str, Any]:
@@ -321,3 +327,15 @@ def test_data_file_is_the_instances_own(tmp_path: Path) -> None:
     assert data_file("missions/munich.yaml", None) == REPOSITORY / "missions" / "munich.yaml"
     with pytest.raises(FileNotFoundError, match=str(tmp_path / "missions" / "README.md")):
         data_file("missions/README.md", tmp_path)
+
+
+def test_the_master_frees_failed_instances(project_fmus: dict[str, Path], tmp_path: Path) -> None:
+    """Runs whose engine refuses its preset at initialization (fmi2Fatal, pythonfmu's status for every Python
+    exception), then a good run, in one process: each failed instance is freed (none left alive, where the
+    master used to leave every failed instance alone) and the process survives its garbage collection."""
+    good = _system(tmp_path / "good", project_fmus)
+    bad = [["engine.preset=no_such_engine"]] * 4
+    r = host("child_runs", systems=[str(good)] * 5, out=str(tmp_path / "out"), settings=[*bad, []])
+    assert [s for s, _ in r["runs"]] == ["failed"] * 4 + ["completed"], r["runs"]
+    assert all("no_such_engine" in e for _, e in r["runs"][:4]), r["runs"]
+    assert r["live"] and r["live"] == [0] * len(r["live"]), f"slave instances alive after the runs: {r['live']}"

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ..common import values
+from .maps import DEFAULT_EXTRAPOLATION
 
 __all__ = ["Attr", "Kind", "KINDS", "SHAFT_ATTRS", "BLEED_ATTRS", "SCHEDULE_ATTRS", "DESIGN_ATTRS", "FUEL_ATTRS",
            "check_attr"]
@@ -44,6 +45,9 @@ _MAP_OPT = {
     "map_line": Attr("number", None, "the map's R-line (compressor) or pressure ratio (turbine) placed on the "
                                      "design point (default the map's own)", lo=0.0, hi=100.0),
     "map_extended": Attr("flag", True, "extend the map below its lowest speed line (sub-idle, map_extension.py)"),
+    "map_extrapolation": Attr("number", DEFAULT_EXTRAPOLATION, "linear extrapolation allowed beyond the map's grid, as a fraction of "
+                                             "each axis' span (pyCycle's map_extrap=True extrapolates without a "
+                                             "limit)", lo=0.0, hi=10.0),
 }
 
 

@@ -20,7 +20,7 @@ from .engine_file import ElementDef, EngineDef, EngineFileError
 from .errors import ModelError
 from .map_extension import extend_map_data
 from .map_scaled import ScaledCompressorMap, ScaledTurbineMap
-from .maps import DEFAULT_EXTRAPOLATION, MAP_DIR, CompressorMap, MapData, TurbineMap, load_map_data
+from .maps import MAP_DIR, CompressorMap, MapData, TurbineMap, load_map_data
 
 __all__ = ["map_data_of", "scaled_map"]
 
@@ -68,7 +68,7 @@ def scaled_map(eng: EngineDef, el: ElementDef, design: dict[str, float]) -> Any:
             raise ModelError(f"map {a['map']!r} is a {data.kind} map; a {el.kind} needs a {kind} map")
         if a["map_extended"]:
             data = extend_map_data(data)
-        m: Any = (CompressorMap if kind == "compressor" else TurbineMap)(data, DEFAULT_EXTRAPOLATION)
+        m: Any = (CompressorMap if kind == "compressor" else TurbineMap)(data, a["map_extrapolation"])
     except ModelError as exc:
         raise EngineFileError(f"{where}{exc}") from None
     n = a["map_Nc_rel"] if a["map_Nc_rel"] is not None else m.nc_rel_design

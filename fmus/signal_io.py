@@ -73,6 +73,40 @@ def fmi_guarded(method: Callable[..., Any]) -> Callable[..., Any]:
     return method
 
 
+def _batched_get(kind: str, slot: int) -> Callable[[Any, list[int]], list[Any]]:
+    """SignalIO's ``get_<kind>``: the values through the plan for these references, held in ``_plans[slot]``."""
+    @fmi_guarded
+    def get(self: Any, vrs: list[int]) -> list[Any]:
+        try:
+            plans = self._plans
+            p = plans[slot]
+            if p[0] != vrs:
+                p = plans[slot] = self._get_plan(kind, vrs)
+            return p[1]()  # type: ignore[no-any-return]
+        except BaseException:
+            self.fmi_escaping(self)
+            raise
+    get.__name__ = get.__qualname__ = f"get_{kind.lower()}"
+    return get
+
+
+def _batched_set(kind: str, slot: int) -> Callable[[Any, list[int], list[Any]], None]:
+    """SignalIO's ``set_<kind>``: the values set through the plan for these references, held in ``_plans[slot]``."""
+    @fmi_guarded
+    def put(self: Any, vrs: list[int], values: list[Any]) -> None:
+        try:
+            plans = self._plans
+            p = plans[slot]
+            if p[0] != vrs:
+                p = plans[slot] = self._set_plan(kind, vrs)
+            p[1](values)
+        except BaseException:
+            self.fmi_escaping(self)
+            raise
+    put.__name__ = put.__qualname__ = f"set_{kind.lower()}"
+    return put
+
+
 class SignalIO:
     """Mix-in of a pythonfmu slave whose variables come from signal tables (see the module)."""
 
@@ -155,7 +189,7 @@ class SignalIO:
         self._in_index: dict[int, int] = {}  # value reference of a Real input -> its slot in self._u
         self._u: list[float] = []
         none: tuple[list[int] | None, Any] = (None, None)
-        self._gr = self._gb = self._gi = self._gs = self._sr = self._sb = self._si = self._ss = none  # plans
+        self._plans: list[tuple[list[int] | None, Any]] = [none] * 8  # of get and set per type (_batched_get)
         self._y: Sequence[float] = ()
         self._yb: Sequence[bool] = ()
         self._yi: Sequence[int] = ()
@@ -229,93 +263,14 @@ class SignalIO:
                 f(x)
         return list(vrs), each
 
-    @fmi_guarded
-    def get_real(self, vrs: list[int]) -> list[float]:
-        try:
-            p = self._gr
-            if p[0] != vrs:
-                p = self._gr = self._get_plan("Real", vrs)
-            return p[1]()
-        except BaseException:
-            self.fmi_escaping(self)
-            raise
-
-    @fmi_guarded
-    def get_boolean(self, vrs: list[int]) -> list[bool]:
-        try:
-            p = self._gb
-            if p[0] != vrs:
-                p = self._gb = self._get_plan("Boolean", vrs)
-            return p[1]()
-        except BaseException:
-            self.fmi_escaping(self)
-            raise
-
-    @fmi_guarded
-    def get_integer(self, vrs: list[int]) -> list[int]:
-        try:
-            p = self._gi
-            if p[0] != vrs:
-                p = self._gi = self._get_plan("Integer", vrs)
-            return p[1]()
-        except BaseException:
-            self.fmi_escaping(self)
-            raise
-
-    @fmi_guarded
-    def get_string(self, vrs: list[int]) -> list[str]:
-        try:
-            p = self._gs
-            if p[0] != vrs:
-                p = self._gs = self._get_plan("String", vrs)
-            return p[1]()
-        except BaseException:
-            self.fmi_escaping(self)
-            raise
-
-    @fmi_guarded
-    def set_real(self, vrs: list[int], values: list[float]) -> None:
-        try:
-            p = self._sr
-            if p[0] != vrs:
-                p = self._sr = self._set_plan("Real", vrs)
-            p[1](values)
-        except BaseException:
-            self.fmi_escaping(self)
-            raise
-
-    @fmi_guarded
-    def set_boolean(self, vrs: list[int], values: list[bool]) -> None:
-        try:
-            p = self._sb
-            if p[0] != vrs:
-                p = self._sb = self._set_plan("Boolean", vrs)
-            p[1](values)  # pythonfmu passes Python bools
-        except BaseException:
-            self.fmi_escaping(self)
-            raise
-
-    @fmi_guarded
-    def set_integer(self, vrs: list[int], values: list[int]) -> None:
-        try:
-            p = self._si
-            if p[0] != vrs:
-                p = self._si = self._set_plan("Integer", vrs)
-            p[1](values)
-        except BaseException:
-            self.fmi_escaping(self)
-            raise
-
-    @fmi_guarded
-    def set_string(self, vrs: list[int], values: list[str]) -> None:
-        try:
-            p = self._ss
-            if p[0] != vrs:
-                p = self._ss = self._set_plan("String", vrs)
-            p[1](values)
-        except BaseException:
-            self.fmi_escaping(self)
-            raise
+    get_real = _batched_get("Real", 0)
+    get_boolean = _batched_get("Boolean", 1)
+    get_integer = _batched_get("Integer", 2)
+    get_string = _batched_get("String", 3)
+    set_real = _batched_set("Real", 4)
+    set_boolean = _batched_set("Boolean", 5)  # pythonfmu passes Python bools
+    set_integer = _batched_set("Integer", 6)
+    set_string = _batched_set("String", 7)
 
     # -- model description ----------------------------------------------------------------------
     def to_xml(self, model_options: dict[str, str] | None = None) -> Element:

@@ -6,5 +6,5 @@ FMU.
 May import: its own modules, ``ssp/``, ``master/``, the shared modules at the package root (``errors``,
 ``results``, ``__init__``). Never ``scenarios/``, ``cli/`` (tests/test_import_graph.py checks it).
 
-Modules: ``build``, ``export``, ``fmu_deps``. The parts: orchestrator/README.md.
+Modules: ``build``, ``export``, ``fmu_deps``, ``lifecycle``. The parts: orchestrator/README.md.
 """

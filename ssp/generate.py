@@ -37,7 +37,10 @@ SOURCES = {
     "airframe": {"fcs": ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "airbrake_norm",
                          "brakes_norm", "steering_norm", "gear_down"),
                  "engine": ("thrust_N", "fuel_flow_kg_s")},
-    "engine": {"fcs": ("fuel_flow_cmd_kg_s",), "airframe": ("alt_msl_m", "mach", "fuel_kg")},
+    # (fuel_kg before mach: FMPy's SSP runner, fmpy 0.3, wires an unconnected input to the source of the input
+    # before it, so the unconnected distortion inputs after mach get the Mach number, as they always did, and not
+    # the 600 kg of the tank)
+    "engine": {"fcs": ("fuel_flow_cmd_kg_s",), "airframe": ("fuel_kg", "alt_msl_m", "mach")},
 }
 # Inputs that are connectors without a connection, so that a scenario that sets them is recorded.
 UNCONNECTED_INPUTS = {"engine": ("distortion_on", "distortion_sector_deg", "distortion_dPt_frac")}

@@ -21,6 +21,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from operator import itemgetter
+from typing import Any
 
 import numpy as np
 from pythonfmu import Fmi2Slave
@@ -33,16 +34,15 @@ from openemss.models.engine.engine_model import (
     FLAGS,
     INPUT_FIELDS,
     OUTPUTS,
-    BleedValve,
     EngineInputs,
-    EngineLimits,
     EngineModel,
     condition_from_ambient,
 )
-from openemss.models.engine.engine_signals import DESIGN_FIELDS, FLAMEOUT_STARVED, SIGNALS
+from openemss.models.engine.engine_signals import DESIGN_FIELDS, FLAMEOUT_STARVED, PARAMETER_SETS, SIGNALS
 from openemss.models.engine.fuel_supply import FuelSupply
+from openemss.models.engine.settings import engine_set
 
-REQUIREMENTS = ["numpy>=1.24", "scipy>=1.10", "numba>=0.59"]
+REQUIREMENTS = ["numpy>=1.24", "scipy>=1.10", "numba>=0.59", "pyyaml>=6.0"]
 SOLVER_FAILED = [name for name, _ in FLAGS].index("solver_failed")
 FLAMEOUT = [name for name, _ in FLAGS].index("flameout")
 #: (field, description with unit) of the design parameters ``design_<field>``
@@ -95,27 +95,22 @@ class Engine(InitialOutputs, SignalIO, Fmi2Slave):
             p = replace(p, Fn_target_N=None, **{n: float(getattr(self, f"design_{n}")) for n, _ in DESIGN})
         return p
 
+    def _sets(self) -> dict[str, Any]:
+        """The engine's parameter sets (limits, bleed valve, numerics, start) collected from the parameters that
+        carry their names (``engine_signals.PARAMETER_SETS``), each checked against its range."""
+        return {section: engine_set(cls, section).collect(lambda name: getattr(self, name), prefix, "engine")
+                for section, (cls, prefix) in PARAMETER_SETS.items()}
+
     def compute_start(self) -> None:
-        m = EngineModel(self._params(), I_lp_kg_m2=self.I_lp_kg_m2 or None, I_hp_kg_m2=self.I_hp_kg_m2 or None,
-                        dt_internal_s=self.dt_internal_s, method="heun" if self.integrator == 1 else "euler",
-                        tol=self.tol, limits=EngineLimits(self.N1_max_pct, self.N2_max_pct, self.FAR_lean,
-                                            Wf_Pt3_min_frac=self.Wf_Pt3_min_frac,
-                                            Wf_decel_max_frac_s=self.Wf_decel_max_frac_s,
-                                            offtake_hp_max_W=self.offtake_hp_max_W,
-                                            offtake_lp_max_W=self.offtake_lp_max_W,
-                                            assist_hp_max_W=self.assist_hp_max_W,
-                                            assist_lp_max_W=self.assist_lp_max_W),
-                        valve=BleedValve(self.bleed_threshold_N1c_pct, self.bleed_band_pct, self.bleed_stroke_s,
-                                         self.bleed_open_frac),
-                        distortion_target=self.distortion_target, critical_angle_deg=self.critical_angle_deg,
-                        linear_input_frac=self.linear_input_frac,
-                        logger=lambda msg: self.log(msg, Fmi2Status.warning, "logStatusWarning"))
-        u = self._inputs()
-        if self.start_fuel_flow_kg_s > 0.0:
-            u = dataclasses.replace(u, Wf_kg_s=self.start_fuel_flow_kg_s)
+        sets = self._sets()
+        m = EngineModel.from_sets(self._params(), sets["numerics"], sets["limits"], sets["bleed_valve"],
+                                  logger=lambda msg: self.log(msg, Fmi2Status.warning, "logStatusWarning"))
+        u, start = self._inputs(), sets["start"]
+        if start.start_fuel_flow_kg_s > 0.0:
+            u = dataclasses.replace(u, Wf_kg_s=start.start_fuel_flow_kg_s)
             m.start(u)
         else:
-            m.start(u, N1_pct=self.start_N1_pct)
+            m.start(u, N1_pct=start.start_N1_pct)
         # the fuel flow input takes the start point's unless a master set it (a start computed again keeps
         # no fill-in of an earlier one: that was at the flight condition of then)
         if self.fuel_flow_cmd_kg_s <= 0.0 or self.fuel_flow_cmd_kg_s == self._filled_Wf_kg_s:

@@ -30,15 +30,12 @@ which a master's initial fixed-point iteration could not see settle).
 from __future__ import annotations
 
 import math
-from importlib import resources as _resources
 
 from pythonfmu import Fmi2Slave
 
 from openemss.fmus.data import data_file
 from openemss.fmus.initial_outputs import InitialOutputs
 from openemss.fmus.signal_io import SignalIO
-from openemss.models.common import safe_yaml
-from openemss.models.common.signals import Signal
 from openemss.models.fcs.atmosphere import isa, mach_from_tas
 from openemss.models.fcs.errors import FcsError
 from openemss.models.fcs.fcs import FcsOutput, FlightControlSystem
@@ -101,27 +98,6 @@ class Commands:
         self.completed = False
 
 
-def _parameter_docs(package: str) -> dict[str, tuple[str, str]]:
-    """Description and unit of every ``<section>.<name>`` entry of the package's parameter files."""
-    docs: dict[str, tuple[str, str]] = {}
-    folder = _resources.files(package).joinpath("data")
-    for f in sorted(folder.iterdir(), key=lambda p: p.name):
-        if not f.name.endswith(".yaml"):
-            continue
-        for section, entries in (safe_yaml.load(f.read_text(encoding="utf-8"), f.name) or {}).items():
-            if not isinstance(entries, dict):
-                continue
-            for key, e in entries.items():
-                if isinstance(e, dict) and "value" in e:
-                    unit = str(e.get("unit", "-")).strip() or "-"
-                    rng = ""
-                    if "min" in e or "max" in e:
-                        rng = f"; {e.get('min', '-inf')} to {e.get('max', 'inf')}"
-                    docs[f"{section}.{key}"] = (f"{e.get('note', key)}{rng} (data/{f.name})",
-                                                "1" if unit == "-" else unit)
-    return docs
-
-
 def _defaults() -> FlightControlSystem:
     """An FCS without sections: the controllers with their parameter files' values."""
     return FlightControlSystem(Mission("defaults", "", (), (), (), "<defaults>"))
@@ -144,20 +120,17 @@ class Fcs(InitialOutputs, SignalIO, Fmi2Slave):
         self.register_signals(SIGNALS, starts={"lat_deg": rwy.threshold.lat_deg, "lon_deg": rwy.threshold.lon_deg,
                                                "alt_msl_m": rwy.elevation_m, "psi_rad": rwy.heading_rad})
         # -- gains: every tunable parameter of the FCS under its dotted name of the Python API (valid FMI
-        #    names in pythonfmu's structured naming convention; nested=False: no attribute lookup by parts)
-        ref = _defaults()
-        docs = _parameter_docs(FlightControlSystem.__module__.rpartition(".")[0])
+        #    names in pythonfmu's structured naming convention; nested=False: no attribute lookup by parts),
+        #    generated from the parameter files (value, unit, range, note) with the shipped system's defaults
         # every gain set so far (from the shipped system's defaults on), applied at each start
         self._pending: dict[str, float | bool] = dict(GAIN_DEFAULTS)
         self._fcs: FlightControlSystem | None = None
-        self.gain_names: tuple[str, ...] = ref.parameter_names()
-        for pname in self.gain_names:
-            value = GAIN_DEFAULTS.get(pname, ref.get_parameter(pname))
-            desc, unit = docs.get(pname, (f"FCS parameter {pname}", "1"))
-            row = Signal(pname, "parameter", unit, desc, "Boolean" if isinstance(value, bool) else "Real",
-                         variability="tunable")
-            self.register_signal(row, getter=lambda p=pname, v=value: self._get_gain(p, v),
-                                 setter=lambda x, p=pname: self._set_gain(p, x), nested=False)
+        rows = [row for c, spec in _defaults().parameter_sets().items()
+                for row in spec.signals(f"{c}.", starts=GAIN_DEFAULTS)]
+        self.gain_names: tuple[str, ...] = tuple(row.name for row in rows)
+        for row in rows:
+            self.register_signal(row, getter=lambda p=row.name, v=row.start: self._get_gain(p, v),
+                                 setter=lambda x, p=row.name: self._set_gain(p, x), nested=False)
         # Before the first step the targets are 0, not the flown values: a master's initial fixed-point
         # exchange (ours compares with numpy.isclose) then sees them settle at once.
         self._start_outputs()

@@ -11,7 +11,9 @@ with its model's table (:class:`openemss.models.common.signals.Signal` rows). Th
   the outputs of that type in the table, or the accessor's position in ``vector_fields``);
   ``get_real`` and the others read a whole batch with one ``operator.itemgetter``;
 * the model description gets the FMI ``unit`` of every Real variable and the UnitDefinitions
-  (base-unit exponents and factor, FMI 2.0 section 2.2.2) from the table's units.
+  (base-unit exponents and factor, FMI 2.0 section 2.2.2) from the table's units, and the ``min``/``max``
+  of every Real and Integer row that states a range (parameters generated from a parameter file,
+  :meth:`openemss.models.common.params.ParamSet.signals`).
 
 pythonfmu's own ``get_real``/``set_real`` look every variable up and call its getter or setter
 (about 1 us per variable); a master asks for the same value references every step, so the
@@ -274,13 +276,22 @@ class SignalIO:
 
     # -- model description ----------------------------------------------------------------------
     def to_xml(self, model_options: dict[str, str] | None = None) -> Element:
-        """pythonfmu's model description with the ``unit`` of every Real variable and the
-        UnitDefinitions of those units (FMI 2.0 section 2.2.2)."""
+        """pythonfmu's model description with the ``unit`` of every Real variable, the ``min`` and ``max`` of
+        every Real and Integer variable whose row gives them (pythonfmu 0.7's ``Real``/``Integer`` take no range)
+        and the UnitDefinitions of those units (FMI 2.0 sections 2.2.2 and 2.2.7)."""
         root: Element = super().to_xml(model_options or {})  # type: ignore[misc]
         used: dict[str, None] = {}
+        rows = {row.name: row for row in self._rows.values()}
         for sv in root.iter("ScalarVariable"):
             real = sv.find("Real")
             unit = self._units.get(sv.get("name", ""))
+            row = rows.get(sv.get("name", ""))
+            for kind, text in (("Real", repr), ("Integer", lambda x: str(int(x)))):
+                elem = sv.find(kind)
+                if elem is not None and row is not None:  # the range (pythonfmu 0.7's variables take none)
+                    for key in ("min", "max"):
+                        if getattr(row, key) is not None:
+                            elem.set(key, text(getattr(row, key)))
             if real is not None:
                 if unit is None:
                     raise ValueError(f"{type(self).__name__}: Real variable '{sv.get('name')}' has no unit: "

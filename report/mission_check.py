@@ -116,6 +116,8 @@ class _Values:
 def _engine(eng: _Values) -> tuple[Any, str, Any]:
     from openemss.models.engine.design_params import TurbofanParams, load_params, preset_path, replace
     from openemss.models.engine.engine_model import EngineLimits
+    from openemss.models.engine.errors import OutOfRangeError
+    from openemss.models.engine.settings import engine_set
 
     preset = str(eng.get("preset", DEFAULT_ENGINE))
     try:
@@ -134,11 +136,12 @@ def _engine(eng: _Values) -> tuple[Any, str, Any]:
         params = replace(params, Fn_target_N=None, **{n: eng.number(f"design_{n}", float(getattr(base, n)))
                                                       for n, _ in DESIGN})
         label = f"{preset} with design_override"
-    d = EngineLimits()
-    limits = EngineLimits(eng.number("N1_max_pct", d.N1_max_pct), eng.number("N2_max_pct", d.N2_max_pct),
-                          eng.number("FAR_lean", d.FAR_lean), Wf_min_frac=d.Wf_min_frac,
-                          Wf_Pt3_min_frac=eng.number("Wf_Pt3_min_frac", d.Wf_Pt3_min_frac),
-                          Wf_decel_max_frac_s=eng.number("Wf_decel_max_frac_s", d.Wf_decel_max_frac_s))
+    # as the engine FMU: the limits from its parameters of those names (PARAMETER_SETS), else the file's values
+    spec = engine_set(EngineLimits, "limits")
+    try:
+        limits = spec.collect(lambda n: eng.number(n, float(spec.param(n).value)), "", eng.comp or "engine")
+    except OutOfRangeError as e:
+        raise ReportError(str(e)) from None
     return params, label, limits
 
 

@@ -36,7 +36,7 @@ if TYPE_CHECKING:  # PyYAML is imported where YAML is read, so that JSON readers
     import yaml
 
 __all__ = ["MAX_BYTES", "MAX_NODES", "MAX_INT_DIGITS", "YamlError", "LineDict", "compose", "load", "load_json",
-           "read_text"]
+           "node_lines", "read_text"]
 
 MAX_BYTES = 4 * 1024 * 1024  #: largest YAML file read [bytes]
 MAX_NODES = 200_000  #: most nodes of a document with its aliases expanded
@@ -201,6 +201,23 @@ def compose(text: str, source: str, max_nodes: int = MAX_NODES) -> yaml.Node | N
     if root is not None:
         _check(root, source, max_nodes)
     return root
+
+
+def node_lines(root: yaml.Node) -> dict[tuple[Any, ...], int]:
+    """The line (1-based) where every node of a composed document (:func:`compose`) starts, by its path of
+    keys and list indices (the root is ``()``)."""
+    out: dict[tuple[Any, ...], int] = {}
+    stack: list[tuple[yaml.Node, tuple[Any, ...]]] = [(root, ())]
+    while stack:  # iterative: a checked document may still be deep
+        node, path = stack.pop()
+        out[path] = node.start_mark.line + 1  # a key's path: the line where its value starts
+        if node.id == "mapping":
+            for k, v in node.value:
+                out[path + (k.value,)] = k.start_mark.line + 1
+                stack.append((v, path + (k.value,)))
+        elif node.id == "sequence":
+            stack.extend((v, path + (i,)) for i, v in enumerate(node.value))
+    return out
 
 
 def load(text: str, source: str, loader: type[yaml.SafeLoader] | None = None, max_nodes: int = MAX_NODES) -> Any:

@@ -80,6 +80,8 @@ class Signal:
     variability : str or None
         ``fixed``, ``tunable``, ``discrete`` or ``continuous``; None: ``fixed`` for a parameter,
         ``continuous`` for a Real input or output, ``discrete`` otherwise.
+    min, max : float or None
+        The allowed range of a Real or Integer variable (its FMI ``min``/``max``), None where unbounded.
     """
 
     name: str
@@ -90,6 +92,8 @@ class Signal:
     start: float | bool | int | str | None = None
     accessor: str | None = None
     variability: str | None = None
+    min: float | None = None
+    max: float | None = None
 
     @property
     def source(self) -> str:

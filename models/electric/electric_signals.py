@@ -1,16 +1,15 @@
 """The electrical power system's signal table: every variable of its FMU, one row each.
 
 Built from the model's own lists (:data:`openemss.models.electric.system.INPUTS`, ``OUTPUTS``,
-``FLAGS``) and its parameter file (``data/electric.yaml``: value, unit, range, note of every entry),
+``FLAGS``) and its parameter file (``data/electric.yaml``: value, unit, range, note of every entry, through
+:func:`.params.parameter_sets`),
 so that a variable is named, described and given its unit once. ``fmus/electric.py`` registers these
 rows (``fmus/README.md``), ``ssp/generate.py`` connects them by name.
 """
 from __future__ import annotations
 
-import math
-
 from ..common.signals import Signal, check_table
-from .params import entries
+from .params import parameter_sets
 from .system import FLAGS, INPUTS, OUTPUTS
 
 __all__ = ["PARAMETERS", "SIGNALS"]
@@ -20,18 +19,10 @@ def _unit(text: str) -> str:
     return "1" if text in ("", "-") else text
 
 
-def _parameter_rows() -> tuple[Signal, ...]:
-    rows = []
-    for e in entries():
-        rng = f"; {e.lo:g} to {e.hi:g}" if math.isfinite(e.lo) or math.isfinite(e.hi) else ""
-        type_ = "Boolean" if isinstance(e.value, bool) else "Integer" if isinstance(e.value, int) else "Real"
-        rows.append(Signal(e.name, "parameter", _unit(e.unit), f"{e.note}{rng} (data/electric.yaml)", type_,
-                           e.value, variability="tunable"))
-    return tuple(rows)
-
-
-#: The tunable parameters, every entry of data/electric.yaml under its dotted name.
-PARAMETERS: tuple[Signal, ...] = check_table(_parameter_rows(), "models/electric/data/electric.yaml")
+#: The tunable parameters, every entry of data/electric.yaml under its dotted name, with its range.
+PARAMETERS: tuple[Signal, ...] = check_table(
+    tuple(row for section, spec in parameter_sets().items() for row in spec.signals(f"{section}.")),
+    "models/electric/data/electric.yaml")
 
 #: Inputs, outputs (Real in the order of ``ElectricSystem.values``, Boolean in that of its flags) and mode.
 SIGNALS: tuple[Signal, ...] = check_table((

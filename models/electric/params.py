@@ -1,25 +1,21 @@
-"""Parameter sets of the electrical system, read from ``data/*.yaml`` (value, unit, min, max, note).
+"""Parameter sets of the electrical system, read from ``data/*.yaml`` (value, unit, min, max, note, source).
 
-Each section of a file fills one frozen dataclass; every field must be given once, within its stated
-range, and of its field's kind (bool, int or float). :func:`entries` lists every parameter with its
-unit and note, for the FMU's tunable parameters (dotted names ``<section>.<field>``).
-
-This loader is separate from the flight control's (``models/fcs/tunable.py``), which reads only the FCS
-package's own data folder; the file format is the same.
+Each section of a file fills one frozen dataclass through the models' one parameter mechanism
+(:mod:`openemss.models.common.params`): every field given once, within its stated range and of its
+field's kind (bool, int or float), errors naming ``file:line``. :func:`parameter_sets` gives the sets of
+the system file by section; their entries are the FMU's tunable parameters under the dotted names
+``<section>.<field>`` (``electric_signals.py``).
 """
 from __future__ import annotations
 
-import dataclasses
-import math
 from dataclasses import dataclass
-from importlib import resources
 from typing import Any, TypeVar
 
-from ..common import safe_yaml
+from ..common.params import ParamSet, parameter_set
 from .errors import ParameterError
 
-__all__ = ["CellParams", "MachineParams", "PackParams", "BusParams", "EmsParams", "ParamEntry",
-           "load_section", "entries", "SYSTEM_FILE", "CELL_FILE"]
+__all__ = ["CellParams", "MachineParams", "PackParams", "BusParams", "EmsParams", "SECTIONS", "load_section",
+           "section_set", "parameter_sets", "SYSTEM_FILE", "CELL_FILE"]
 
 SYSTEM_FILE = "electric.yaml"
 CELL_FILE = "a123_anr26650m1.yaml"
@@ -101,47 +97,14 @@ class EmsParams:
     pulse_hp_first: bool
 
 
-@dataclass(frozen=True)
-class ParamEntry:
-    """One parameter of a file: dotted name, value, unit, range and note."""
-
-    name: str
-    value: float | int | bool
-    unit: str
-    lo: float
-    hi: float
-    note: str
+#: The sections of the system file and the parameter set each fills.
+SECTIONS: dict[str, type] = {"hp_machine": MachineParams, "lp_machine": MachineParams, "battery": PackParams,
+                             "bus": BusParams, "ems": EmsParams}
 
 
-def _doc(filename: str) -> dict[str, Any]:
-    text = resources.files(__package__).joinpath("data", filename).read_text(encoding="utf-8")
-    return safe_yaml.load(text, filename) or {}
-
-
-def _typed(cls: type, name: str, value: Any, lo: float, hi: float, where: str) -> float | int | bool:
-    kind = {f.name: f.type for f in dataclasses.fields(cls)}[name]
-    if kind in (bool, "bool"):
-        if not isinstance(value, bool):
-            raise ParameterError(f"{where}.{name} = {value!r}: expected true or false")
-        return value
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise ParameterError(f"{where}.{name} = {value!r}: expected a number")
-    if kind in (int, "int"):
-        if float(value) != int(value):
-            raise ParameterError(f"{where}.{name} = {value!r}: expected a whole number")
-        value = int(value)
-    else:
-        value = float(value)
-    if not (lo <= value <= hi) or math.isnan(value):
-        raise ParameterError(f"{where}.{name} = {value!r} is outside the allowed range [{lo:g}, {hi:g}]")
-    return value
-
-
-def check(cls: type[P], section: str, values: dict[str, Any], where: str = "") -> P:
-    """A parameter set of ``cls`` from ``values``, each checked against the range of the system file."""
-    bounds = {e.name.partition(".")[2]: (e.lo, e.hi) for e in entries() if e.name.startswith(section + ".")}
-    return cls(**{k: _typed(cls, k, v, *bounds.get(k, (-math.inf, math.inf)), where or section)
-                  for k, v in values.items()})
+def section_set(cls: type[P], section: str, filename: str = SYSTEM_FILE) -> ParamSet[P]:
+    """The parameters of ``section`` of ``data/<filename>`` (value, unit, range, note, source), read once."""
+    return parameter_set(cls, __package__, filename, section, ParameterError)
 
 
 def load_section(cls: type[P], section: str, filename: str = SYSTEM_FILE, **overrides: Any) -> P:
@@ -150,39 +113,11 @@ def load_section(cls: type[P], section: str, filename: str = SYSTEM_FILE, **over
     Raises
     ------
     ParameterError
-        A field missing or unknown, a value of the wrong kind or outside its range.
+        A field missing or unknown, a value of the wrong kind or outside its range (naming file:line).
     """
-    where = f"{filename}:{section}"
-    doc = _doc(filename)
-    if section not in doc:
-        raise ParameterError(f"{filename}: no section '{section}' (sections: {', '.join(sorted(doc))})")
-    names = [f.name for f in dataclasses.fields(cls)]
-    values: dict[str, Any] = {}
-    for key, e in doc[section].items():
-        if key == "source":
-            continue
-        if key not in names:
-            raise ParameterError(f"{where}: unknown parameter '{key}'; {cls.__name__} has: {', '.join(names)}")
-        values[key] = e["value"]
-    missing = [n for n in names if n not in values]
-    if missing:
-        raise ParameterError(f"{where}: missing parameter(s) {', '.join(missing)} of {cls.__name__}")
-    unknown = [k for k in overrides if k not in names]
-    if unknown:
-        raise ParameterError(f"{where}: unknown parameter '{unknown[0]}'; {cls.__name__} has: {', '.join(names)}")
-    values.update(overrides)
-    lo_hi = {k: (float(e.get("min", -math.inf)), float(e.get("max", math.inf)))
-             for k, e in doc[section].items() if k != "source"}
-    return cls(**{k: _typed(cls, k, v, *lo_hi[k], where) for k, v in values.items()})
+    return section_set(cls, section, filename).make(**overrides)
 
 
-def entries(filename: str = SYSTEM_FILE) -> tuple[ParamEntry, ...]:
-    """Every parameter of ``data/<filename>`` as ``<section>.<name>`` with value, unit, range and note."""
-    out: list[ParamEntry] = []
-    for section, block in _doc(filename).items():
-        for key, e in block.items():
-            if key == "source":
-                continue
-            out.append(ParamEntry(f"{section}.{key}", e["value"], str(e.get("unit", "-")),
-                                  float(e.get("min", -math.inf)), float(e.get("max", math.inf)), str(e.get("note", ""))))
-    return tuple(out)
+def parameter_sets() -> dict[str, ParamSet[Any]]:
+    """The parameters of the system file, by section (:data:`SECTIONS`)."""
+    return {s: section_set(c, s) for s, c in SECTIONS.items()}

@@ -29,13 +29,9 @@ from .bus import Loads
 from .ems import EnergyManagement
 from .errors import ParameterError
 from .machine import ElectricMachine, MachinePoint
-from .params import BusParams, CellParams, EmsParams, MachineParams, PackParams, check, load_section
+from .params import SECTIONS, CellParams, parameter_sets
 
 __all__ = ["ElectricSystem", "INPUTS", "OUTPUTS", "FLAGS", "SECTIONS"]
-
-#: Parameter sections: name -> (parameter-set class).
-SECTIONS: dict[str, type] = {"hp_machine": MachineParams, "lp_machine": MachineParams, "battery": PackParams,
-                             "bus": BusParams, "ems": EmsParams}
 
 #: Inputs: (name, unit, description).
 INPUTS: tuple[tuple[str, str, str], ...] = (
@@ -85,7 +81,8 @@ class ElectricSystem:
     """
 
     def __init__(self, params: dict[str, Any] | None = None, cell: CellParams | None = None) -> None:
-        self._sets: dict[str, Any] = {s: load_section(c, s) for s, c in SECTIONS.items()}
+        self._specs = parameter_sets()
+        self._sets: dict[str, Any] = {s: spec.make() for s, spec in self._specs.items()}
         self.cell = cell if cell is not None else default_cell()
         for name, value in (params or {}).items():
             self.set_parameter(name, value)
@@ -109,12 +106,8 @@ class ElectricSystem:
         battery's layout and initial SOC, which take effect at the next :meth:`reset`."""
         self.get_parameter(name)
         section, _, field = name.partition(".")
-        old = self._sets[section]
-        kind = type(getattr(old, field))
-        if kind is int and isinstance(value, float) and value.is_integer():
-            value = int(value)
-        new = check(type(old), section, {**dataclasses.asdict(old), field: value}, f"electric.{section}")
-        self._sets[section] = new
+        self._sets[section] = self._specs[section].replace(self._sets[section], f"electric.{section}",
+                                                           **{field: value})
         if hasattr(self, "ems"):
             self.hp.p, self.lp.p = self._sets["hp_machine"], self._sets["lp_machine"]
             self.loads.p, self.ems.p = self._sets["bus"], self._sets["ems"]

@@ -60,6 +60,7 @@ from .flow import T_STD_K
 from .gas_path import OX
 from .jit_kernels import AVAILABLE
 from .offdesign import OffDesignPoint, TurbofanMaps, TurbofanOffDesign, scaled_maps
+from .settings import EngineNumerics
 from .transient import _FREE_L, _KEY_CLEAN, _ROWS9, TransientState, TurbofanTransient, _LazyResult
 
 __all__ = ["EngineInputs", "EngineLimits", "BleedValve", "EngineModel", "OUTPUTS", "FLAGS", "INPUT_FIELDS",
@@ -134,6 +135,8 @@ def _params(preset: str | TurbofanParams) -> TurbofanParams:
 class EngineModel:
     """Two-spool turbofan in time for a co-simulation slave.
 
+    Every setting not given (None) takes its value in ``data/engine.yaml`` (:mod:`.settings`).
+
     Parameters
     ----------
     params : str or TurbofanParams
@@ -162,11 +165,28 @@ class EngineModel:
         Receives one line per event or failure.
     """
 
+    @classmethod
+    def from_sets(cls, params: str | TurbofanParams, numerics: EngineNumerics, limits: EngineLimits,
+                  valve: BleedValve, logger: Callable[[str], None] | None = None) -> EngineModel:
+        """The model of the parameter sets of ``data/engine.yaml`` (:mod:`.settings`), e.g. as an FMU collected
+        them from its parameters."""
+        return cls(params, limits=limits, valve=valve, logger=logger, **numerics.model_options())
+
     def __init__(self, params: str | TurbofanParams = "larzac04_sls", *, I_lp_kg_m2: float | None = None,
-                 I_hp_kg_m2: float | None = None, dt_internal_s: float = 0.05, method: str = "euler",
-                 tol: float = 1e-8, limits: EngineLimits = EngineLimits(), valve: BleedValve = BleedValve(),
-                 distortion_target: int = 1, critical_angle_deg: float = 60.0, linear_input_frac: float = 0.05,
-                 logger: Callable[[str], None] | None = None) -> None:
+                 I_hp_kg_m2: float | None = None, dt_internal_s: float | None = None, method: str | None = None,
+                 tol: float | None = None, limits: EngineLimits | None = None, valve: BleedValve | None = None,
+                 distortion_target: int | None = None, critical_angle_deg: float | None = None,
+                 linear_input_frac: float | None = None, logger: Callable[[str], None] | None = None) -> None:
+        # what is not given: the values of data/engine.yaml (settings.py)
+        file = EngineNumerics.from_file().model_options()
+        dt_internal_s = file["dt_internal_s"] if dt_internal_s is None else dt_internal_s
+        method = file["method"] if method is None else method
+        tol = file["tol"] if tol is None else tol
+        distortion_target = file["distortion_target"] if distortion_target is None else distortion_target
+        critical_angle_deg = file["critical_angle_deg"] if critical_angle_deg is None else critical_angle_deg
+        linear_input_frac = file["linear_input_frac"] if linear_input_frac is None else linear_input_frac
+        limits = EngineLimits.from_file() if limits is None else limits
+        valve = BleedValve.from_file() if valve is None else valve
         if method not in ("euler", "heun"):
             raise ModelError(f"EngineModel: method={method!r} must be 'euler' or 'heun'")
         if not dt_internal_s > 0.0:

@@ -24,9 +24,10 @@ from dataclasses import dataclass, fields
 
 from ..common.signals import Signal, check_table
 from .errors import OutOfRangeError
+from .settings import EngineNumerics, EngineStart, engine_set
 
 __all__ = ["EngineInputs", "EngineLimits", "BleedValve", "OUTPUTS", "FLAGS", "SIGNALS", "DESIGN_FIELDS",
-           "condition_from_ambient", "FUEL_UNLIMITED_KG", "FLAMEOUT_CAUSES", "FLAMEOUT_STARVED"]
+           "PARAMETER_SETS", "condition_from_ambient", "FUEL_UNLIMITED_KG", "FLAMEOUT_CAUSES", "FLAMEOUT_STARVED"]
 
 #: The start value of the engine's ``fuel_kg`` input [kg]: no tank connected, the engine is not limited
 #: (:mod:`.fuel_supply`).
@@ -186,16 +187,21 @@ class EngineLimits:
     schedules, deceleration and minimum-flow limits).
     """
 
-    N1_max_pct: float = 105.0
-    N2_max_pct: float = 105.0
-    FAR_lean: float = 0.003
-    Wf_min_frac: float = 0.01
-    Wf_Pt3_min_frac: float = 0.32
-    Wf_decel_max_frac_s: float = 0.38
-    offtake_hp_max_W: float = 200e3
-    offtake_lp_max_W: float = 200e3
-    assist_hp_max_W: float = 200e3
-    assist_lp_max_W: float = 200e3
+    N1_max_pct: float
+    N2_max_pct: float
+    FAR_lean: float
+    Wf_min_frac: float
+    Wf_Pt3_min_frac: float
+    Wf_decel_max_frac_s: float
+    offtake_hp_max_W: float
+    offtake_lp_max_W: float
+    assist_hp_max_W: float
+    assist_lp_max_W: float
+
+    @classmethod
+    def from_file(cls, **overrides: float) -> EngineLimits:
+        """The limits of ``data/engine.yaml`` (section ``limits``), with ``overrides`` (checked against its ranges)."""
+        return engine_set(cls, "limits").make(**overrides)
 
     def __post_init__(self) -> None:
         for name in ("offtake_hp_max_W", "offtake_lp_max_W", "assist_hp_max_W", "assist_lp_max_W"):
@@ -225,12 +231,19 @@ class BleedValve:
         Time for a full stroke [s].
     open_frac : float
         Bleed flow over HPC inlet flow when fully open [-].
+
+    The values, units and ranges are those of ``data/engine.yaml``, section ``bleed_valve`` (:meth:`from_file`).
     """
 
-    threshold_N1c_pct: float = 60.0
-    band_pct: float = 2.0
-    stroke_s: float = 0.5
-    open_frac: float = 0.10
+    threshold_N1c_pct: float
+    band_pct: float
+    stroke_s: float
+    open_frac: float
+
+    @classmethod
+    def from_file(cls, **overrides: float) -> BleedValve:
+        """The valve of ``data/engine.yaml`` (section ``bleed_valve``), with ``overrides`` (checked)."""
+        return engine_set(cls, "bleed_valve").make(**overrides)
 
 
 def condition_from_ambient(p_Pa: float, T_K: float) -> tuple[float, float]:
@@ -275,53 +288,23 @@ def _defaults(cls: type) -> dict[str, float]:
     return {f.name: f.default for f in fields(cls)}
 
 
-_LIMITS, _VALVE, _IN = _defaults(EngineLimits), _defaults(BleedValve), _defaults(EngineInputs)
+_IN = _defaults(EngineInputs)
+#: The engine FMU's parameter sets: section of ``data/engine.yaml`` -> (its dataclass, the prefix of its
+#: parameters' FMU names). The FMU's parameters are their entries, and it builds the model from them.
+PARAMETER_SETS: dict[str, tuple[type, str]] = {"limits": (EngineLimits, ""), "bleed_valve": (BleedValve, "bleed_"),
+                                               "numerics": (EngineNumerics, ""), "start": (EngineStart, "")}
 
 #: The engine's signal table: every variable of the engine FMU, in its order of registration. The
 #: parameters' start values are the shipped configuration (the Larzac 04 at its flight idle start);
-#: a limit's default is its dataclass's (:class:`EngineLimits`, :class:`BleedValve`).
+#: those of :data:`PARAMETER_SETS` come from ``data/engine.yaml`` with their ranges.
 SIGNALS: tuple[Signal, ...] = check_table((
     _par("preset", "1", "Engine preset: larzac04_sls or reference_study", "larzac04_sls", type_="String"),
     _par("design_override", "1", "Use the design_* parameters instead of the preset's values", False,
          type_="Boolean"),
     *(_par(f"design_{f}", u, d, None, f) for f, u, d in DESIGN_FIELDS),  # start: the preset's value
-    _par("I_lp_kg_m2", "kg m2", "LP spool polar inertia, 0 = the preset's", 0.0),
-    _par("I_hp_kg_m2", "kg m2", "HP spool polar inertia, 0 = the preset's", 0.0),
-    _par("dt_internal_s", "s", "Largest internal integration step", 0.05),
-    _par("tol", "1", "Gas-path matching tolerance, max residual", 1e-8),
-    # the shipped system's start: steady at 60 % N1 at the flight condition of the start
-    _par("start_N1_pct", "%", "Initial steady N1 if no start fuel flow is given", 60.0),
-    _par("start_fuel_flow_kg_s", "kg/s", "Initial steady fuel flow, used if > 0", 0.0),
-    _par("N1_max_pct", "%", "Overspeed limit of N1", _LIMITS["N1_max_pct"]),
-    _par("N2_max_pct", "%", "Overspeed limit of N2", _LIMITS["N2_max_pct"]),
-    _par("FAR_lean", "1", "Lean flameout limit of the burner fuel-air ratio", _LIMITS["FAR_lean"]),
-    _par("Wf_Pt3_min_frac", "1", "Fuel system minimum-flow stop: burned Wf/Pt3 at least this fraction of the "
-                                 "design point's, 0 = none", _LIMITS["Wf_Pt3_min_frac"]),
-    _par("Wf_decel_max_frac_s", "1/s", "Fuel system decel limit: fastest decrease of the burned fuel flow, "
-                                       "fraction of the design fuel flow per second", _LIMITS["Wf_decel_max_frac_s"]),
-    _par("bleed_threshold_N1c_pct", "%", "Handling bleed switching speed, corrected N1, centre of the band",
-         _VALVE["threshold_N1c_pct"]),
-    _par("bleed_band_pct", "%", "Handling bleed hysteresis band width in corrected N1", _VALVE["band_pct"]),
-    _par("bleed_stroke_s", "s", "Handling bleed valve full-stroke time", _VALVE["stroke_s"]),
-    _par("bleed_open_frac", "1", "Handling bleed flow over HPC inlet flow when open", _VALVE["open_frac"]),
-    _par("offtake_hp_max_W", "W", "Largest power taken from the HP shaft port; beyond it the input is clipped "
-                                  "and shaft_power_limited set", _LIMITS["offtake_hp_max_W"]),
-    _par("offtake_lp_max_W", "W", "Largest power taken from the LP shaft port; beyond it the input is clipped "
-                                  "and shaft_power_limited set", _LIMITS["offtake_lp_max_W"]),
-    _par("assist_hp_max_W", "W", "Largest power delivered to the HP shaft port (motor assist, a positive "
-                                 "number); beyond it clipped and flagged", _LIMITS["assist_hp_max_W"]),
-    _par("assist_lp_max_W", "W", "Largest power delivered to the LP shaft port (motor assist, a positive "
-                                 "number); beyond it clipped and flagged", _LIMITS["assist_lp_max_W"]),
-    _par("critical_angle_deg", "deg", "Critical sector angle of the distortion model", 60.0),
-    _par("linear_input_frac", "1", "Largest relative fuel change taken linearly at a step start, 0 = always "
-                                   "matched", 0.05),
-    _par("integrator", "1", "Integration method: 0 explicit Euler, 1 Heun", 0, type_="Integer"),
-    _par("distortion_target", "1", "Distorted compressor face: 1 fan, 2 HPC, 3 both", 1, type_="Integer"),
-    _par("accept_solver_failure", "1", "Fly on with the last good state held where the gas path cannot be "
-                                       "matched (solver_failed set), instead of failing the step", False,
-         type_="Boolean"),
-    _par("use_ambient", "1", "Flight condition from p_amb_Pa and T_amb_K instead of alt_msl_m and isa_dev_K",
-         False, type_="Boolean"),
+    # limits, bleed valve, numerics and start: generated from data/engine.yaml (value, unit, range, note)
+    *(row for section, (cls, prefix) in PARAMETER_SETS.items()
+      for row in engine_set(cls, section).signals(prefix, variability=None)),
     # inputs: accessor = the field of EngineInputs they fill
     _in("fuel_flow_cmd_kg_s", "kg/s", "Fuel flow command; <= 0 at the start: the start point's", 0.0, "Wf_kg_s"),
     _in("alt_msl_m", "m", "Altitude above mean sea level, flown as the ISA geopotential altitude",

@@ -13,10 +13,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from ..common.jit import entry_point
+from ..common.params import ParamSet
 from ..common.records import fast_init
 from .approach import APPROACH_PHASES, ApproachParams
 from .atmosphere import G0_M_S2, isa
@@ -207,6 +209,10 @@ class FlightControlSystem:
     def parameter_names(self) -> tuple[str, ...]:
         """Every tunable parameter, as ``"<controller>.<name>"``."""
         return tuple(f"{c}.{n}" for c, ctl in self.controllers.items() for n in ctl.parameter_names())
+
+    def parameter_sets(self) -> dict[str, ParamSet[Any]]:
+        """Each controller's parameters (value, unit, range, note, source), by the prefix of their names."""
+        return {c: ctl.parameter_set() for c, ctl in self.controllers.items()}
 
     def _split(self, name: str) -> tuple[Tunable, str]:
         ctl, _, pname = name.partition(".")

@@ -3,7 +3,6 @@ weather files share them; each reader imports this module, neither imports the o
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from typing import Any
 
 from ..common import safe_yaml, values
 from .errors import MissionError
@@ -21,17 +20,7 @@ class Lines:
         except safe_yaml.YamlError:
             root = None
         if root is not None:
-            self._walk(root, ())
-
-    def _walk(self, node: Any, path: tuple) -> None:
-        self.map[path] = node.start_mark.line + 1
-        if node.id == "mapping":  # yaml.MappingNode
-            for k, v in node.value:
-                self.map[path + (k.value,)] = k.start_mark.line + 1
-                self._walk(v, path + (k.value,))
-        elif node.id == "sequence":  # yaml.SequenceNode
-            for i, v in enumerate(node.value):
-                self._walk(v, path + (i,))
+            self.map = safe_yaml.node_lines(root)
 
     def line(self, path: tuple) -> int:
         while path and path not in self.map:

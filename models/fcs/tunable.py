@@ -1,58 +1,45 @@
-"""One mechanism for the tunable parameters of every controller.
+"""The tunable parameters of every controller, on the models' one parameter mechanism.
 
-Each controller keeps its gains, limits and time constants in a frozen
-dataclass (its *parameter set*). The :class:`Tunable` mixin gives every
+Each controller keeps its gains, limits and time constants in a frozen dataclass (its *parameter set*),
+read from a YAML file in ``data/`` by :func:`load_params` through :mod:`openemss.models.common.params`
+(each entry ``name: {value, unit, min, max, note}``, every file names its sources; ranges checked on load
+and on every ``set_parameter``, errors naming ``file:line``). The :class:`Tunable` mixin gives every
 controller the same script interface:
 
 ``get_parameter(name)``, ``set_parameter(name, value)``, ``parameter_names()``
 and ``parameters`` (the frozen set itself). Setting a parameter replaces the
 frozen set with :func:`dataclasses.replace`, so a parameter set is never
 mutated behind the back of whoever holds a reference to it.
-
-Parameter sets are read from YAML files in ``data/`` by :func:`load_params`.
-Each entry there is ``name: {value: ..., unit: ..., min: ..., max: ...,
-note: ...}``; every file names its sources. The optional ``min``/``max``
-bounds are checked on load and on every ``set_parameter``.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import enum
-import math
-from importlib import resources
 from typing import Any, ClassVar, Generic, TypeVar
 
 import numpy as np
 
-from ..common import safe_yaml
+from ..common.params import ParamSet, parameter_set
 from .errors import ParameterError
 
-__all__ = ["Tunable", "load_params", "param_bounds", "field_index", "DATA_PACKAGE"]
-
-#: Package holding the parameter files (relative to this package).
-DATA_PACKAGE = "data"
+__all__ = ["Tunable", "load_params", "param_spec", "field_index"]
 
 P = TypeVar("P")
+_PACKAGE = __package__ or __name__.rpartition(".")[0]
+#: The parameter set of each class, as its file states it (a class is read from one section of one file).
+_SPECS: dict[type, ParamSet[Any]] = {}
 
 
-def _data_text(filename: str) -> str:
-    pkg = __package__ or __name__.rpartition(".")[0]
-    return resources.files(pkg).joinpath(DATA_PACKAGE, filename).read_text(encoding="utf-8")
+def param_spec(cls: type[P]) -> ParamSet[P]:
+    """The :class:`~openemss.models.common.params.ParamSet` of the parameter-set class ``cls`` (value, unit,
+    range, note and source of each field), read from its file by the class's ``from_file``."""
+    if cls not in _SPECS:
+        cls.from_file()  # type: ignore[attr-defined]
+    return _SPECS[cls]
 
 
-_BOUNDS: dict[tuple[str, str], tuple[float, float]] = {}
-
-
-def param_bounds(cls: type, name: str) -> tuple[float, float]:
-    """Allowed range of parameter ``name`` of parameter-set class ``cls`` [its unit].
-
-    Ranges come from the parameter file (``min``/``max``); unbounded by default.
-    """
-    return _BOUNDS.get((cls.__name__, name), (-math.inf, math.inf))
-
-
-def load_params(cls: type[P], filename: str, section: str, **overrides: float) -> P:
+def load_params(cls: type[P], filename: str, section: str, **overrides: Any) -> P:
     """Build the frozen parameter set ``cls`` from ``section`` of ``data/<filename>``.
 
     Parameters
@@ -75,52 +62,10 @@ def load_params(cls: type[P], filename: str, section: str, **overrides: float) -
     ------
     ParameterError
         If the file lacks a field of ``cls``, has one ``cls`` does not know,
-        or a value lies outside its stated ``min``/``max``.
+        or a value is of the wrong kind or outside its stated ``min``/``max`` (naming file:line).
     """
-    doc = safe_yaml.load(_data_text(filename), filename)
-    where = f"{filename}:{section}"
-    if section not in doc:
-        raise ParameterError(f"{filename}: no section '{section}' (sections: {', '.join(sorted(doc))})")
-    entries = doc[section]
-    names = [f.name for f in dataclasses.fields(cls)]
-    values: dict[str, Any] = {}
-    for key, entry in entries.items():
-        if key == "source":
-            continue
-        if key not in names:
-            raise ParameterError(f"{where}: unknown parameter '{key}'; {cls.__name__} has: {', '.join(names)}")
-        if not isinstance(entry, dict) or "value" not in entry:
-            raise ParameterError(f"{where}.{key}: expected a mapping with 'value' (and 'unit', 'note')")
-        try:
-            lo = float(entry.get("min", -math.inf))
-            hi = float(entry.get("max", math.inf))
-        except (TypeError, ValueError):
-            raise ParameterError(f"{where}.{key}: min/max must be numbers, got {entry.get('min')!r}, "
-                                 f"{entry.get('max')!r}") from None
-        _BOUNDS[(cls.__name__, key)] = (lo, hi)
-        values[key] = entry["value"]
-    missing = [n for n in names if n not in values]
-    if missing:
-        raise ParameterError(f"{where}: missing parameter(s) {', '.join(missing)} of {cls.__name__}")
-    values.update(overrides)
-    for key, v in values.items():
-        _check(cls, key, v, where)
-    return cls(**{k: v if isinstance(v, bool) else float(v) for k, v in values.items()})
-
-
-def _check(cls: type, name: str, value: Any, where: str) -> None:
-    if isinstance(value, bool):
-        return
-    if isinstance(value, str):
-        raise ParameterError(f"{where}.{name}: value {value!r} is a string, not a number (YAML reads 1.0e6 "
-                             "as text: write 1.0e+6)")
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{where}.{name}: value {value!r} is not a number") from None
-    lo, hi = param_bounds(cls, name)
-    if not (lo <= x <= hi) or math.isnan(x):
-        raise ParameterError(f"{where}.{name} = {value!r} is outside the allowed range [{lo}, {hi}]")
+    spec = _SPECS[cls] = parameter_set(cls, _PACKAGE, filename, section, ParameterError)
+    return spec.make(**overrides)
 
 
 def field_index(cls: type) -> type[enum.IntEnum]:
@@ -163,6 +108,10 @@ class Tunable(Generic[P]):
         self._params = params
         self._on_parameters_changed()
 
+    def parameter_set(self) -> ParamSet[P]:
+        """The value, unit, range, note and source of each parameter, as its file states them."""
+        return param_spec(type(self._params))
+
     def parameter_names(self) -> tuple[str, ...]:
         """Names of all tunable parameters of this controller."""
         return tuple(f.name for f in dataclasses.fields(self._params))  # type: ignore[arg-type]
@@ -179,10 +128,7 @@ class Tunable(Generic[P]):
         if name not in self.parameter_names():
             raise ParameterError(f"{self.tunable_name}: unknown parameter '{name}'; "
                                  f"valid names: {', '.join(self.parameter_names())}")
-        _check(type(self._params), name, value, self.tunable_name)
-        current = getattr(self._params, name)
-        new = bool(value) if isinstance(current, bool) else float(value)
-        self._params = dataclasses.replace(self._params, **{name: new})  # type: ignore[type-var]
+        self._params = param_spec(type(self._params)).replace(self._params, self.tunable_name, **{name: value})
         self._on_parameters_changed()
 
     def _on_parameters_changed(self) -> None:

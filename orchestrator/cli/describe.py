@@ -40,7 +40,7 @@ def parameter_lines(rows: list[dict[str, Any]]) -> list[str]:
     lines = [f"{'parameter':<{w}}  {'type':<8} {'unit':<10} {'default':>14} {'range':<23} {'set to':<14} description",
              "-" * (w + 90)]
     for r in rows:
-        rng = "" if r["min"] is None and r["max"] is None else f"[{r['min'] or '-inf'}, {r['max'] or 'inf'}]"
+        rng = "" if r["min"] is None and r["max"] is None else f"[{'-inf' if r['min'] is None else r['min']}, {'inf' if r['max'] is None else r['max']}]"
         val = "" if r["value"] is None or str(r["value"]) == str(r["default"]) else str(r["value"])
         default = str(r["default"]) if r["default"] is not None else ""
         if len(default) > 14:

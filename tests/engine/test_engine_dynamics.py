@@ -224,7 +224,7 @@ def test_critical_sector_angle() -> None:
 def test_handling_bleed_hysteresis_no_chattering() -> None:
     """Corrected N1 swept through the switching speed with a dither inside the band: one opening, one
     closing; the valve strokes at its rate."""
-    valve = BleedValve(threshold_N1c_pct=70.0, band_pct=2.0, stroke_s=0.5, open_frac=0.10)
+    valve = BleedValve.from_file(threshold_N1c_pct=70.0, band_pct=2.0, stroke_s=0.5, open_frac=0.10)
     m = EngineModel("larzac04_sls", valve=valve)
     lo = m.od.solve(N1_pct=60.0)
     hi = m.od.solve(N1_pct=80.0, guess=lo)
@@ -270,7 +270,7 @@ def test_limits_are_flags_and_events() -> None:
     from openemss.models.engine.engine_model import EngineLimits
 
     logs: list[str] = []
-    m = EngineModel("larzac04_sls", limits=EngineLimits(N1_max_pct=95.0, FAR_lean=0.012), logger=logs.append)
+    m = EngineModel("larzac04_sls", limits=EngineLimits.from_file(N1_max_pct=95.0, FAR_lean=0.012), logger=logs.append)
     idle = m.od.solve(4000.0, 0.6, N1_pct=65.0)
     top = m.od.solve(4000.0, 0.6, N1_pct=100.0, guess=idle)
     m.start(EngineInputs(top.Wf_kg_s, 4000.0, 0.6))

@@ -356,7 +356,7 @@ def test_compiled_step_equals_the_python_step(dt_s: float) -> None:
     (linearised starts, matched starts, the valve, events, clipped inputs, distortion and back: the Python step
     where the compiled one refuses), both give the same numbers, bit for bit, and the same log. With a step of
     0.12 s, three internal steps of 0.04 s."""
-    valve = BleedValve(threshold_N1c_pct=75.0)                  # opens in the chop
+    valve = BleedValve.from_file(threshold_N1c_pct=75.0)                  # opens in the chop
     fast, ref = _flown(True, dt_s=dt_s, valve=valve), _flown(False, dt_s=dt_s, valve=valve)
     assert fast[1] == ref[1]
     m = fast[0]

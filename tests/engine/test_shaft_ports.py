@@ -174,7 +174,7 @@ def test_energy_of_a_spool_run_up_by_an_assist(larzac_od: TurbofanOffDesign) -> 
     ("offtake_lp_W", 250e3, 100e3), ("offtake_lp_W", -250e3, -50e3), ("offtake_hp_W", 250e3, 120e3),
     ("offtake_hp_W", -250e3, -80e3), ("offtake_lp_W", math.nan, 0.0)])
 def test_a_port_beyond_its_limit_is_clipped_and_flagged(name: str, value: float, applied: float) -> None:
-    lim = EngineLimits(offtake_lp_max_W=100e3, assist_lp_max_W=50e3, offtake_hp_max_W=120e3, assist_hp_max_W=80e3)
+    lim = EngineLimits.from_file(offtake_lp_max_W=100e3, assist_lp_max_W=50e3, offtake_hp_max_W=120e3, assist_hp_max_W=80e3)
     logs: list[str] = []
     runs = {}
     for key, v in (("over", value), ("at", applied)):
@@ -194,4 +194,4 @@ def test_a_port_beyond_its_limit_is_clipped_and_flagged(name: str, value: float,
 
 def test_limits_are_checked() -> None:
     with pytest.raises(OutOfRangeError, match="assist_lp_max_W"):
-        EngineLimits(assist_lp_max_W=-1.0)
+        EngineLimits.from_file(assist_lp_max_W=-1.0)

@@ -42,7 +42,7 @@ from openemss.models.engine.engine_signals import DESIGN_FIELDS, FLAMEOUT_STARVE
 from openemss.models.engine.fuel_supply import FuelSupply
 from openemss.models.engine.settings import engine_set
 
-REQUIREMENTS = ["numpy>=1.24", "scipy>=1.10", "numba>=0.59", "pyyaml>=6.0"]
+REQUIREMENTS = ["numpy>=1.24", "scipy>=1.10", "numba>=0.59"]
 SOLVER_FAILED = [name for name, _ in FLAGS].index("solver_failed")
 FLAMEOUT = [name for name, _ in FLAGS].index("flameout")
 #: (field, description with unit) of the design parameters ``design_<field>``

@@ -83,7 +83,7 @@ class ModelPerformance:
         self._aero = aero_model()
         self.rolling_friction = float(self._af.geometry.section("gear")["rolling_friction"])
         try:
-            self._em = EngineModel(engine, limits=engine_limits)  # None: data/engine.yaml's
+            self._em = EngineModel(engine, limits=engine_limits)  # None: data/engine.json's
         except ModelError as e:
             raise PerformanceError(f"engine '{engine.name}': {e}") from None
         self._points: dict[tuple[float, ...], PerfPoint] = {}

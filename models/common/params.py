@@ -1,8 +1,9 @@
 """One parameter mechanism for every model: parameter files, frozen parameter sets, FMU parameters.
 
 A model keeps each group of its parameters (a controller's gains, an engine's limits, a battery's cell)
-in a frozen dataclass, its *parameter set*. The values live in a YAML file of the model package's
-``data/`` folder, one section per set and one entry per field::
+in a frozen dataclass, its *parameter set*. The values live in a YAML file (or a JSON file of the same
+shape, for a model whose FMU must run without a YAML reader) of the model package's ``data/`` folder,
+one section per set and one entry per field::
 
     tecs:
       source: "where the numbers come from"
@@ -213,6 +214,19 @@ def _data_file(package: str, filename: str) -> tuple[Any, dict[tuple, int], str]
 
 
 def _read(text: str, name: str) -> tuple[Any, dict[tuple, int], str]:
+    """The document of a parameter file and the line of each of its keys, by path; a ``.json`` file is read
+    as JSON (no YAML reader needed: the engine FMU runs without one), any other as YAML."""
+    if name.endswith(".json"):
+        doc = safe_yaml.load_json(text, name)
+        lines: dict[tuple, int] = {}
+        stack: list[tuple[Any, tuple]] = [(doc, ())]
+        while stack:
+            d, path = stack.pop()
+            if isinstance(d, safe_yaml.LineDict):
+                for k, v in d.items():
+                    lines[path + (k,)] = d.lines.get(k, 1)
+                    stack.append((v, path + (k,)))
+        return doc, lines, name
     root = safe_yaml.compose(text, name)
     doc = safe_yaml.load(text, name) if root is not None else None
     return doc, safe_yaml.node_lines(root) if root is not None else {}, name
@@ -260,7 +274,7 @@ def _section(cls: type[P], doc: Any, lines: dict[tuple, int], name: str, section
         return f"{name}:{lines.get(path, 1)}"
 
     if not isinstance(doc, dict) or section not in doc:
-        have = ", ".join(sorted(map(str, doc))) if isinstance(doc, dict) else "none"
+        have = ", ".join(sorted(str(k) for k in doc if not str(k).startswith("_"))) if isinstance(doc, dict) else "none"
         raise error(f"{name}:1: no section '{section}' (sections: {have})")
     block = doc[section]
     if not isinstance(block, dict):

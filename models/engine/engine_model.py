@@ -135,7 +135,7 @@ def _params(preset: str | TurbofanParams) -> TurbofanParams:
 class EngineModel:
     """Two-spool turbofan in time for a co-simulation slave.
 
-    Every setting not given (None) takes its value in ``data/engine.yaml`` (:mod:`.settings`).
+    Every setting not given (None) takes its value in ``data/engine.json`` (:mod:`.settings`).
 
     Parameters
     ----------
@@ -168,7 +168,7 @@ class EngineModel:
     @classmethod
     def from_sets(cls, params: str | TurbofanParams, numerics: EngineNumerics, limits: EngineLimits,
                   valve: BleedValve, logger: Callable[[str], None] | None = None) -> EngineModel:
-        """The model of the parameter sets of ``data/engine.yaml`` (:mod:`.settings`), e.g. as an FMU collected
+        """The model of the parameter sets of ``data/engine.json`` (:mod:`.settings`), e.g. as an FMU collected
         them from its parameters."""
         return cls(params, limits=limits, valve=valve, logger=logger, **numerics.model_options())
 
@@ -177,7 +177,7 @@ class EngineModel:
                  tol: float | None = None, limits: EngineLimits | None = None, valve: BleedValve | None = None,
                  distortion_target: int | None = None, critical_angle_deg: float | None = None,
                  linear_input_frac: float | None = None, logger: Callable[[str], None] | None = None) -> None:
-        # what is not given: the values of data/engine.yaml (settings.py)
+        # what is not given: the values of data/engine.json (settings.py)
         file = EngineNumerics.from_file().model_options()
         dt_internal_s = file["dt_internal_s"] if dt_internal_s is None else dt_internal_s
         method = file["method"] if method is None else method

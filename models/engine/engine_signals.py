@@ -200,7 +200,7 @@ class EngineLimits:
 
     @classmethod
     def from_file(cls, **overrides: float) -> EngineLimits:
-        """The limits of ``data/engine.yaml`` (section ``limits``), with ``overrides`` (checked against its ranges)."""
+        """The limits of ``data/engine.json`` (section ``limits``), with ``overrides`` (checked against its ranges)."""
         return engine_set(cls, "limits").make(**overrides)
 
     def __post_init__(self) -> None:
@@ -232,7 +232,7 @@ class BleedValve:
     open_frac : float
         Bleed flow over HPC inlet flow when fully open [-].
 
-    The values, units and ranges are those of ``data/engine.yaml``, section ``bleed_valve`` (:meth:`from_file`).
+    The values, units and ranges are those of ``data/engine.json``, section ``bleed_valve`` (:meth:`from_file`).
     """
 
     threshold_N1c_pct: float
@@ -242,7 +242,7 @@ class BleedValve:
 
     @classmethod
     def from_file(cls, **overrides: float) -> BleedValve:
-        """The valve of ``data/engine.yaml`` (section ``bleed_valve``), with ``overrides`` (checked)."""
+        """The valve of ``data/engine.json`` (section ``bleed_valve``), with ``overrides`` (checked)."""
         return engine_set(cls, "bleed_valve").make(**overrides)
 
 
@@ -289,20 +289,20 @@ def _defaults(cls: type) -> dict[str, float]:
 
 
 _IN = _defaults(EngineInputs)
-#: The engine FMU's parameter sets: section of ``data/engine.yaml`` -> (its dataclass, the prefix of its
+#: The engine FMU's parameter sets: section of ``data/engine.json`` -> (its dataclass, the prefix of its
 #: parameters' FMU names). The FMU's parameters are their entries, and it builds the model from them.
 PARAMETER_SETS: dict[str, tuple[type, str]] = {"limits": (EngineLimits, ""), "bleed_valve": (BleedValve, "bleed_"),
                                                "numerics": (EngineNumerics, ""), "start": (EngineStart, "")}
 
 #: The engine's signal table: every variable of the engine FMU, in its order of registration. The
 #: parameters' start values are the shipped configuration (the Larzac 04 at its flight idle start);
-#: those of :data:`PARAMETER_SETS` come from ``data/engine.yaml`` with their ranges.
+#: those of :data:`PARAMETER_SETS` come from ``data/engine.json`` with their ranges.
 SIGNALS: tuple[Signal, ...] = check_table((
     _par("preset", "1", "Engine preset: larzac04_sls or reference_study", "larzac04_sls", type_="String"),
     _par("design_override", "1", "Use the design_* parameters instead of the preset's values", False,
          type_="Boolean"),
     *(_par(f"design_{f}", u, d, None, f) for f, u, d in DESIGN_FIELDS),  # start: the preset's value
-    # limits, bleed valve, numerics and start: generated from data/engine.yaml (value, unit, range, note)
+    # limits, bleed valve, numerics and start: generated from data/engine.json (value, unit, range, note)
     *(row for section, (cls, prefix) in PARAMETER_SETS.items()
       for row in engine_set(cls, section).signals(prefix, variability=None)),
     # inputs: accessor = the field of EngineInputs they fill

@@ -1,4 +1,4 @@
-"""The engine's parameters in time, from ``data/engine.yaml``: limits, bleed valve, numerics and start.
+"""The engine's parameters in time, from ``data/engine.json``: limits, bleed valve, numerics and start.
 
 Each section of the file fills one frozen dataclass through the models' one parameter mechanism
 (:mod:`openemss.models.common.params`: value, unit, range, note and source of every field, errors naming
@@ -19,14 +19,14 @@ from .errors import OutOfRangeError
 __all__ = ["ENGINE_FILE", "EngineNumerics", "EngineStart", "engine_set", "METHODS"]
 
 #: The engine's parameter file, in this package's ``data/``.
-ENGINE_FILE = "engine.yaml"
+ENGINE_FILE = "engine.json"
 #: The integration methods of :class:`.engine_model.EngineModel`, by :attr:`EngineNumerics.integrator`.
 METHODS: tuple[str, ...] = ("euler", "heun")
 P = TypeVar("P")
 
 
 def engine_set(cls: type[P], section: str) -> ParamSet[P]:
-    """The parameters of ``section`` of ``data/engine.yaml`` for the dataclass ``cls`` (read once); a bad value
+    """The parameters of ``section`` of ``data/engine.json`` for the dataclass ``cls`` (read once); a bad value
     is an :class:`.errors.OutOfRangeError` naming the parameter, its range and the file's line."""
     return parameter_set(cls, __package__ or __name__.rpartition(".")[0], ENGINE_FILE, section, OutOfRangeError)
 
@@ -64,7 +64,7 @@ class EngineNumerics:
 
     @classmethod
     def from_file(cls, **overrides: Any) -> EngineNumerics:
-        """The set of ``data/engine.yaml``, section ``numerics``, with ``overrides`` (checked)."""
+        """The set of ``data/engine.json``, section ``numerics``, with ``overrides`` (checked)."""
         return engine_set(cls, "numerics").make(**overrides)
 
     def model_options(self) -> dict[str, Any]:
@@ -98,5 +98,5 @@ class EngineStart:
 
     @classmethod
     def from_file(cls, **overrides: Any) -> EngineStart:
-        """The set of ``data/engine.yaml``, section ``start``, with ``overrides`` (checked)."""
+        """The set of ``data/engine.json``, section ``start``, with ``overrides`` (checked)."""
         return engine_set(cls, "start").make(**overrides)

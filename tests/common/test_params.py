@@ -7,6 +7,7 @@ with the files, and every error case names the line the test wrote the fault on.
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 import zipfile
 from pathlib import Path
@@ -100,13 +101,13 @@ def test_signal_rows_carry_the_range_the_unit_and_the_note() -> None:
 
 
 def test_the_engine_file_fills_its_sets_and_refuses_out_of_range_with_the_engines_error() -> None:
-    doc = yaml.safe_load((ROOT / "models/engine/data/engine.yaml").read_text())
+    doc = json.loads((ROOT / "models/engine/data/engine.json").read_text())
     for section, (cls, _) in PARAMETER_SETS.items():
         spec = engine_set(cls, section)
         made = spec.make()
         for f in dataclasses.fields(cls):
             assert getattr(made, f.name) == doc[section][f.name]["value"], (section, f.name)
-    with pytest.raises(OutOfRangeError, match=r"limits.N1_max_pct: value 500.0 outside .*engine.yaml:\d+"):
+    with pytest.raises(OutOfRangeError, match=r"limits.N1_max_pct: value 500.0 outside .*engine.json:\d+"):
         engine_set(PARAMETER_SETS["limits"][0], "limits").make(N1_max_pct=500.0)
 
 
@@ -123,10 +124,10 @@ def _ranges(fmu: Path) -> dict[str, tuple[str | None, str | None, str]]:
 def _file_entries(path: Path, prefix: dict[str, str] | None = None, sections: tuple[str, ...] | None = None) \
         -> dict[str, dict]:
     """Every entry of a parameter file read by plain PyYAML, under its FMU name."""
-    doc = yaml.safe_load(path.read_text())
+    doc = json.loads(path.read_text()) if path.suffix == ".json" else yaml.safe_load(path.read_text())
     out = {}
     for section, block in doc.items():
-        if sections is not None and section not in sections:
+        if section.startswith("_") or (sections is not None and section not in sections):
             continue
         for key, e in block.items():
             if key != "source":
@@ -136,7 +137,7 @@ def _file_entries(path: Path, prefix: dict[str, str] | None = None, sections: tu
 
 
 @pytest.mark.parametrize("fmu_name, entries", [
-    ("engine", lambda: _file_entries(ROOT / "models/engine/data/engine.yaml",
+    ("engine", lambda: _file_entries(ROOT / "models/engine/data/engine.json",
                                      {s: p for s, (_, p) in PARAMETER_SETS.items()})),
     ("electric", lambda: _file_entries(ROOT / "models/electric/data/electric.yaml", sections=tuple(parameter_sets()))),
     ("fcs", lambda: {k: e for f in sorted((ROOT / "models/fcs/data").glob("*.yaml")) if f.stem != "qgc_defaults"
@@ -160,3 +161,15 @@ def test_every_fmu_parameter_of_a_file_has_its_range_in_the_model_description(
                 assert got is not None and math.isclose(float(got), float(e[key]), rel_tol=0, abs_tol=0), (name, key)
             else:
                 assert got is None, (name, key)
+
+
+def test_a_json_parameter_file_names_its_lines_too() -> None:
+    text = ('{\n  "_about": "a test",\n  "demo": {\n    "source": "a test",\n'
+            '    "gain": {"value": 2.0, "unit": "1/s", "min": 0.0, "max": 10.0},\n'
+            '    "count": {"value": 30, "min": 1, "max": 5},\n    "enabled": {"value": false}\n  }\n}\n')
+    with pytest.raises(ParameterError, match=r"demo.json:6: demo.count: value 30 outside the allowed range"):
+        parameter_set_from_text(_Set, text, "demo.json", "demo")
+    ok = parameter_set_from_text(_Set, text.replace('"value": 30', '"value": 3'), "demo.json", "demo")
+    assert ok.make() == _Set(2.0, 3, False) and ok.param("gain").where == "demo.json:5"
+    with pytest.raises(ParameterError, match=r"demo.json:1: no section 'other' \(sections: demo\)"):
+        parameter_set_from_text(_Set, text, "demo.json", "other")

@@ -194,6 +194,20 @@ def child_runs(systems: list[str], out: str, settings: list[list[str]] | None = 
     return {"runs": result, "live": sorted(_live(c) for c in classes)}
 
 
+def child_sequence(fmus: list[str], output: str) -> dict[str, Any]:
+    """Each FMU in turn, each from its own extraction: instantiated, run three steps and freed; what failed."""
+    result = []
+    for fmu in fmus:
+        try:
+            s, variables, _ = _open(fmu)
+        except Exception as exc:
+            result.append(str(exc))
+            continue
+        result.append(_run_good(s, variables, output))
+        s.fmi2FreeInstance(s.component)
+    return {"runs": result}
+
+
 def host(function: str, **kwargs: Any) -> dict[str, Any]:
     """``function(**kwargs)`` of this module in a child interpreter that collects its garbage and exits
     normally: its result, asserting the child did not crash."""
@@ -339,3 +353,26 @@ def test_the_master_frees_failed_instances(project_fmus: dict[str, Path], tmp_pa
     assert [s for s, _ in r["runs"]] == ["failed"] * 4 + ["completed"], r["runs"]
     assert all("no_such_engine" in e for _, e in r["runs"][:4]), r["runs"]
     assert r["live"] and r["live"] == [0] * len(r["live"]), f"slave instances alive after the runs: {r['live']}"
+
+
+def test_an_fmu_whose_code_fails_to_import_among_intact_ones(project_fmus: dict[str, Path], tmp_path: Path) -> None:
+    """A copy of the electrical system FMU whose slave module raises on import (the module name of the intact
+    one), before and after the intact one, in one process: it fails to instantiate (saying why on stderr), the
+    intact one runs every time. pythonfmu runs the file again for a second instance and looks through what it
+    defined with the exception still set: it crashed on the first class it met."""
+    good = tmp_path / "Good.fmu"
+    bad = tmp_path / "Bad.fmu"
+    shutil.copy2(project_fmus["electric"], good)
+    shutil.copy2(project_fmus["electric"], bad)
+
+    def alter(name: str, data: bytes) -> bytes:
+        if name.startswith("resources/emss_electric_") and name.endswith(".py") and "/" not in name[10:]:
+            assert b"\nclass Electric(" in data
+            return data.replace(b"\nclass Electric(", b"\nraise RuntimeError('altered')\nclass Electric(", 1)
+        return data
+    _rewrite(bad, alter)
+    output = CASES["electric"]["output"]
+    r = host("child_sequence", fmus=[str(bad), str(good), str(bad), str(good), str(bad), str(good)], output=output)
+    runs = r["runs"]
+    assert runs[0::2] == ["Failed to instantiate model"] * 3, runs
+    assert runs[1] == runs[3] == runs[5] and all(math.isfinite(x) for x in runs[1]), runs

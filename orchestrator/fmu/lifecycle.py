@@ -94,8 +94,18 @@ if _emss_stale:
                                               if _c.__module__ not in _emss_gone]
 if _emss_stale and _emss_rerun and (_emss_own / (__name__ + ".py")).is_file():
     _emss_sys.modules.pop(__name__, None)
-    _emss_fresh = _emss_importlib.import_module(__name__)  # from _emss_own, first on sys.path
-    for _emss_key, _emss_value in vars(_emss_fresh).items():  # the slave class pythonfmu takes by name
+    try:
+        _emss_fresh = vars(_emss_importlib.import_module(__name__))  # from _emss_own, first on sys.path
+    except Exception as _emss_exc:
+        # This run stops here. pythonfmu ignores its failure, looks through what it defined for the slave class
+        # with the exception still set (a crash once it meets a class: none is left) and fails to find one,
+        # naming no cause: it is said here.
+        print(f"{{__name__}}: the FMU's code in {{_emss_own}} cannot be imported: {{_emss_exc!r}}",
+              file=_emss_sys.stderr)
+        for _emss_key in [_k for _k, _v in locals().items() if isinstance(_v, type)]:
+            del locals()[_emss_key]
+        raise
+    for _emss_key, _emss_value in _emss_fresh.items():  # the slave class pythonfmu takes by name
         if isinstance(_emss_value, type) and _emss_value.__module__ == __name__ and _emss_key in globals():
             globals()[_emss_key] = _emss_value
 # ---------------------------------------------------------------------------------------------------

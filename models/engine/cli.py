@@ -1,5 +1,14 @@
 """``emss engine ...`` sub-commands, contributed to the ``emss`` command.
 
+Each command takes an engine file (``FILE``: ``.yaml``, or a shipped engine's name such as ``pycycle_hbtf``; solved
+by :class:`.engine_graph.EngineGraph`, handlers in :mod:`.cli_graph`) or, as before, a JSON parameter file of the
+two-spool turbofan or the turbojet (``FILE`` ending in ``.json``, ``--params FILE`` or ``--preset NAME``).
+``emss engine design FILE [--json]``; ``emss engine point FILE --alt-m A --mach M (--N1-pct | --N1c-pct | --Fn-N |
+--Wf-kg-s | --Tt4-K | --power-W) X [--shaft NAME] [--far BURNER=FAR] [--json]`` (stations, performance, each map's
+operating point); ``emss engine sweep FILE --vary NAME V [V ...] [--vary NAME V ...] [--out DIR]`` (the design at
+every combination of one or two engine-file values, :mod:`.engine_study`). What follows describes the parameter
+files.
+
 ``emss engine point --alt-m A --mach M [--dtisa-k T] (--wf-kg-s | --n1-pct | --n1c-pct |
 --tt4-k | --fn-n) X [--params FILE | --preset NAME] [--json]`` sizes the engine at its
 design point, scales the shipped maps to it and prints the matched off-design state
@@ -29,6 +38,7 @@ from typing import Any
 from .cycle_design import DesignPoint, design
 from .cycle_study import COLUMNS, cycle_study, plot_carpet, write_csv
 from .design_params import PRESETS_DIR, TurbofanParams, load_params, preset_path
+from .engine_file import ENGINES_DIR
 from .distortion import Distortion
 from .errors import ModelError
 from .offdesign import TurbofanOffDesign, scaled_maps
@@ -36,6 +46,9 @@ from .offdesign_turbojet import TurbojetOffDesign, scaled_turbojet_maps
 from .stations import STATIONS
 
 __all__ = ["register", "cmd_design", "cmd_point", "cmd_sweep", "format_design"]
+
+_FILE_HELP = ("an engine file (.yaml) or a shipped engine's name (" + ", ".join(sorted(
+    p.stem for p in ENGINES_DIR.glob("*.yaml"))) + "), or a JSON parameter file (as --params)")
 
 DEFAULT_PRESET = "larzac04_sls"
 
@@ -50,7 +63,9 @@ def register(subparsers: argparse._SubParsersAction) -> tuple[type[Exception], .
     d = sub.add_parser("design", help="compute and print a design point",
                        description="Compute the design point of a parameter file: every station, "
                                    "thrust, fuel flow, SFC, nozzle areas and the design values for map "
-                                   f"scaling. Default: the preset {DEFAULT_PRESET!r}.")
+                                   f"scaling; of an engine file, also each map's design point. Default: the preset "
+                                   f"{DEFAULT_PRESET!r}.")
+    d.add_argument("file", nargs="?", metavar="FILE", help=_FILE_HELP)
     src = d.add_mutually_exclusive_group()
     src.add_argument("--params", type=Path, metavar="FILE",
                      help="parameter file (JSON; see models/engine/presets/README.md)")
@@ -63,7 +78,9 @@ def register(subparsers: argparse._SubParsersAction) -> tuple[type[Exception], .
                         description="Size the engine at its design point (the parameter file), scale the "
                                     "shipped component maps to it, and match the engine at the given flight "
                                     "condition and power setting (exactly one of --wf-kg-s, --n1-pct, "
-                                    "--n1c-pct, --tt4-k, --fn-n).")
+                                    "--n1c-pct, --tt4-k, --fn-n; an engine file also --power-w). For an engine "
+                                    "file it prints the stations, the performance and each map's operating point.")
+    pt.add_argument("file", nargs="?", metavar="FILE", help=_FILE_HELP)
     src = pt.add_mutually_exclusive_group()
     src.add_argument("--params", type=Path, metavar="FILE", help="parameter file (JSON)")
     src.add_argument("--preset", choices=presets, metavar="NAME", help=f"a shipped preset: {', '.join(presets)}")
@@ -71,11 +88,19 @@ def register(subparsers: argparse._SubParsersAction) -> tuple[type[Exception], .
     pt.add_argument("--mach", type=float, default=0.0, metavar="M", help="flight Mach number (default 0)")
     pt.add_argument("--dtisa-k", type=float, default=0.0, metavar="K", help="ISA temperature deviation [K]")
     ps = pt.add_mutually_exclusive_group(required=True)
-    ps.add_argument("--wf-kg-s", type=float, metavar="X", help="fuel flow [kg/s]")
-    ps.add_argument("--n1-pct", type=float, metavar="X", help="LP spool speed [%% of design] (turbojet: N)")
-    ps.add_argument("--n1c-pct", type=float, metavar="X", help="corrected LP spool speed [%% of design]")
-    ps.add_argument("--tt4-k", type=float, metavar="X", help="burner exit temperature [K]")
-    ps.add_argument("--fn-n", type=float, metavar="X", help="net thrust [N]")
+    ps.add_argument("--wf-kg-s", "--Wf-kg-s", type=float, metavar="X", help="fuel flow [kg/s] (the main burner's)")
+    ps.add_argument("--n1-pct", "--N1-pct", type=float, metavar="X",
+                    help="LP spool speed [%% of design] (turbojet: N; engine file: the --shaft's, default the first "
+                         "compressor's)")
+    ps.add_argument("--n1c-pct", "--N1c-pct", type=float, metavar="X", help="corrected LP spool speed [%% of design]")
+    ps.add_argument("--tt4-k", "--Tt4-K", type=float, metavar="X", help="burner exit temperature [K]")
+    ps.add_argument("--fn-n", "--Fn-N", type=float, metavar="X", help="net thrust [N]")
+    ps.add_argument("--power-w", "--power-W", type=float, metavar="X",
+                    help="engine file: net power of the --shaft [W] (a free power turbine's load)")
+    pt.add_argument("--shaft", metavar="NAME", help="engine file: the shaft of --N1-pct, --N1c-pct and --power-W")
+    pt.add_argument("--far", action="append", metavar="BURNER=FAR",
+                    help="engine file: fuel-air ratio of a burner other than the main one (an afterburner lit); "
+                         "repeatable")
     for comp in ("fan", "hpc"):
         pt.add_argument(f"--distortion-{comp}", type=float, nargs=3, metavar=("SECTOR", "DPT", "DTT_K"),
                         help=f"sector distortion at the {comp.upper()} face (parallel compressor): distorted share "
@@ -87,10 +112,16 @@ def register(subparsers: argparse._SubParsersAction) -> tuple[type[Exception], .
                         description="From a reference design with a thrust target (default: the preset "
                                     "'reference_study'), vary BPR and OPR at constant Tt4, thrust and core/bypass "
                                     "jet velocity ratio (fan pressure ratios adjusted); write carpet.csv and "
-                                    "carpet.png (SFC in kg/(N s) over OPR, one line per BPR).")
+                                    "carpet.png (SFC in kg/(N s) over OPR, one line per BPR). With an engine file: "
+                                    "the design at every combination of the --vary values (the file's own sizing "
+                                    "held: its Fn_N or W_kg_s), written to sweep.csv and sweep.png.")
+    sw.add_argument("file", nargs="?", metavar="FILE", help=_FILE_HELP)
     src = sw.add_mutually_exclusive_group()
     src.add_argument("--params", type=Path, metavar="FILE", help="reference parameter file (JSON, turbofan)")
     src.add_argument("--preset", choices=presets, metavar="NAME", help="reference preset")
+    sw.add_argument("--vary", nargs="+", action="append", metavar="NAME V",
+                    help="engine file: a value to vary and its values, NAME as element.attribute (comp.PR, "
+                         "burner.Tt_K), shaft.attribute or design.attribute; at most twice")
     sw.add_argument("--out", type=Path, default=Path("results") / "engine-sweep", metavar="DIR",
                     help="output folder, created if missing (default: results/engine-sweep)")
     sw.add_argument("--bpr", type=float, nargs="+", default=[0.5, 1.0, 1.5, 2.0], metavar="X",
@@ -102,9 +133,34 @@ def register(subparsers: argparse._SubParsersAction) -> tuple[type[Exception], .
     return (ModelError,)
 
 
+def _source(args: argparse.Namespace, default: str) -> Path | str:
+    """The engine file (a str) or the JSON parameter file (a Path) the command reads."""
+    if args.file is not None:
+        if args.params is not None or args.preset is not None:
+            raise ModelError(f"{args.file}: give FILE or --params/--preset, not both")
+        from .cli_graph import is_engine_file
+        if is_engine_file(args.file):
+            return str(args.file)
+        if Path(args.file).suffix != ".json":
+            raise ModelError(f"{args.file}: not an engine file (.yaml), a shipped engine ("
+                             f"{', '.join(sorted(p.stem for p in ENGINES_DIR.glob('*.yaml')))}) or a JSON parameter "
+                             "file (.json)")
+        return Path(args.file)
+    return args.params if args.params is not None else preset_path(args.preset or default)
+
+
+def _engine_only(args: argparse.Namespace, *names: str) -> None:
+    for n in names:
+        if getattr(args, n, None) is not None:
+            raise ModelError(f"--{n.replace('_', '-')}: only for an engine file (FILE.yaml or a shipped engine)")
+
+
 def cmd_design(args: argparse.Namespace) -> int:
     """Handler of ``emss engine design``; returns the exit code."""
-    path = args.params if args.params is not None else preset_path(args.preset or DEFAULT_PRESET)
+    path = _source(args, DEFAULT_PRESET)
+    if isinstance(path, str):
+        from .cli_graph import cmd_graph_design
+        return cmd_graph_design(path, args.json)
     dp = design(load_params(path))
     if args.json:
         json.dump(dp.to_dict(), sys.stdout, indent=2)
@@ -116,7 +172,11 @@ def cmd_design(args: argparse.Namespace) -> int:
 
 def cmd_point(args: argparse.Namespace) -> int:
     """Handler of ``emss engine point``; returns the exit code."""
-    path = args.params if args.params is not None else preset_path(args.preset or DEFAULT_PRESET)
+    path = _source(args, DEFAULT_PRESET)
+    if isinstance(path, str):
+        from .cli_graph import cmd_graph_point
+        return cmd_graph_point(path, args)
+    _engine_only(args, "power_w", "shaft", "far")
     dp = design(load_params(path))
     cond = (args.alt_m, args.mach, args.dtisa_k)
     if isinstance(dp.params, TurbofanParams):
@@ -158,7 +218,11 @@ def cmd_point(args: argparse.Namespace) -> int:
 
 def cmd_sweep(args: argparse.Namespace) -> int:
     """Handler of ``emss engine sweep``; returns the exit code."""
-    path = args.params if args.params is not None else preset_path(args.preset or "reference_study")
+    path = _source(args, "reference_study")
+    if isinstance(path, str):
+        from .cli_graph import cmd_graph_sweep
+        return cmd_graph_sweep(path, args)
+    _engine_only(args, "vary")
     ref = load_params(path)
     if not isinstance(ref, TurbofanParams):
         raise ModelError(f"{path}: the cycle study needs a turbofan parameter file")

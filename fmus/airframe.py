@@ -32,6 +32,7 @@ from openemss.models.airframe.adapter import FT
 from openemss.models.airframe.adapter import Airframe as AirframeModel
 from openemss.models.airframe.airframe_signals import SIGNALS, STATE_FIELDS
 from openemss.models.airframe.loading import check_air_start, check_loading
+from openemss.models.airframe.settings import PARAMETER_SETS, airframe_set
 from openemss.models.airframe.trim import trim_level
 from openemss.models.fcs.errors import MissionError
 from openemss.models.fcs.mission import departure_runway, load_mission
@@ -68,49 +69,53 @@ class Airframe(InitialOutputs, SignalIO, Fmi2Slave):
         self._y = v
         self._yb = [v[_ON_GROUND] > 0.5]
 
-    def _weather(self) -> Weather | None:
-        if not self.weather_file:
+    def _weather(self, weather_file: str) -> Weather | None:
+        if not weather_file:
             return None
-        p = Path(self.weather_file)
+        p = Path(weather_file)
         if not p.is_absolute():
             p = Path(self.resources or ".") / p
         if not p.is_file():
-            raise MissionError(f"airframe: weather_file '{self.weather_file}' not found (looked at {p}); give a "
+            raise MissionError(f"airframe: weather_file '{weather_file}' not found (looked at {p}); give a "
                                f"path, absolute or relative to the FMU's resources folder (shipped: {DATA_FILES[0]})")
         return load_weather(p)
 
     def compute_start(self) -> None:
-        check_loading(self.fuel0_kg, self.added_mass_kg, ("fuel0_kg", "added_mass_kg"), engine_fed=True)
-        if not self.start_on_runway:
-            check_air_start(self.alt0_m, self.ground_elevation_m, ("alt0_m", "ground_elevation_m"))
-        w = self._weather()
+        # the parameter sets of data/airframe.yaml, from the parameters of their names, checked against its ranges
+        sets = {section: airframe_set(cls, section).collect(lambda name: getattr(self, name), "", "airframe")
+                for section, cls in PARAMETER_SETS.items()}
+        st, env = sets["start"], sets["environment"]
+        check_loading(st.fuel0_kg, self.added_mass_kg, ("fuel0_kg", "added_mass_kg"), engine_fed=True)
+        if not st.start_on_runway:
+            check_air_start(st.alt0_m, st.ground_elevation_m, ("alt0_m", "ground_elevation_m"))
+        w = self._weather(env.weather_file)
         turb = w.turbulence if w is not None else None
-        sev, w20, seed = (self.turbulence_severity, self.turbulence_wind_20ft_m_s, self.turbulence_seed)
+        sev, w20, seed = (env.turbulence_severity, env.turbulence_wind_20ft_m_s, env.turbulence_seed)
         if turb is not None:  # the file's turbulence replaces the parameters'
             sev, w20, seed = turb.severity, turb.wind_20ft_m_s, turb.seed
-        m = AirframeModel(rate_hz=self.rate_hz, isa_dev_K=self.isa_dev_K,
-                          wind_ned_m_s=(self.wind_north_m_s, self.wind_east_m_s, self.wind_down_m_s),
+        m = AirframeModel(rate_hz=sets["simulation"].rate_hz, isa_dev_K=env.isa_dev_K,
+                          wind_ned_m_s=(env.wind_north_m_s, env.wind_east_m_s, env.wind_down_m_s),
                           turbulence_severity=sev, turbulence_wind_20ft_m_s=w20, seed=seed,
                           wind_profile=w.wind.ned_m_s if w is not None and w.wind is not None else None)
         m.set_added_mass(self.added_mass_kg)
         self._trim = [0.0, 0.0]
-        if self.start_on_runway:
-            m.start_runway(self.lat0_deg, self.lon0_deg, self.heading0_deg, self.alt0_m, fuel_kg=self.fuel0_kg,
-                           flaps=self.flaps0_norm)
+        if st.start_on_runway:
+            m.start_runway(st.lat0_deg, st.lon0_deg, st.heading0_deg, st.alt0_m, fuel_kg=st.fuel0_kg,
+                           flaps=st.flaps0_norm)
         else:
-            alpha, elevator, thrust = self.alpha0_rad, self.elevator_norm, self.thrust_N
-            if self.trim_at_start:
-                m.start_air(self.alt0_m, 100.0, self.heading0_deg, fuel_kg=self.fuel0_kg,
-                            ground_elevation_m=self.ground_elevation_m)
-                mach = self.tas0_m_s / (m.get_property("atmosphere/a-fps") * FT)
-                r = trim_level(self.alt0_m, mach, m.geometry.oem_kg + self.added_mass_kg + self.fuel0_kg, airframe=m,
-                               flaps=self.flaps0_norm, gear_down=self.gear_down, heading_deg=self.heading0_deg,
-                               lat_deg=self.lat0_deg, lon_deg=self.lon0_deg)
+            alpha, elevator, thrust = st.alpha0_rad, self.elevator_norm, self.thrust_N
+            if st.trim_at_start:
+                m.start_air(st.alt0_m, 100.0, st.heading0_deg, fuel_kg=st.fuel0_kg,
+                            ground_elevation_m=st.ground_elevation_m)
+                mach = st.tas0_m_s / (m.get_property("atmosphere/a-fps") * FT)
+                r = trim_level(st.alt0_m, mach, m.geometry.oem_kg + self.added_mass_kg + st.fuel0_kg, airframe=m,
+                               flaps=st.flaps0_norm, gear_down=self.gear_down, heading_deg=st.heading0_deg,
+                               lat_deg=st.lat0_deg, lon_deg=st.lon0_deg)
                 alpha, elevator, thrust = r.alpha_rad, r.elevator, r.thrust_N
                 self._trim = [elevator, thrust]
-            m.start_air(self.alt0_m, self.tas0_m_s, self.heading0_deg, self.lat0_deg, self.lon0_deg,
-                        alpha_rad=alpha, elevator=elevator, thrust_N=thrust, flaps=self.flaps0_norm,
-                        gear_down=self.gear_down, fuel_kg=self.fuel0_kg, ground_elevation_m=self.ground_elevation_m)
+            m.start_air(st.alt0_m, st.tas0_m_s, st.heading0_deg, st.lat0_deg, st.lon0_deg,
+                        alpha_rad=alpha, elevator=elevator, thrust_N=thrust, flaps=st.flaps0_norm,
+                        gear_down=self.gear_down, fuel_kg=st.fuel0_kg, ground_elevation_m=st.ground_elevation_m)
         self._model = m
         self._publish()
 

@@ -1,7 +1,8 @@
 """Signals of the airframe: its parameters, inputs and outputs, one row each (the FMU's variables).
 
 Outputs name the field of :class:`.adapter.AirframeState` they are read from (their accessor), i.e.
-their slot of :meth:`.adapter.Airframe.values`. Parameters whose start is None are set by the FMU:
+their slot of :meth:`.adapter.Airframe.values`. The parameters are the entries of ``data/airframe.yaml``
+(:mod:`.settings`, with their ranges); those whose start is None are set by the FMU:
 the start position and heading on the departure runway of the default mission (the EDDM runway
 data are written once, in ``missions/munich.yaml``).
 """
@@ -11,16 +12,12 @@ from dataclasses import fields
 
 from ..common.signals import Signal, check_table
 from .adapter import AirframeState
+from .settings import PARAMETER_SETS, airframe_set
 
 __all__ = ["SIGNALS", "STATE_FIELDS"]
 
 #: The slots of :meth:`.adapter.Airframe.values` (the fields of AirframeState, in order).
 STATE_FIELDS: tuple[str, ...] = tuple(f.name for f in fields(AirframeState))
-
-
-def _par(name: str, unit: str, description: str, start: float | bool | int | str | None,
-         type_: str = "Real") -> Signal:
-    return Signal(name, "parameter", unit, description, type_, start)
 
 
 def _in(name: str, unit: str, description: str, start: float | bool = 0.0, type_: str = "Real") -> Signal:
@@ -32,29 +29,8 @@ def _out(name: str, unit: str, description: str, accessor: str | None = None, ty
 
 
 SIGNALS: tuple[Signal, ...] = check_table((
-    _par("weather_file", "1", "Winds aloft and turbulence: a mission or weather file (YAML), absolute or relative "
-                              "to the FMU's resources folder; empty: the wind_* and turbulence_* parameters", "",
-         "String"),
-    _par("start_on_runway", "1", "Start at rest on the runway (else in the air)", True, "Boolean"),
-    _par("trim_at_start", "1", "Air start trimmed in level flight (alpha from the trim)", True, "Boolean"),
-    _par("lat0_deg", "deg", "Initial geodetic latitude (default: the departure runway's threshold)", None),
-    _par("lon0_deg", "deg", "Initial longitude (default: the departure runway's threshold)", None),
-    _par("heading0_deg", "deg", "Initial true heading (default: the departure runway's)", None),
-    _par("alt0_m", "m", "Initial altitude MSL; runway elevation on a runway start (default: the departure "
-                        "runway's)", None),
-    _par("tas0_m_s", "m/s", "Initial true airspeed of an air start", 150.0),
-    _par("alpha0_rad", "rad", "Initial angle of attack of an untrimmed air start", 0.0),
-    _par("ground_elevation_m", "m", "Ground elevation under an air start (default: the departure runway's)", None),
-    _par("flaps0_norm", "1", "Initial flap position, 0 up to 1 full", 0.0),
-    _par("fuel0_kg", "kg", "Initial fuel mass, 0 to 600", 600.0),
-    _par("isa_dev_K", "K", "ISA temperature deviation", 0.0),
-    _par("wind_north_m_s", "m/s", "Steady wind towards north", 0.0),
-    _par("wind_east_m_s", "m/s", "Steady wind towards east", 0.0),
-    _par("wind_down_m_s", "m/s", "Steady wind downwards", 0.0),
-    _par("turbulence_wind_20ft_m_s", "m/s", "Wind speed at 20 ft for MIL-F-8785C turbulence", 0.0),
-    _par("rate_hz", "Hz", "Internal JSBSim rate", 120.0),
-    _par("turbulence_severity", "1", "MIL-F-8785C turbulence severity 0 (off) to 7", 0, "Integer"),
-    _par("turbulence_seed", "1", "Random seed of the turbulence", 0, "Integer"),
+    # start, environment, simulation: generated from data/airframe.yaml (value, unit, range, note)
+    *(row for section, cls in PARAMETER_SETS.items() for row in airframe_set(cls, section).signals(variability=None)),
     _in("aileron_norm", "1", "Aileron command, -1 to 1, > 0 rolls right"),
     _in("elevator_norm", "1", "Elevator command, -1 to 1, > 0 trailing edge down (nose down)"),
     _in("rudder_norm", "1", "Rudder command, -1 to 1, > 0 yaws the nose right"),

@@ -78,26 +78,32 @@ class Param:
         Where the value comes from: the entry's own ``source``, else its section's.
     where : str
         ``file:line`` of the entry.
+    optional : bool
+        The field's type admits None (``float | None``): the file may give ``value: null`` for a value the
+        model computes from its own data (e.g. the start on the mission's runway).
     """
 
     name: str
     kind: str
-    value: float | int | bool | str
+    value: float | int | bool | str | None
     unit: str
     min: float
     max: float
     note: str
     source: str
     where: str
+    optional: bool = False
 
-    def typed(self, value: Any) -> float | int | bool | str:
-        """``value`` as this parameter's kind, within its range.
+    def typed(self, value: Any) -> float | int | bool | str | None:
+        """``value`` as this parameter's kind, within its range (None for an optional one: its model computes it).
 
         Raises
         ------
         values.ValueProblem
             Of another kind, not finite, or outside ``[min, max]``.
         """
+        if value is None and self.optional:
+            return None
         if self.kind == "Boolean":
             return values.flag(value)
         if self.kind == "String":
@@ -147,14 +153,14 @@ class ParamSet(Generic[P]):
         raise self.error(f"{self.file}:{self.section}: unknown parameter '{name}'; {self.cls.__name__} has: "
                          f"{', '.join(self.names())}")
 
-    def check(self, name: str, value: Any, where: str = "") -> float | int | bool | str:
-        """``value`` for parameter ``name``, typed and within its range; ``where`` names it in the error
-        (default ``<file>:<section>``)."""
+    def check(self, name: str, value: Any, where: str = "", prefix: str = "") -> float | int | bool | str | None:
+        """``value`` for parameter ``name``, typed and within its range; the error names it ``<where>.<prefix><name>``
+        (``where`` by default ``<file>:<section>``, ``prefix`` that of its FMU name)."""
         p = self.param(name)
         try:
             return p.typed(value)
         except values.ValueProblem as e:
-            raise self.error(f"{where or f'{self.file}:{self.section}'}.{name}: {e} (see {p.where})") from None
+            raise self.error(f"{where or f'{self.file}:{self.section}'}.{prefix}{name}: {e} (see {p.where})") from None
 
     def make(self, where: str = "", **overrides: Any) -> P:
         """The parameter set: the file's values with ``overrides`` replacing some, each checked."""
@@ -169,7 +175,7 @@ class ParamSet(Generic[P]):
 
     def collect(self, get: Callable[[str], Any], prefix: str = "", where: str = "") -> P:
         """The set from values held under the names ``prefix + field`` (e.g. an FMU's parameters), checked."""
-        return self.cls(**{p.name: self.check(p.name, get(prefix + p.name), where) for p in self.params})
+        return self.cls(**{p.name: self.check(p.name, get(prefix + p.name), where, prefix) for p in self.params})
 
     def signals(self, prefix: str = "", variability: str | None = "tunable",
                 starts: Mapping[str, Any] | None = None) -> tuple[Signal, ...]:
@@ -311,7 +317,9 @@ def _entry(field: str, e: Any, hint: Any, section_source: str, at: Callable[...,
     if extra:
         raise error(f"{at(section, field, extra[0])}: {section}.{field}: unknown key '{extra[0]}' (keys: "
                     f"{', '.join(_ENTRY_KEYS)})")
-    kind = _KINDS.get(hint)
+    args = typing.get_args(hint)
+    optional = type(None) in args and len(args) == 2
+    kind = _KINDS.get(next(a for a in args if a is not type(None)) if optional else hint)
     if kind is None:
         raise error(f"{where}: {section}.{field}: the field's type {hint!r} is not a parameter's (bool, int, "
                     "float, str)")
@@ -331,9 +339,9 @@ def _entry(field: str, e: Any, hint: Any, section_source: str, at: Callable[...,
             raise error(f"{at(section, field, key)}: {section}.{field}.{key}: {exc}") from None
     if bounds[0] > bounds[1]:
         raise error(f"{where}: {section}.{field}: min {bounds[0]!r} is above max {bounds[1]!r}")
-    p = Param(field, kind, e["value"], unit, bounds[0], bounds[1], note, source, where)
+    p = Param(field, kind, e["value"], unit, bounds[0], bounds[1], note, source, where, optional)
     try:
         value = p.typed(e["value"])
     except values.ValueProblem as exc:
         raise error(f"{at(section, field, 'value')}: {section}.{field}: {exc}") from None
-    return dataclasses.replace(p, value=float(value) if kind == "Real" else value)
+    return dataclasses.replace(p, value=float(value) if kind == "Real" and value is not None else value)

@@ -16,6 +16,7 @@ from xml.etree import ElementTree
 import pytest
 import yaml
 
+from openemss.models.airframe.settings import PARAMETER_SETS as AIRFRAME_SETS
 from openemss.models.common.params import ParameterError, parameter_set_from_text
 from openemss.models.electric.params import parameter_sets
 from openemss.models.engine.engine_signals import PARAMETER_SETS
@@ -140,6 +141,7 @@ def _file_entries(path: Path, prefix: dict[str, str] | None = None, sections: tu
     ("engine", lambda: _file_entries(ROOT / "models/engine/data/engine.json",
                                      {s: p for s, (_, p) in PARAMETER_SETS.items()})),
     ("electric", lambda: _file_entries(ROOT / "models/electric/data/electric.yaml", sections=tuple(parameter_sets()))),
+    ("airframe", lambda: _file_entries(ROOT / "models/airframe/data/airframe.yaml", dict.fromkeys(AIRFRAME_SETS, ""))),
     ("fcs", lambda: {k: e for f in sorted((ROOT / "models/fcs/data").glob("*.yaml")) if f.stem != "qgc_defaults"
                      for k, e in _file_entries(f).items()}),
 ])
@@ -153,8 +155,8 @@ def test_every_fmu_parameter_of_a_file_has_its_range_in_the_model_description(
     for name, e in want.items():
         assert name in ranges, name
         lo, hi, tag = ranges[name]
-        if isinstance(e["value"], bool):
-            assert (lo, hi, tag) == (None, None, "Boolean"), name
+        if isinstance(e["value"], bool | str):
+            assert (lo, hi) == (None, None) and tag == ("Boolean" if isinstance(e["value"], bool) else "String"), name
             continue
         for got, key in ((lo, "min"), (hi, "max")):
             if key in e:
@@ -173,3 +175,30 @@ def test_a_json_parameter_file_names_its_lines_too() -> None:
     assert ok.make() == _Set(2.0, 3, False) and ok.param("gain").where == "demo.json:5"
     with pytest.raises(ParameterError, match=r"demo.json:1: no section 'other' \(sections: demo\)"):
         parameter_set_from_text(_Set, text, "demo.json", "other")
+
+
+def test_an_optional_value_is_computed_by_the_model() -> None:
+    @dataclasses.dataclass(frozen=True)
+    class Start:
+        lat0_deg: float | None
+
+    text = "start:\n  lat0_deg: {value: null, unit: deg, min: -90.0, max: 90.0}\n"
+    spec = parameter_set_from_text(Start, text, "s.yaml", "start")
+    assert spec.make() == Start(None) and spec.signals()[0].start is None and spec.make(lat0_deg=48) == Start(48.0)
+    with pytest.raises(ParameterError, match=r"s.yaml:2: start.lat0_deg: value 91 outside"):
+        parameter_set_from_text(Start, text.replace("null", "91"), "s.yaml", "start")
+    with pytest.raises(ParameterError, match=r"s.yaml:2: start.x: expected a finite number, got null"):
+        parameter_set_from_text(_X, "start:\n  x: {value: null}\n", "s.yaml", "start")  # not optional
+
+
+@dataclasses.dataclass(frozen=True)
+class _X:
+    x: float
+
+
+def test_a_set_collected_from_fmu_names_names_the_fmu_variable() -> None:
+    values = {"demo_gain": 3.0, "demo_count": 2.0, "demo_enabled": False}
+    assert _spec().collect(values.__getitem__, "demo_", "fmu") == _Set(3.0, 2, False)
+    values["demo_gain"] = 11.0
+    with pytest.raises(ParameterError, match=r"^fmu.demo_gain: value 11.0 outside the allowed range \[0.0, 10.0\]"):
+        _spec().collect(values.__getitem__, "demo_", "fmu")

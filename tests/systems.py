@@ -88,3 +88,11 @@ def write_ssv(path: Path, params: dict[str, float | int | bool]) -> Path:
 
 GAIN_CONNECTORS = [("u_real", "input", "Real"), ("u_int", "input", "Integer"), ("u_bool", "input", "Boolean"),
                    ("y_real", "output", "Real"), ("y_int", "output", "Integer"), ("y_bool", "output", "Boolean")]
+
+
+def write_gain_pair(folder: Path, fmu_dir: Path) -> Path:
+    """The system of the hostile run corpus: two Gain FMUs wired both ways (a.y_real -> b.u_real,
+    b.y_int -> a.u_int), 1 s; returns its folder."""
+    write_system(folder, fmu_dir, [Comp("a", "Gain.fmu", GAIN_CONNECTORS), Comp("b", "Gain.fmu", GAIN_CONNECTORS)],
+                 [("a.y_real", "b.u_real"), ("b.y_int", "a.u_int")], stop_time=1.0)
+    return folder

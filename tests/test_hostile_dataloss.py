@@ -23,15 +23,12 @@ import pytest
 from openemss.orchestrator.cli.main import main
 from openemss.orchestrator.errors import ConfigurationError
 from openemss.orchestrator.results import LOCK_NAME, MANIFEST_NAME, ResultsError, ResultsFolder, atomic_write
-from systems import GAIN_CONNECTORS, Comp, write_system
+from systems import write_gain_pair
 
 
 @pytest.fixture()
 def system(tmp_path: Path, fmu_dir: Path) -> Path:
-    folder = tmp_path / "sys"
-    write_system(folder, fmu_dir, [Comp("a", "Gain.fmu", GAIN_CONNECTORS), Comp("b", "Gain.fmu", GAIN_CONNECTORS)],
-                 [("a.y_real", "b.u_real"), ("b.y_int", "a.u_int")], stop_time=1.0)
-    return folder
+    return write_gain_pair(tmp_path / "sys", fmu_dir)
 
 
 def emss(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, list[str]]:

@@ -25,7 +25,7 @@ import pytest
 
 from openemss.orchestrator.cli.main import main
 from openemss.study.lock import STUDY_LOCK, study_lock
-from systems import GAIN_CONNECTORS, Comp, write_system
+from systems import Comp, write_gain_pair, write_system
 
 ROOT = Path(__file__).resolve().parent.parent
 FSIZE_LIMIT = 100_000  # bytes per file: above every staged source file of Gain, below the FMU (0.2 MB)
@@ -35,10 +35,7 @@ HOLD_TIMEOUT_S = 300.0  # generous: start-up on a loaded 2-core machine; only a 
 @pytest.fixture()
 def system(tmp_path: Path, fmu_dir: Path) -> Path:
     """Two Gain FMUs wired both ways, 1 s (as tests/test_hostile_runs.py's)."""
-    folder = tmp_path / "sys"
-    write_system(folder, fmu_dir, [Comp("a", "Gain.fmu", GAIN_CONNECTORS), Comp("b", "Gain.fmu", GAIN_CONNECTORS)],
-                 [("a.y_real", "b.u_real"), ("b.y_int", "a.u_int")], stop_time=1.0)
-    return folder
+    return write_gain_pair(tmp_path / "sys", fmu_dir)
 
 def _env(tmp_path: Path, hold: str | None = None, marker: Path | None = None) -> dict[str, str]:
     """The child's environment: its own TMPDIR (to see what it leaves there) and the phase to hold in."""

@@ -24,17 +24,14 @@ import pytest
 from openemss.orchestrator.cli.main import main
 from openemss.orchestrator.results import ResultsFolder, atomic_write
 from openemss.orchestrator.scenarios.timeseries import FILE_NAMES, read_timeseries
-from systems import GAIN_CONNECTORS, Comp, write_system
+from systems import write_gain_pair
 
 FSIZE_LIMIT = 1_000_000  # bytes per file: above the test FMU's largest file (0.35 MB), below the run's CSV
 
 
 @pytest.fixture()
 def system(tmp_path: Path, fmu_dir: Path) -> Path:
-    folder = tmp_path / "sys"
-    write_system(folder, fmu_dir, [Comp("a", "Gain.fmu", GAIN_CONNECTORS), Comp("b", "Gain.fmu", GAIN_CONNECTORS)],
-                 [("a.y_real", "b.u_real"), ("b.y_int", "a.u_int")], stop_time=1.0)
-    return folder
+    return write_gain_pair(tmp_path / "sys", fmu_dir)
 
 
 def run_cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, list[str]]:

@@ -27,7 +27,7 @@ import openemss
 from openemss.orchestrator.cli import api
 from openemss.orchestrator.cli.main import main
 from openemss.orchestrator.errors import ConfigurationError, SystemStructureError
-from systems import GAIN_CONNECTORS, Comp, write_ssv, write_system
+from systems import GAIN_CONNECTORS, Comp, write_gain_pair, write_ssv, write_system
 
 SSV_HEAD = ('<?xml version="1.0" encoding="UTF-8"?>\n<ssv:ParameterSet '
             'xmlns:ssv="http://ssp-standard.org/SSP1/SystemStructureParameterValues" version="1.0" name="p">\n'
@@ -39,10 +39,7 @@ TEXT_CONNECTORS = [("label_chars", "output", "Integer"), ("table_file_chars", "o
 @pytest.fixture()
 def system(tmp_path: Path, fmu_dir: Path) -> Path:
     """Two Gain FMUs, a -> b -> a (the system of the run corpus)."""
-    folder = tmp_path / "sys"
-    write_system(folder, fmu_dir, [Comp("a", "Gain.fmu", GAIN_CONNECTORS), Comp("b", "Gain.fmu", GAIN_CONNECTORS)],
-                 [("a.y_real", "b.u_real"), ("b.y_int", "a.u_int")], stop_time=1.0)
-    return folder
+    return write_gain_pair(tmp_path / "sys", fmu_dir)
 
 
 def line_of(text: str, fragment: str, nth: int = 1) -> int:

@@ -383,7 +383,10 @@ def run(system: Path | str | None = None, *, stop_time: float | None = None, par
     out = Path(out)
     if not str(out).strip():
         raise ConfigurationError("--out '': an empty folder name; give the results folder, e.g. results/run1")
-    with interrupt.entered_whole(ResultsFolder(out)):  # locked for this run, cleared of an earlier run's files
+    from . import hooks
+
+    # locked for this run, cleared of what earlier runs wrote, nothing else replaced
+    with interrupt.entered_whole(ResultsFolder(out, names=hooks.output_files() if post_run else ())):
         try:
             interrupt.phase("pre-run", "before the first step", f"nothing was run (run.json in {out} says so)")
             return _run(system, sysdef, out, stop_time, params, set, scenario, rate, algorithm, step_multiple,

@@ -45,7 +45,7 @@ from .offdesign import TurbofanOffDesign, scaled_maps
 from .offdesign_turbojet import TurbojetOffDesign, scaled_turbojet_maps
 from .stations import STATIONS
 
-__all__ = ["register", "cmd_design", "cmd_point", "cmd_sweep", "format_design"]
+__all__ = ["register", "cmd_design", "cmd_point", "cmd_sweep", "cmd_convert", "format_design"]
 
 _FILE_HELP = ("an engine file (.yaml) or a shipped engine's name (" + ", ".join(sorted(
     p.stem for p in ENGINES_DIR.glob("*.yaml"))) + "), or a JSON parameter file (as --params)")
@@ -130,7 +130,34 @@ def register(subparsers: argparse._SubParsersAction) -> tuple[type[Exception], .
                     help="overall pressure ratios (default 9 to 20 in steps of 1)")
     sw.add_argument("--json", action="store_true", help="print the carpet as JSON")
     sw.set_defaults(handler=cmd_sweep)
+
+    cv = sub.add_parser("convert", help="convert another code's engine model to an engine file",
+                        description="Convert an engine model of another code to an engine file (YAML).")
+    cvs = cv.add_subparsers(dest="convert_from", required=True, parser_class=type(eng))
+    np_ = cvs.add_parser("npss", help="an NPSS model (.mdl): elements, map includes, linkPorts",
+                         description="Convert an NPSS model made of the element kinds we have (attribute "
+                                     "assignments, map includes, linkPorts; input files of assignments applied "
+                                     "after it). What cannot be carried (a function body, an unknown element or "
+                                     "attribute) is refused with one line naming it; --drop leaves a named item out, "
+                                     "listed in the engine file's notes.")
+    np_.add_argument("model", type=Path, metavar="MODEL.mdl", help="the NPSS model file")
+    np_.add_argument("--out", type=Path, required=True, metavar="ENGINE_FILE",
+                     help="the engine file to write (.yaml; never overwritten)")
+    np_.add_argument("--input", type=Path, action="append", default=[], metavar="FILE",
+                     help="a file of assignments (Element.attribute = value;) applied after the model; repeatable")
+    np_.add_argument("--drop", action="append", default=[], metavar="NAME",
+                     help="leave out a function body (Element.function), an element, or assignments to a name "
+                          "(a solver variable); repeatable")
+    np_.set_defaults(handler=cmd_convert)
     return (ModelError,)
+
+
+def cmd_convert(args: argparse.Namespace) -> int:
+    """Handler of ``emss engine convert npss``; returns the exit code."""
+    from .npss_convert import convert_npss
+    path = convert_npss(args.model, args.out, tuple(args.input), tuple(args.drop))
+    sys.stdout.write(f"wrote {path}\n")
+    return 0
 
 
 def _source(args: argparse.Namespace, default: str) -> Path | str:

@@ -125,7 +125,7 @@ def turbine_stream(gc: np.ndarray, gs: np.ndarray, W: float, T: float, P: float,
     eW[0], eT[0], ef[0], eh[0] = W, To, f, ho
     for i in range(nc):
         Pc = Pout + cfp[i] * (Pin - Pout)
-        if cP[i] < Pc * (1.0 - 1e-12):
+        if cw[i] > 0.0 and cP[i] < Pc * (1.0 - 1e-12):     # a closed (zero) cooling flow has no pressure to lack
             err[0] = err[0] or 7
         hc = expand_h(gc, gs, cT[i], cf[i], ch[i], Pc, Pout, eta, err) if Pc > Pout else ch[i]
         power += cw[i] * (ch[i] - hc)

@@ -38,8 +38,9 @@ LOCK_NAME = ".emss.lock"
 #: time. Only a file whose identity (and, when closed, size and time) still match is ever removed.
 MANIFEST_NAME = ".emss-files.json"
 MANIFEST_FORMAT = 1
-#: Files of a run that the orchestrator itself writes; the plugins name theirs (``output_files``).
-RUN_FILES = ("timeseries.parquet", "timeseries.csv", "timeseries.mat", "run.json", "cli_parameters.ssv")
+#: Files of a run that the orchestrator itself writes besides its time series (whose names the run gives,
+#: from its formats' registry); the plugins name theirs (``output_files``).
+RUN_FILES = ("run.json", "cli_parameters.ssv")
 #: Limits of a zip archive (.ssp, .fmu) before anything is extracted.
 MAX_ARCHIVE_ENTRIES = 10_000
 MAX_ARCHIVE_BYTES = 2 * 1024 ** 3  # total uncompressed size [bytes]
@@ -184,7 +185,8 @@ class ResultsFolder:
     what : str
         How the user named it, for messages (``--out``).
     names : iterable of str
-        Files the run will write (the plugins' ``output_files``; with ``clear``, :data:`RUN_FILES` too),
+        Files the run will write (the time series, the plugins' ``output_files``; with ``clear``,
+        :data:`RUN_FILES` too),
         checked free before anything runs.
     clear : bool
         Remove what earlier runs wrote (a new run); False to add to a run's folder (a report made

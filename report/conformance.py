@@ -1,6 +1,7 @@
 """How a mission run flew its plan: per section, the targets against what was flown; the planned holds; the ILS.
 
-For every section with an altitude (waypoint, orbit, level, G-turn sections) the summary gives:
+For every section flown to targets (its type's ``conformance`` is ``targets``, models/fcs/sections.py: waypoint,
+orbit, level, G-turn sections) with an altitude, the summary gives:
 
 * ``target``: the section's altitude [m] and speed (its kind: ``mach`` [-], ``cas_m_s`` or
   ``tas_m_s`` [m/s]), as the mission file states them. A waypoint section's altitude is a
@@ -34,6 +35,7 @@ from openemss.models.fcs.approach import APPROACH_PHASES, ApproachParams, ils_de
 from openemss.models.fcs.atmosphere import cas_from_tas, isa
 from openemss.models.fcs.geo import LatLon
 from openemss.models.fcs.mission import Mission, Section
+from openemss.models.fcs.sections import APPROACH, REGISTRY, TARGETS
 from openemss.models.fcs.tecs import SpeedKind
 from openemss.models.fcs.vertical import VNAV_MODES
 
@@ -88,10 +90,11 @@ def _track(t: np.ndarray, y: np.ndarray, target: float, band: float, i0: int, i_
 
 def section_conformance(run: RunData, sec: Section, i0: int, i_end: int) -> dict[str, Any] | None:
     """Targets and what was flown of ``sec`` active from sample ``i0`` to its end at sample ``i_end``; None for a
-    section without an altitude (rolling, take-off, landing, custom)."""
+    section whose type is not flown to targets (its ``conformance`` is not ``targets``: rolling, take-off,
+    landing, custom) or that has no altitude."""
     alt_target = sec.get("altitude_m")
     alt = run.get("airframe", "alt_msl_m")
-    if alt_target is None or alt is None or sec.type not in ("WaypointFollowing", "Orbiting", "Levelling", "GTurns"):
+    if alt_target is None or alt is None or REGISTRY[sec.type].conformance != TARGETS:
         return None
     t = run.time_s
     out: dict[str, Any] = {"altitude": {"target_m": float(alt_target),
@@ -132,10 +135,12 @@ def holds(run: RunData, mission: Mission | None) -> list[dict[str, Any]]:
 
 
 def ils_conformance(run: RunData, mission: Mission | None) -> dict[str, Any] | None:
-    """The ILS capture of the (first) landing section, or None without an ``ils_phase`` record or a landing."""
+    """The ILS capture of the (first) approach section (its type's ``conformance`` is ``approach``: a landing), or
+    None without an ``ils_phase`` record or such a section."""
     phase = run.get("fcs", "ils_phase")
     lat, lon, alt = (run.get("airframe", k) for k in ("lat_deg", "lon_deg", "alt_msl_m"))
-    land = next((s for s in mission.sections if s.type == "Landing"), None) if mission is not None else None
+    land = next((s for s in mission.sections if REGISTRY[s.type].conformance == APPROACH), None) \
+        if mission is not None else None
     if phase is None or land is None or lat is None or lon is None or alt is None:
         return None
     ph = np.rint(phase).astype(int)

@@ -15,7 +15,7 @@ import numpy as np
 from openemss.models.electric.ems import MODES
 
 from .rundata import RunData
-from .summary import flag_stats, held_increments
+from .series import flag_stats, held_increments
 
 __all__ = ["electric_summary", "ELECTRIC_FLAGS", "J_PER_KWH"]
 

@@ -18,7 +18,7 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path, PurePosixPath
 
-from openemss.orchestrator.cli.main import finite_number, folder_name
+from openemss.orchestrator.cli.argtypes import finite_number, folder_name
 from openemss.orchestrator.results import ResultsFolder, atomic_write
 
 from . import mission_check

@@ -22,7 +22,9 @@ from openemss.models.fcs.geo import LatLon, local_ne_m
 from openemss.models.fcs.mission import Mission
 
 from .conformance import holds, ils_conformance, section_conformance
+from .electric import electric_summary
 from .rundata import RunData, parameter_float
+from .series import flag_stats, held_increments
 
 #: Ground speed below which the aircraft counts as stopped [m/s] (the FCS's ``lateral.v_stop_m_s`` default).
 STOPPED_M_S = 0.5
@@ -35,33 +37,6 @@ ENGINE_FLAGS = ("surge", "flameout", "overspeed", "fuel_limited", "solver_failed
 #: limit, 2 the N1 limit), FCS input signal, FCS limit parameter).
 FCS_LIMITERS = (("Tt41_limit", 1, "Tt41_K", "fuel_control.Tt41_max_K"),
                 ("N1_limit", 2, "N1_pct", "fuel_control.N1_max_pct"))
-
-
-def held_increments(time_s: np.ndarray, rate: np.ndarray) -> np.ndarray:
-    """Integral of ``rate`` over each interval ``(t[k], t[k+1]]``, the value at ``t[k+1]`` held over it.
-
-    Returns
-    -------
-    numpy.ndarray
-        ``len(time_s) - 1`` increments [unit of rate times s].
-    """
-    return rate[1:] * np.diff(time_s)
-
-
-def flag_stats(time_s: np.ndarray, flag: np.ndarray) -> dict[str, Any]:
-    """How often a Boolean signal rose, when first, and for how long it was true.
-
-    Returns
-    -------
-    dict
-        ``count`` (rising edges; true at the first sample counts as one), ``first_time_s`` [s]
-        (None if never true), ``duration_s`` [s] (intervals whose closing sample is true).
-    """
-    on = np.asarray(flag) > 0.5
-    rises = int(on[0]) + int(np.count_nonzero(on[1:] & ~on[:-1])) if len(on) else 0
-    first = float(time_s[np.argmax(on)]) if on.any() else None
-    duration = float(np.sum(np.diff(time_s)[on[1:]])) if len(on) > 1 else 0.0
-    return {"count": rises, "first_time_s": first, "duration_s": duration}
 
 
 def sections_table(time_s: np.ndarray, index: np.ndarray, fuel_flow_kg_s: np.ndarray,
@@ -246,7 +221,6 @@ def _with_conformance(run: RunData, mission: Mission | None, table: list[dict[st
 
 
 def summarize(run: RunData, mission: Mission | None) -> dict[str, Any]:
-    from .electric import electric_summary  # it uses this module's helpers
     """The summary of a mission run (see the README's Results section for the keys and units).
 
     Requires the FCS's ``section_index`` and the engine's ``fuel_flow_kg_s`` and ``fuel_burned_kg``.

@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from openemss.orchestrator import interrupt
-from openemss.orchestrator.cli.main import finite_number, folder_name
+from openemss.orchestrator.cli.argtypes import finite_number, folder_name
 from openemss.orchestrator.results import os_reason
 
 from .lock import study_lock

@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING
 
 from openemss.orchestrator.results import check_name
 from openemss.orchestrator.scenarios.timeseries import (
-    FILE_NAMES,
+    FORMATS,
     PART_GLOB,
     TimeSeriesError,
     arrow_schema,
@@ -52,7 +52,7 @@ def publish_case(study_dir: Path, case: str, case_folder: Path) -> Path | None:
         return None
     target.mkdir(parents=True)
     parts = sorted(source.glob(PART_GLOB)) if source.is_dir() else []
-    if source.name == FILE_NAMES["parquet"] and parts:
+    if source.name == FORMATS["parquet"].file_name and parts:
         for p in parts:
             try:
                 os.link(p, target / p.name)

@@ -94,9 +94,15 @@ def test_ssd_step_outside_the_allowed_rates_is_refused_unless_overridden(
     assert main(["run", str(oscillator), "--stop-time", "1", "--rate", "50", "--out", str(tmp_path / "b")]) == 0
 
 
-def test_model_packages_contribute_commands_and_their_errors_are_one_line(
+def test_commands_come_only_through_the_plugin_entry_points(
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
+    """A module named by an entry point of ``openemss.plugins`` contributes its commands and its errors print as
+    one line; the same module as a model package's ``cli`` without an entry point contributes nothing (the
+    command scans no package), and the shipped commands are all entry points."""
+    from importlib.metadata import EntryPoint
+
     import openemss.models as models
+    from openemss.orchestrator.cli import plugins
 
     pkg = tmp_path / "zz_fake_model"
     pkg.mkdir()
@@ -108,12 +114,30 @@ def test_model_packages_contribute_commands_and_their_errors_are_one_line(
         "def register(sub):\n    p = sub.add_parser('fake', help='a fake model command')\n"
         "    p.add_argument('--x', type=float, default=1.0)\n    p.set_defaults(handler=_go)\n"
         "    return (FakeError,)\n")
+    shipped = {ep.name: ep.value for ep in plugins.entry_points(group=plugins.GROUP)}
+    assert {"engine": "openemss.models.engine.cli", "airframe": "openemss.models.airframe.cli",
+            "study": "openemss.study.cli", "report": "openemss.report.plugin"}.items() <= shipped.items(), \
+        "the installed entry points are not pyproject.toml's: pip install -e . again"
+
     monkeypatch.setattr(models, "__path__", [*models.__path__, str(tmp_path)])
-    assert main(["fake", "--x", "2"]) == 0
-    assert capsys.readouterr().out.strip() == "ok 2.0"
-    assert main(["fake", "--x", "-1"]) == 1
-    err = capsys.readouterr().err.strip().splitlines()
-    assert err == ["emss fake: error: x = -1.0 must be >= 0"]
+    monkeypatch.setattr(plugins, "_loaded", None)
+    with pytest.raises(SystemExit):
+        main(["fake", "--x", "2"])
+    assert "invalid choice: 'fake'" in capsys.readouterr().err
+
+    monkeypatch.syspath_prepend(str(tmp_path))
+    real = plugins.entry_points
+    fake = EntryPoint("fake", "zz_fake_model.cli", plugins.GROUP)
+    monkeypatch.setattr(plugins, "entry_points", lambda group: [*real(group=group), fake])
+    monkeypatch.setattr(plugins, "_loaded", None)
+    try:
+        assert main(["fake", "--x", "2"]) == 0
+        assert capsys.readouterr().out.strip() == "ok 2.0"
+        assert main(["fake", "--x", "-1"]) == 1
+        err = capsys.readouterr().err.strip().splitlines()
+        assert err == ["emss fake: error: x = -1.0 must be >= 0"]
+    finally:
+        plugins._loaded = None  # the next command loads the real plugins again
 
 
 def test_export_writes_one_fmu_and_refuses_what_the_container_cannot_do(

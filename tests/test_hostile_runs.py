@@ -23,7 +23,7 @@ import pytest
 
 from openemss.orchestrator.cli.main import main
 from openemss.orchestrator.results import ResultsFolder, atomic_write
-from openemss.orchestrator.scenarios.timeseries import FILE_NAMES, read_timeseries
+from openemss.orchestrator.scenarios.timeseries import FORMATS, read_timeseries
 from systems import write_gain_pair
 
 FSIZE_LIMIT = 1_000_000  # bytes per file: above the test FMU's largest file (0.35 MB), below the run's CSV
@@ -331,7 +331,7 @@ def test_kill_9_leaves_complete_rows(system: Path, tmp_path: Path) -> None:
 
 
 def _check_full_disk(out: Path, rc: int, err: list[str], cause: str, fmt: str = "csv") -> None:
-    assert_one_line(rc, err, "cannot write", FILE_NAMES[fmt], cause, "rows up to t =")
+    assert_one_line(rc, err, "cannot write", FORMATS[fmt].file_name, cause, "rows up to t =")
     info = json.loads((out / "run.json").read_text())
     assert info["status"] == "failed" and cause in info["error"]
     if fmt == "csv":
@@ -340,7 +340,7 @@ def _check_full_disk(out: Path, rc: int, err: list[str], cause: str, fmt: str = 
     else:  # every part on disk whole; the one being written when the disk filled is not left behind
         t = read_timeseries(out).data["time_s"]
         assert len(t) and t[-1] < 1000.0 and np.allclose(np.diff(t), 0.01)
-        assert not list((out / FILE_NAMES[fmt]).glob(".*.tmp"))
+        assert not list((out / FORMATS[fmt].file_name).glob(".*.tmp"))
 
 
 @pytest.mark.parametrize("fmt", ["csv", "parquet"])

@@ -23,7 +23,8 @@ point: performance (Fn_N, Fg_N, ram_drag_N, W2_kg_s, Wf_kg_s, SFC_kg_N_s, OPR, B
 Tt4_K, nozzle areas) and every station's W_kg_s, Tt_K, Pt_Pa, FAR. The JSON keys
 carry SI units in their names (:meth:`.cycle_design.DesignPoint.to_dict`).
 
-The ``emss`` command finds :func:`register` by itself; errors of the engine model
+The ``emss`` command finds :func:`register` through the entry point ``engine`` of the group
+``openemss.plugins`` (pyproject.toml); errors of the engine model
 (:class:`.errors.ModelError`) are bad input and print as one line.
 """
 

@@ -33,6 +33,7 @@ from .lateral import LateralController
 from .mission import Mission
 from .performance import Performance
 from .pitch import PitchController
+from .sections import APPROACH, REGISTRY
 from .state import AircraftState, EngineState, Targets
 from .state_machine import MissionRunner
 from .tecs import Tecs, priority_code, speed_kind_code
@@ -299,9 +300,10 @@ class FlightControlSystem:
         if tg.align_heading_rad is not None:
             ap = runner.approach_params
             rudder = clip(-ap.k_psi_steer_1_rad * wrap_pi(x.psi_rad - tg.align_heading_rad), -1.0, 1.0)
+        kind = REGISTRY.get(tg.section_type)  # None once the mission is finished
+        ils = _PHASE_CODE.get(tg.phase, 0) if kind is not None and kind.conformance == APPROACH else 0
         return FcsOutput.make(o[0], o[1], rudder, tg.steer, tg.brake, tg.gear_down, lever, o[4], o[5], o[6], tg,
-                              o[7], o[8], o[9], _MODE_CODE.get(tg.vnav_mode, 0),
-                              _PHASE_CODE.get(tg.phase, 0) if tg.section_type == "Landing" else 0)
+                              o[7], o[8], o[9], _MODE_CODE.get(tg.vnav_mode, 0), ils)
 
     def _first_inner_step(self, *args: object) -> tuple:
         """:func:`.inner_loops.inner_step` through its entry point for these arguments' types, kept for the next

@@ -261,24 +261,26 @@ def _ref(v: Any, defined: dict, what: str) -> Any:
 
 
 def _route(sections: list[Section], raw: list[dict], ctx: _Ctx) -> None:
-    """Refuse a leg between two fixes with no great-circle course: consecutive waypoints of a section, and
-    with fly-by the last one and where the next section begins (its turn is anticipated towards it)."""
+    """Refuse a leg between two fixes with no great-circle course: consecutive waypoints of a section (its type's
+    field of kind ``waypoints``), and with fly-by the last one and where the next section begins (its turn is
+    anticipated towards it)."""
     for k, sec in enumerate(sections):
-        if sec.type != "WaypointFollowing":
+        route = next((n for n, f in REGISTRY[sec.type].fields.items() if f[0] == "waypoints"), None)
+        if route is None:
             continue
-        fixes = list(sec["waypoints"])
+        fixes = list(sec[route])
         nxt = REGISTRY[sections[k + 1].type].entry_fix(sections[k + 1]) if k + 1 < len(sections) else None
-        if sec["fly_by"] and nxt is not None:
+        if sec.get("fly_by") and nxt is not None:
             fixes.append(nxt)
         for i, (a, b) in enumerate(zip(fixes, fixes[1:], strict=False)):
             problem = leg_problem(a, b)
             if problem is None:
                 continue
-            names = [values.name(w) for w in raw[k]["waypoints"]]
+            names = [values.name(w) for w in raw[k][route]]
             names.append(f"where section {k + 1} ({sections[k + 1].type}) begins" if k + 1 < len(sections) else "")
             first, second = names[i], names[i + 1]
-            raise ctx.fail(("sections", sec.index, "waypoints"),
-                           f"section {sec.index} ({sec.type}) field 'waypoints': the leg from {first} to "
+            raise ctx.fail(("sections", sec.index, route),
+                           f"section {sec.index} ({sec.type}) field '{route}': the leg from {first} to "
                            f"{second} {problem}")
 
 

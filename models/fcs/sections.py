@@ -19,7 +19,9 @@ Landing            stopped on the runway (ground speed < ``v_stop_m_s``)
 Custom             ``duration_s`` elapsed
 =================  ==============================================================
 
-A new section type is a subclass of :class:`SectionType` with ``@register``: nothing else names it.
+A new section type is a subclass of :class:`SectionType` with ``@register``: nothing else names it. Its class
+also says how the mission check judges it before the flight (:attr:`SectionType.feasibility`, the shipped
+checks in :mod:`.feasibility_sections`) and what the report compares after it (:attr:`SectionType.conformance`).
 The navigation types (waypoints, orbits, turns, levelling) set :attr:`SectionType.outer_rate`: the state
 machine steps them every ``guidance.outer_period_s`` and holds their targets in between.
 """
@@ -30,6 +32,7 @@ import dataclasses
 import math
 from typing import TYPE_CHECKING, Any, ClassVar
 
+from . import feasibility_sections as checks
 from .approach import AutoLand, centreline_steer
 from .atmosphere import cas_from_tas, isa
 from .geo import LatLon, wrap_pi
@@ -40,13 +43,24 @@ from .tecs import SpeedCommand, SpeedKind
 from .vertical import SectionVnav
 
 if TYPE_CHECKING:
+    from .feasibility_checker import FeasibilityCheck
     from .mission import Section
     from .state_machine import MissionRunner
 
-__all__ = ["Field", "SectionType", "REGISTRY", "register"]
+__all__ = ["Field", "SectionType", "REGISTRY", "register", "CONFORMANCE", "TARGETS", "APPROACH"]
 
 #: A field of a section type: (kind, required, default, (min, max) or choices, unit and help).
 Field = tuple[str, bool, Any, Any, str]
+
+#: :attr:`SectionType.conformance` of a section flown to an altitude (and a speed): the report compares them with
+#: the flown altitude and speed (``openemss.report.conformance.section_conformance``).
+TARGETS = "targets"
+#: :attr:`SectionType.conformance` of an ILS approach to a runway: its phases are the approach's
+#: (:data:`.approach.APPROACH_PHASES`, the FCS's ``ils_phase``) and the report measures the localizer and glide
+#: slope captures (``openemss.report.conformance.ils_conformance``).
+APPROACH = "approach"
+#: Each conformance kind and the fields a section type of that kind must have.
+CONFORMANCE: dict[str, tuple[str, ...]] = {TARGETS: ("altitude_m",), APPROACH: ("runway", "approach_altitude_m")}
 
 
 class SectionType:
@@ -76,7 +90,16 @@ class SectionType:
     departs_from_runway : bool
         A ground run on the section's ``runway``: a mission that begins with it starts there, on the ground
         (:func:`.runway_checks.check_departure`), and the aircraft must not leave the runway on the ground
-        (:func:`.runway_checks.check_on_runway`).
+        (:func:`.runway_checks.check_on_runway`); the mission check starts there too.
+    feasibility : FeasibilityCheck or None
+        The section's check before the flight (:mod:`.feasibility`): a function ``(checker, section, state,
+        figures) -> end altitude [m]`` (:mod:`.feasibility_checker`); None (the default): not checked, the
+        section's verdict is ``n/a`` and a note says ``<type> sections <not_checked>: not checked``.
+    not_checked : str
+        Why a type without a feasibility check has none (in that note).
+    conformance : str or None
+        What the report compares after the flight: :data:`TARGETS` (altitude and speed targets),
+        :data:`APPROACH` (the ILS captures), or None (nothing); :data:`CONFORMANCE` lists the fields each needs.
     """
 
     type_name: ClassVar[str] = ""
@@ -85,6 +108,9 @@ class SectionType:
     speed_field: ClassVar[str | None] = "speed"
     outer_rate: ClassVar[bool] = False
     departs_from_runway: ClassVar[bool] = False
+    feasibility: ClassVar[FeasibilityCheck | None] = None
+    not_checked: ClassVar[str] = "have no feasibility check"
+    conformance: ClassVar[str | None] = None
 
     def __init__(self, sec: Section, x: AircraftState, t_s: float, ctx: MissionRunner) -> None:
         self.sec, self.t0, self.ctx = sec, t_s, ctx
@@ -128,9 +154,24 @@ REGISTRY: dict[str, type[SectionType]] = {}
 
 
 def register(cls: type[SectionType]) -> type[SectionType]:
-    """Class decorator: register a section type under its :attr:`~SectionType.type_name` (once)."""
+    """Class decorator: register a section type under its :attr:`~SectionType.type_name` (once).
+
+    Raises
+    ------
+    ValueError
+        When the name is empty or taken, or the type's :attr:`~SectionType.conformance` is not a kind of
+        :data:`CONFORMANCE` or its fields lack those the kind needs.
+    """
     if not cls.type_name or cls.type_name in REGISTRY:
         raise ValueError(f"section type {cls.__name__}: type_name {cls.type_name!r} is empty or taken")
+    if cls.conformance is not None:
+        needs = CONFORMANCE.get(cls.conformance)
+        if needs is None:
+            raise ValueError(f"section type {cls.__name__}: conformance {cls.conformance!r} is not one of "
+                             f"{', '.join(CONFORMANCE)} (or None)")
+        if missing := [f for f in needs if f not in cls.fields]:
+            raise ValueError(f"section type {cls.__name__}: conformance {cls.conformance!r} needs the field(s) "
+                             f"{', '.join(missing)}")
     REGISTRY[cls.type_name] = cls
     return cls
 
@@ -140,6 +181,7 @@ class Rolling(SectionType):
     """Rolling section; completes when calibrated airspeed >= ``rotate_cas_m_s``."""
 
     type_name = "Rolling"
+    feasibility = staticmethod(checks.rolling)
     speed_field = None
     departs_from_runway = True
     completion = "calibrated airspeed >= ``rotate_cas_m_s``"
@@ -165,6 +207,7 @@ class TakeOff(SectionType):
     """TakeOff section; completes when height above the runway >= ``until_height_agl_m`` (after lift-off)."""
 
     type_name = "TakeOff"
+    feasibility = staticmethod(checks.takeoff)
     speed_field = "climb_speed"
     departs_from_runway = True
     completion = "height above the runway >= ``until_height_agl_m`` (after lift-off)"
@@ -213,6 +256,8 @@ class WaypointFollowing(SectionType):
     """WaypointFollowing section; completes when every waypoint passed (fly-over within ``wp_accept_m`` or abeam; fly-by at the turn anticipation distance), and a planned hold at the constraint's waypoint flown."""
 
     type_name = "WaypointFollowing"
+    feasibility = staticmethod(checks.waypoint_following)
+    conformance = TARGETS
     outer_rate = True
     completion = "every waypoint passed (fly-over within ``wp_accept_m`` or abeam; fly-by at the turn anticipation distance), and a planned hold at the constraint's waypoint flown"
     fields: ClassVar[dict[str, Field]] = {
@@ -292,6 +337,8 @@ class Orbiting(SectionType):
     """Orbiting section; completes when ``turns`` full turns swept around the centre after capture."""
 
     type_name = "Orbiting"
+    feasibility = staticmethod(checks.orbiting)
+    conformance = TARGETS
     outer_rate = True
     completion = "``turns`` full turns swept around the centre after capture"
     fields: ClassVar[dict[str, Field]] = {
@@ -323,6 +370,8 @@ class GTurns(SectionType):
     """GTurns section; completes when ``|heading change|`` >= ``heading_change_deg``, or ``duration_s`` elapsed."""
 
     type_name = "GTurns"
+    feasibility = staticmethod(checks.gturns)
+    conformance = TARGETS
     outer_rate = True
     completion = "``|heading change|`` >= ``heading_change_deg``, or ``duration_s`` elapsed"
     fields: ClassVar[dict[str, Field]] = {
@@ -366,6 +415,8 @@ class Levelling(SectionType):
     """Levelling section; completes when ``|h - altitude_m|`` < ``tolerance_m`` continuously for ``hold_s``."""
 
     type_name = "Levelling"
+    feasibility = staticmethod(checks.levelling)
+    conformance = TARGETS
     outer_rate = True
     completion = "``|h - altitude_m|`` < ``tolerance_m`` continuously for ``hold_s``"
     fields: ClassVar[dict[str, Field]] = {
@@ -399,6 +450,8 @@ class Landing(SectionType):
     """Landing section; completes when stopped on the runway (ground speed < ``v_stop_m_s``)."""
 
     type_name = "Landing"
+    feasibility = staticmethod(checks.landing)
+    conformance = APPROACH
     speed_field = None
     completion = "stopped on the runway (ground speed < ``v_stop_m_s``)"
     fields: ClassVar[dict[str, Field]] = {
@@ -435,6 +488,7 @@ class Custom(SectionType):
     """Custom section; completes when ``duration_s`` elapsed."""
 
     type_name = "Custom"
+    not_checked = "fly open-loop commands"
     speed_field = None
     completion = "``duration_s`` elapsed"
     fields: ClassVar[dict[str, Field]] = {

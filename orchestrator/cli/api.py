@@ -32,7 +32,15 @@ from ..master.execution import Execution
 from ..results import ResultsError, ResultsFolder, RunInterrupted, atomic_write, check_name, stop_on_signals
 from ..scenarios.manipulators import ScenarioManipulator, load_scenario
 from ..scenarios.observers import Progress, RealTimePacer, RunRecord
-from ..scenarios.timeseries import DEFAULT_FORMAT, FILE_NAMES, TimeSeries, default_record, read_timeseries, recorder
+from ..scenarios.timeseries import (
+    DEFAULT_FORMAT,
+    FORMATS,
+    TimeSeries,
+    default_record,
+    read_timeseries,
+    recorder,
+    timeseries_names,
+)
 from ..ssp.model import ParameterValue, SystemDef
 from ..ssp.read import load_system
 from ..ssp.system import BoundSystem, VariableInfo, bind_system
@@ -385,8 +393,10 @@ def run(system: Path | str | None = None, *, stop_time: float | None = None, par
         raise ConfigurationError("--out '': an empty folder name; give the results folder, e.g. results/run1")
     from . import hooks
 
-    # locked for this run, cleared of what earlier runs wrote, nothing else replaced
-    with interrupt.entered_whole(ResultsFolder(out, names=hooks.output_files() if post_run else ())):
+    # locked for this run, cleared of what earlier runs wrote, nothing else replaced (the time series' names of
+    # every format, the plugins' output files)
+    plugin_files = hooks.output_files() if post_run else ()
+    with interrupt.entered_whole(ResultsFolder(out, names=[*timeseries_names(), *plugin_files])):
         try:
             interrupt.phase("pre-run", "before the first step", f"nothing was run (run.json in {out} says so)")
             return _run(system, sysdef, out, stop_time, params, set, scenario, rate, algorithm, step_multiple,
@@ -431,7 +441,7 @@ def _run(system: Path, sysdef: SystemDef, out: Path, stop_time: float | None, pa
                         {"system_name": bound.definition.name, "stop_time_s": stop,
                          "scenario": str(scenario) if scenario else None, "format": fmt},
                         reporters=[pacer] if pacer else [])
-    record_.add_files([FILE_NAMES[fmt]] + ([SETTINGS_FILE] if settings else []))
+    record_.add_files([FORMATS[fmt].file_name] + ([SETTINGS_FILE] if settings else []))
     bar = Progress(stop, status=hooks.status_variable(bound, status)) if progress else None
     for o in (pacer, rec, record_, bar):
         if o is not None:

@@ -6,11 +6,9 @@ exit code, never a traceback; a run that fails keeps what it recorded.
 from __future__ import annotations
 
 import argparse
-import importlib
 import json
 import math
 import os
-import pkgutil
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -22,9 +20,10 @@ from ..master import algorithm_registry
 from ..master.algorithm import step_order
 from ..master.execution import DEFAULT_RATE_HZ, MAX_RATE_HZ, MIN_RATE_HZ
 from ..results import RunInterrupted, os_reason
-from ..scenarios.timeseries import DEFAULT_FORMAT, FORMATS
+from ..scenarios.timeseries import DEFAULT_FORMAT, FORMATS, format_help
 from ..ssp.system import BoundSystem
 from . import api
+from .argtypes import finite_number, folder_name
 from .hooks import USER_ERRORS
 from .plugins import plugins
 
@@ -37,24 +36,6 @@ class _Parser(argparse.ArgumentParser):
 
     def error(self, message: str) -> NoReturn:
         self.exit(2, f"{self.prog}: error: {message} (see --help)\n")
-
-
-def finite_number(text: str) -> float:
-    """A finite number (argparse type): NaN and infinities are refused where they enter."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"invalid number: {text!r}") from None
-    if not math.isfinite(value):
-        raise argparse.ArgumentTypeError(f"{text!r} is not a finite number")
-    return value
-
-
-def folder_name(text: str) -> Path:
-    """A results folder (argparse type): not empty (an empty name would write into the working directory)."""
-    if not text.strip():
-        raise argparse.ArgumentTypeError("an empty folder name; give the results folder, e.g. --out results/run1")
-    return Path(text)
 
 
 def _add_system_args(p: argparse.ArgumentParser) -> None:
@@ -95,10 +76,7 @@ def build_parser() -> argparse.ArgumentParser:
                      help="also record the inputs that only copy a connected output (by default: outputs, and "
                           "inputs that are not connected or whose connection converts the value)")
     run.add_argument("--record-every", type=int, default=1, metavar="N", help="record every N-th step")
-    run.add_argument("--format", choices=FORMATS, default=DEFAULT_FORMAT,
-                     help="time series format: parquet (timeseries.parquet/, typed, compressed, units in the "
-                          "column metadata; default), csv (timeseries.csv with a units row), mat (timeseries.mat, "
-                          "MATLAB v5)")
+    run.add_argument("--format", choices=list(FORMATS), default=DEFAULT_FORMAT, help=format_help())
     run.add_argument("--scenario", type=Path, metavar="FILE",
                      help="YAML file of timed events: set, ramp, hold, release inputs and tunable parameters")
     run.add_argument("--until", metavar="CONDITION",
@@ -137,7 +115,6 @@ def build_parser() -> argparse.ArgumentParser:
     exp.add_argument("--expose", nargs="+", action="extend", default=[], metavar="VARS",
                      help="further component.variable paths to expose (comma-separated allowed)")
 
-    _register_model_commands(sub)
     _register_plugin_commands(sub)
 
     val = sub.add_parser("validate", help="check a system and its FMUs; exit code = number of problems",
@@ -147,35 +124,11 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _register_model_commands(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
-    """Add the sub-commands of model packages (``emss engine ...``, ``emss airframe ...``).
-
-    Every package ``openemss.models.<name>`` that has a ``cli`` module with a
-    ``register(subparsers) -> tuple[type[Exception], ...]`` function contributes
-    its commands; each sets ``handler`` (a function of the parsed arguments
-    returning the exit code) with ``set_defaults``, and returns the exception
-    types that mean bad input. The orchestrator itself knows no model.
-    """
-    import openemss.models as models
-
-    USER_ERRORS.clear()
-    for info in sorted(pkgutil.iter_modules(models.__path__), key=lambda i: i.name):
-        if not info.ispkg:
-            continue
-        try:
-            module = importlib.import_module(f"openemss.models.{info.name}.cli")
-        except ModuleNotFoundError as exc:
-            if exc.name == f"openemss.models.{info.name}.cli":
-                continue
-            raise
-        USER_ERRORS.extend(module.register(sub))
-    from openemss.study import cli as study_cli  # ``emss study ...``: studies on Dask, same mechanism
-
-    USER_ERRORS.extend(study_cli.register(sub))
-
-
 def _register_plugin_commands(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
-    """Add the sub-commands of the ``openemss.plugins`` entry points (see :mod:`.plugins`)."""
+    """Add the sub-commands of the ``openemss.plugins`` entry points (see :mod:`.plugins`): the only way a
+    command comes in (``emss engine``, ``emss airframe``, ``emss study``, the report's); the orchestrator knows
+    none by name."""
+    USER_ERRORS.clear()
     for module in plugins():
         register = getattr(module, "register", None)
         if register is not None:

@@ -1,7 +1,9 @@
 """Time series of a run on disk: Parquet (the default), CSV with a units row, MATLAB .mat; and reading them back.
 
 Recorders (observers of :class:`~.execution.Execution`) sample the exchange vectors into typed
-blocks (float64 for Real, int32 for Integer, bool for Boolean) and write them:
+blocks (float64 for Real, int32 for Integer, bool for Boolean) and write them in one of the formats
+of :data:`FORMATS`, the one registry that ``emss run --format``, its help, the results folder's checks and
+the readers take them from (a new format is one :func:`register_format`):
 
 * ``parquet``: ``timeseries.parquet/``, a Parquet dataset folder (as Spark, Dask and pyarrow write
   one: read it with ``pandas.read_parquet``, ``pyarrow.dataset``, DuckDB, Polars). Every flush (at
@@ -30,7 +32,7 @@ import os
 import re
 import shutil
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -39,56 +41,34 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import ConfigurationError, EmssError
-from ..results import ResultsError, atomic_write, os_reason, record_written
+from ..results import ResultsError, os_reason, record_written
 from .observers import CsvRecorder, EveryNth
+from .timeseries_files import (
+    PART_GLOB,
+    TIME_COLUMN,
+    Column,
+    TimeSeries,
+    TimeSeriesError,
+    csv_columns,
+    mat_columns,
+    parquet_columns,
+    read_csv,
+    read_mat,
+    read_parquet,
+    write_mat,
+)
 
 if TYPE_CHECKING:
-    import pandas
 
     from ..master.execution import Execution
     from ..ssp.system import BoundSystem
 
-FORMATS = ("parquet", "csv", "mat")
 DEFAULT_FORMAT = "parquet"
-FILE_NAMES = {"parquet": "timeseries.parquet", "csv": "timeseries.csv", "mat": "timeseries.mat"}
 MAT_STAGING = ".timeseries.mat.parts"
 PART_ROWS = 16384  #: rows of one Parquet part at most (one row group each)
-PART_GLOB = "part-*.parquet"
 ZSTD_LEVEL = 3
 _UNIT_IN_TEXT = re.compile(r"\[([^\[\]]+)\]\s*$")
 _NUMPY = {"Real": np.float64, "Integer": np.int32, "Boolean": np.bool_}
-
-
-class TimeSeriesError(EmssError):
-    """A time series file that cannot be read (missing, damaged, not written by emss run)."""
-
-
-@dataclass(frozen=True)
-class Column:
-    """What one recorded column holds.
-
-    Attributes
-    ----------
-    name : str
-        ``time_s`` or ``component.variable``.
-    type_name : str
-        ``Real``, ``Integer`` or ``Boolean`` (``time_s``: ``Real``).
-    unit : str
-        Its unit as the FMU gives it ('' when none is known).
-    description : str
-        The FMU variable's description ('' when none).
-    causality : str
-        ``output``, ``input``, ``parameter``, ... (``time_s``: ``independent``).
-    """
-
-    name: str
-    type_name: str = "Real"
-    unit: str = ""
-    description: str = ""
-    causality: str = ""
-
-
-TIME_COLUMN = Column("time_s", "Real", "s", "simulation time", "independent")
 
 
 def unit_from_description(text: str | None) -> str:
@@ -338,7 +318,7 @@ class MatRecorder(ParquetRecorder):
 
     def finish(self, execution: Execution, error: BaseException | None) -> None:
         super().finish(execution, error)
-        write_mat(read_timeseries(self.path), self.mat_path)
+        write_mat(read_parquet(self.path), self.mat_path)
         shutil.rmtree(self.path, ignore_errors=True)
 
 
@@ -355,16 +335,97 @@ def _csv_text(text: str) -> str:
     return f'"{text}"' if ("," in text or '"' in text) else text
 
 
-def recorder(fmt: str, out: Path, every: int = 1) -> ParquetRecorder | UnitsCsvRecorder:
+# -- the formats ----------------------------------------------------------------------------------
+@dataclass(frozen=True, slots=True)
+class ResultFormat:
+    """A time series format of ``emss run --format``.
+
+    Attributes
+    ----------
+    name : str
+        The ``--format`` value.
+    file_name : str
+        What a run writes into its results folder (a file, or a folder of parts); its suffix tells a path of the
+        format when it is read back.
+    summary : str
+        One line for ``--help``.
+    recorder : callable
+        ``(path, every) -> EveryNth``: the recorder writing ``path`` (``file_name`` in the results folder) every
+        ``every``-th step; it has ``rows_written``.
+    read : callable
+        ``(path) -> TimeSeries``: what the recorder wrote, read back (:class:`TimeSeriesError` naming the file).
+    columns : callable
+        ``(path) -> list of str``: the column names, without reading the rows.
+    leftovers : tuple of str
+        Names beside ``file_name`` that a killed run of the format may leave: Parquet part folders, read back
+        as such.
+    """
+
+    name: str
+    file_name: str
+    summary: str
+    recorder: Callable[[Path, int], EveryNth]
+    read: Callable[[Path], TimeSeries]
+    columns: Callable[[Path], list[str]]
+    leftovers: tuple[str, ...] = ()
+
+    @property
+    def suffix(self) -> str:
+        return Path(self.file_name).suffix
+
+
+#: The time series formats by their ``--format`` name, in the order a results folder is searched for one.
+FORMATS: dict[str, ResultFormat] = {}
+
+
+def register_format(fmt: ResultFormat) -> ResultFormat:
+    """Register a time series format under its name (once; its file name and suffix its own).
+
+    Raises
+    ------
+    ValueError
+        When the name, the file name or its suffix is empty or taken.
+    """
+    taken = [f.name for f in FORMATS.values() if fmt.name == f.name or fmt.file_name == f.file_name
+             or fmt.suffix == f.suffix]
+    if not fmt.name or not fmt.suffix or taken:
+        raise ValueError(f"time series format {fmt.name!r} ({fmt.file_name}): name, file name or suffix empty or "
+                         f"taken{' by ' + ', '.join(taken) if taken else ''}")
+    FORMATS[fmt.name] = fmt
+    return fmt
+
+
+def format_help() -> str:
+    """The formats for ``--help``: each with its summary, the default named."""
+    return "time series format: " + "; ".join(f"{f.name} ({f.summary})" for f in FORMATS.values()) + \
+        f" (default: {DEFAULT_FORMAT})"
+
+
+def timeseries_names() -> list[str]:
+    """Every name a time series of any format (or what a killed run of it left) has in a results folder."""
+    return [n for f in FORMATS.values() for n in (f.file_name, *f.leftovers)]
+
+
+def get_format(name: str) -> ResultFormat:
+    """The format of ``name``.
+
+    Raises
+    ------
+    ConfigurationError
+        Naming the formats allowed.
+    """
+    fmt = FORMATS.get(name)
+    if fmt is None:
+        raise ConfigurationError(f"--format {name!r}: not a time series format (allowed: {', '.join(FORMATS)})")
+    return fmt
+
+
+def recorder(fmt: str, out: Path, every: int = 1) -> EveryNth:
     """The recorder of format ``fmt`` (:data:`FORMATS`) writing into the results folder ``out``."""
-    if fmt not in FORMATS:
-        raise ConfigurationError(f"--format {fmt!r}: not a time series format (allowed: {', '.join(FORMATS)})")
-    for name in (*FILE_NAMES.values(), MAT_STAGING):  # one time series per folder, and nothing replaced
+    kind = get_format(fmt)
+    for name in timeseries_names():  # one time series per folder, and nothing replaced
         claim_timeseries(Path(out) / name)
-    path = Path(out) / FILE_NAMES[fmt]
-    if fmt == "csv":
-        return UnitsCsvRecorder(path, every=every)
-    return MatRecorder(path, every=every) if fmt == "mat" else ParquetRecorder(path, every=every)
+    return kind.recorder(Path(out) / kind.file_name, every)
 
 
 def claim_timeseries(path: Path) -> None:
@@ -379,81 +440,35 @@ def claim_timeseries(path: Path) -> None:
 
 
 # -- reading ------------------------------------------------------------------------------------
-@dataclass
-class TimeSeries:
-    """A run's time series as read back.
-
-    Attributes
-    ----------
-    columns : list of Column
-        Names, types, units and descriptions, ``time_s`` first.
-    data : dict[str, numpy.ndarray]
-        One typed array per column name.
-    source : Path
-        The file or folder read.
-    note : str
-        What reading left out (a torn last CSV row), '' when the file was whole.
-    """
-
-    columns: list[Column]
-    data: dict[str, np.ndarray]
-    source: Path
-    note: str = ""
-
-    @property
-    def names(self) -> list[str]:
-        return [c.name for c in self.columns]
-
-    @property
-    def units(self) -> dict[str, str]:
-        return {c.name: c.unit for c in self.columns}
-
-    def __len__(self) -> int:
-        return len(self.data["time_s"]) if "time_s" in self.data else 0
-
-    def floats(self) -> dict[str, np.ndarray]:
-        """Every column as float64 (Booleans as 0/1)."""
-        return {n: a.astype(np.float64) if a.dtype != np.float64 else a for n, a in self.data.items()}
-
-    def to_pandas(self) -> pandas.DataFrame:
-        """A DataFrame indexed by ``time_s``; units and descriptions in ``df.attrs``."""
-        import pandas as pd
-
-        df = pd.DataFrame({n: a for n, a in self.data.items() if n != "time_s"},
-                          index=pd.Index(self.data["time_s"], name="time_s"))
-        df.attrs["units"] = self.units
-        df.attrs["descriptions"] = {c.name: c.description for c in self.columns}
-        return df
-
-
 def find_timeseries(folder: Path) -> Path | None:
-    """The time series in a results folder (Parquet, then CSV, then .mat, then a killed .mat run's parts)."""
+    """The time series in a results folder (in the order of :data:`FORMATS`: Parquet, then CSV, then .mat; then
+    what a killed run left)."""
     folder = Path(folder)
-    for name in (*FILE_NAMES.values(), MAT_STAGING):
+    for name in (*(f.file_name for f in FORMATS.values()), *(n for f in FORMATS.values() for n in f.leftovers)):
         if (folder / name).exists():
             return folder / name
     return None
+
+
+def _format_of(path: Path) -> ResultFormat:
+    """The format that reads ``path``: by its suffix; a folder of Parquet parts (a killed .mat run's too) is
+    Parquet."""
+    for f in FORMATS.values():
+        if path.suffix == f.suffix:
+            return f
+    if path.is_dir() or path.name in (n for f in FORMATS.values() for n in f.leftovers):
+        return FORMATS["parquet"]
+    raise TimeSeriesError(f"{path}: not a time series file (the formats: "
+                          f"{', '.join(f'{f.file_name} ({f.name})' for f in FORMATS.values())})")
 
 
 def read_columns(path: Path) -> list[str]:
     """Column names of a time series without reading its rows ([] when unreadable)."""
     path = Path(path)
     try:
-        if path.suffix == ".csv":
-            with open(path, encoding="utf-8") as f:
-                return f.readline().rstrip("\r\n").split(",")
-        if path.suffix == ".mat":
-            return [c.name for c in read_timeseries(path).columns]
-        import pyarrow.parquet as pq
-
-        parts = _parts(path)
-        return list(pq.read_schema(parts[0]).names) if parts else []
+        return _format_of(path).columns(path)
     except (OSError, ValueError, EmssError):
         return []
-
-
-def _parts(path: Path) -> list[Path]:
-    return sorted(path.glob(PART_GLOB)) if path.is_dir() else [path]
 
 
 def read_timeseries(path: Path) -> TimeSeries:
@@ -466,119 +481,23 @@ def read_timeseries(path: Path) -> TimeSeries:
         Naming the file and what is wrong.
     """
     path = Path(path)
-    if path.is_dir() and path.name not in (FILE_NAMES["parquet"], MAT_STAGING) and not any(path.glob(PART_GLOB)):
+    if path.is_dir() and path.name not in timeseries_names() and not any(path.glob(PART_GLOB)):
         found = find_timeseries(path)
         if found is None:
-            raise TimeSeriesError(f"{path}: no time series ({', '.join(FILE_NAMES.values())}); give a folder "
-                                  "written by emss run")
+            raise TimeSeriesError(f"{path}: no time series ({', '.join(f.file_name for f in FORMATS.values())}); "
+                                  "give a folder written by emss run")
         path = found
     if not path.exists():
         raise TimeSeriesError(f"{path}: no such file")
-    if path.suffix == ".csv":
-        return _read_csv(path)
-    if path.suffix == ".mat":
-        return _read_mat(path)
-    return _read_parquet(path)
+    return _format_of(path).read(path)
 
 
-def _read_parquet(path: Path) -> TimeSeries:
-    import pyarrow as pa
-    import pyarrow.parquet as pq
-
-    parts = _parts(path)
-    try:
-        tables = [pq.read_table(p) for p in parts]
-    except (OSError, pa.ArrowException) as exc:
-        raise TimeSeriesError(f"{path}: unreadable Parquet ({exc})") from None
-    if not tables:
-        raise TimeSeriesError(f"{path}: no rows recorded (no part file)")
-    table = pa.concat_tables(tables) if len(tables) > 1 else tables[0]
-    if not table.column_names or table.column_names[0] != "time_s":
-        raise TimeSeriesError(f"{path}: not a timeseries of emss run (the first column must be time_s)")
-    cols = []
-    for f in table.schema:
-        md = {k.decode(): v.decode() for k, v in (f.metadata or {}).items()}
-        t = md.get("fmi_type") or ("Boolean" if pa.types.is_boolean(f.type) else
-                                   "Integer" if pa.types.is_integer(f.type) else "Real")
-        cols.append(Column(f.name, t, md.get("unit", ""), md.get("description", ""), md.get("causality", "")))
-    data = {c.name: table.column(i).to_numpy() for i, c in enumerate(cols)}
-    return TimeSeries(cols, data, path)
-
-
-def _read_csv(path: Path) -> TimeSeries:
-    """A CSV of :class:`UnitsCsvRecorder` (or of the former recorder, without the units row). A torn last
-    row (a killed run) is left out and said in ``note``; a damaged row before it is an error naming its line."""
-    try:
-        lines = path.read_bytes().decode("utf-8", "replace").replace("\r\n", "\n").split("\n")
-    except OSError as exc:
-        raise TimeSeriesError(f"{path}: cannot read: {exc.strerror}") from None
-    if not lines or not lines[0].startswith("time_s"):
-        raise TimeSeriesError(f"{path}: not a timeseries of emss run (the first column must be time_s)")
-    names = lines[0].split(",")
-    units = [""] * len(names)
-    first = 1
-    if len(lines) > 2 and lines[1].split(",", 1)[0] == "s":
-        units = [u.strip('"') for u in _split_units(lines[1])]
-        first = 2
-    complete = lines[-1] == ""
-    body = lines[first:-1] if complete else lines[first:]
-    note = ""
-    if not complete and body:
-        note = (f"{path}: the last row (line {len(lines)}) is torn, {len(body[-1].split(','))} of {len(names)} "
-                "values (the run stopped while writing it); it is left out")
-        body = body[:-1]
-    for i, line in enumerate(body, start=first + 1):
-        if line.count(",") != len(names) - 1:
-            raise TimeSeriesError(f"{path}:{i}: {line.count(',') + 1} values for {len(names)} columns; the file "
-                                  "is damaged")
-    try:
-        rows = np.loadtxt(body, delimiter=",", ndmin=2) if body else np.empty((0, len(names)))
-    except ValueError as exc:
-        raise TimeSeriesError(f"{path}: unreadable row ({exc})") from None
-    cols = [Column(n, "Real", u) for n, u in zip(names, units, strict=False)]
-    return TimeSeries(cols, {n: rows[:, j] for j, n in enumerate(names)}, path, note)
-
-
-def _split_units(line: str) -> list[str]:
-    import csv
-
-    return next(csv.reader([line]))
-
-
-def write_mat(ts: TimeSeries, path: Path) -> Path:
-    """Write a time series as a MATLAB v5 file: ``data`` (rows x columns, double), ``names``, ``units``,
-    ``descriptions`` (cell arrays of text, one per column)."""
-    import io
-
-    from scipy.io import savemat
-
-    data = np.column_stack([ts.data[c.name].astype(np.float64) for c in ts.columns]) if len(ts) else \
-        np.empty((0, len(ts.columns)))
-
-    def cells(values: list[str]) -> np.ndarray:
-        out = np.empty((len(values), 1), dtype=object)
-        for i, v in enumerate(values):
-            out[i, 0] = v
-        return out
-
-    buf = io.BytesIO()
-    savemat(buf, {"data": data, "names": cells(ts.names), "units": cells([c.unit for c in ts.columns]),
-                  "descriptions": cells([c.description for c in ts.columns])}, do_compression=True)
-    return atomic_write(path, buf.getvalue())
-
-
-def _read_mat(path: Path) -> TimeSeries:
-    from scipy.io import loadmat
-
-    try:
-        m = loadmat(path)
-    except (OSError, ValueError) as exc:
-        raise TimeSeriesError(f"{path}: unreadable MATLAB file ({exc})") from None
-
-    def texts(key: str) -> list[str]:
-        return [str(c[0][0]) if len(c[0]) else "" for c in m[key]]
-
-    names, units, descriptions = texts("names"), texts("units"), texts("descriptions")
-    data = m["data"]
-    cols = [Column(n, "Real", u, d) for n, u, d in zip(names, units, descriptions, strict=True)]
-    return TimeSeries(cols, {n: data[:, j] for j, n in enumerate(names)}, path)
+register_format(ResultFormat(
+    "parquet", "timeseries.parquet", "timeseries.parquet/, typed, compressed, units in the column metadata",
+    lambda path, every: ParquetRecorder(path, every=every), read_parquet, parquet_columns))
+register_format(ResultFormat(
+    "csv", "timeseries.csv", "timeseries.csv with a units row",
+    lambda path, every: UnitsCsvRecorder(path, every=every), read_csv, csv_columns))
+register_format(ResultFormat(
+    "mat", "timeseries.mat", "timeseries.mat, MATLAB v5", lambda path, every: MatRecorder(path, every=every),
+    read_mat, mat_columns, leftovers=(MAT_STAGING,)))

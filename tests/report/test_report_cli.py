@@ -13,6 +13,7 @@ from synthetic_runs import WF_KG_S, N, Runs
 
 from openemss.orchestrator.cli.main import main
 from openemss.orchestrator.master.execution import Execution
+from openemss.orchestrator.results import MANIFEST_NAME
 from openemss.orchestrator.scenarios.observers import Progress
 from openemss.orchestrator.ssp.read import load_system
 from openemss.orchestrator.ssp.system import bind_system
@@ -99,7 +100,7 @@ def test_post_run_hook_leaves_a_system_without_mission_signals_alone(
         oscillator: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     out = tmp_path / "out"
     assert main(["run", str(oscillator), "--stop-time", "1", "--out", str(out)]) == 0
-    assert sorted(f.name for f in out.iterdir()) == ["run.json", "timeseries.parquet"]
+    assert sorted(f.name for f in out.iterdir()) == sorted([MANIFEST_NAME, "run.json", "timeseries.parquet"])
     assert "written after the run" not in capsys.readouterr().out
 
 

@@ -55,6 +55,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--formats", default="csv,parquet", help="recorders to attach, comma-separated (csv, parquet, mat)")
     ap.add_argument("--record-inputs", action="store_true",
                     help="record every connector (the former default) instead of emss run's default columns")
+    ap.add_argument("--no-replay", action="store_true", help="skip JSBSim alone on the run's inputs")
+    ap.add_argument("--repeat", type=int, default=3, help="replays of JSBSim alone, the best kept (default 3)")
     args = ap.parse_args(argv)
 
     from openemss.orchestrator.fmu.build import ensure_built
@@ -98,6 +100,8 @@ def main(argv: list[str] | None = None) -> int:
         sim = ex.time_s - ex.start_time_s
         _report(ex.stats(), sim, wall, setup_s, error)
         _report_recorders(timed, work, ex.k, len(ex.signals) + 1)
+        if not args.no_replay:
+            _report_replay(bound, work, timed, ex, wall, max(1, args.repeat))
         print(f"machine speed: a fixed Python workload took {cal_before:.1f} ms before the run and "
               f"{calibration_ms():.1f} ms after (compare runs at equal calibration)")
     finally:
@@ -146,6 +150,35 @@ def _report_recorders(timed: dict[str, Timed], work: Path, steps: int, columns: 
         size = sum(_size(p) for p in files) / 1e6
         print(f"{fmt:<10}{1e6 * t.seconds / max(steps, 1):>10.2f}{t.seconds / base if base else 0:>8.2f}{size:>10.2f}"
               f"{1e3 * t.start_seconds:>10.1f}")
+
+
+def _report_replay(bound: object, work: Path, timed: dict[str, Timed], ex: object, wall_s: float,
+                   repeat: int) -> None:
+    """JSBSim alone on the run's recorded inputs (jsbsim_alone.py), in this process: the whole co-simulation's
+    cost per macro step as a multiple of its flight dynamics', and each component's cost beyond its model."""
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from jsbsim_alone import replay
+    fmt = next((f for f in ("parquet", "csv") if f in timed), None)
+    if fmt is None:
+        print("\nJSBSim alone: not replayed (record parquet or csv to replay the airframe's inputs)")
+        return
+    files = sorted((work / fmt).rglob(f"*.{fmt}"))
+    r = replay(bound, files[0], ex.k, ex.step_size_s, repeat=repeat) if files else "no recorded file"
+    if isinstance(r, str):
+        print(f"\nJSBSim alone: not replayed ({r})")
+        return
+    steps = max(ex.k, 1)
+    whole = wall_s / steps
+    af = ex.stats().get("airframe", {})
+    af_s = (af.get("do_step_s", 0.0) + af.get("get_s", 0.0) + af.get("set_s", 0.0)) / steps
+    print(f"\nJSBSim alone on the run's airframe inputs, same process, best of {repeat} ({r.steps} steps; "
+          f"fuel at the end {r.fuel_kg:.5f} kg, the run's {r.run_fuel_kg:.5f} kg)")
+    print(f"{'what':<44}{'us/step':>10}{'x JSBSim':>10}")
+    for name, sec in (("JSBSim (property nodes, FGFDMExec.run)", r.jsbsim_s), ("airframe model (adapter)", r.model_s),
+                      ("airframe FMU (doStep+get+set, in the run)", af_s), ("whole co-simulation (wall)", whole)):
+        print(f"{name:<44}{1e6 * sec:>10.1f}{sec / r.jsbsim_s:>10.2f}")
+    print(f"the whole co-simulation costs {whole / r.jsbsim_s:.2f} times JSBSim alone (target 2.0); the airframe "
+          f"FMU {1e6 * (af_s - r.model_s):.1f} us per step beyond its model")
 
 
 def calibration_ms() -> float:

@@ -195,6 +195,11 @@ class Airframe:
         self._time = pm.get_node("simulation/sim-time-sec")
         self._h_sl = pm.get_node("position/h-sl-ft")
         self._wind_nodes = tuple(pm.get_node(f"atmosphere/wind-{c}-fps") for c in ("north", "east", "down"))
+        # the commands set every step, as nodes: a string key costs a look-up in the property tree per call (made
+        # where the aircraft has none, as a string key's assignment makes it)
+        (self._ail, self._ele, self._rud, self._flap, self._abrk, self._brk_l, self._brk_r, self._steer) = (
+            pm.get_node(f"fcs/{p}-cmd-norm", True) for p in ("aileron", "elevator", "rudder", "flap", "airbrake",
+                                                        "left-brake", "right-brake", "steer"))
         self._wind_profile: WindProfile | None = None
         self._started = False
         self.set_atmosphere(isa_dev_K, wind_ned_m_s, turbulence_severity, turbulence_wind_20ft_m_s)
@@ -351,35 +356,34 @@ class Airframe:
     def set_surfaces(self, aileron: float | None = None, elevator: float | None = None,
                      rudder: float | None = None) -> None:
         """Command the control surfaces, normalised to [-1, 1] (values beyond are clipped)."""
-        f = self._fdm
         if aileron is not None:
-            f["fcs/aileron-cmd-norm"] = min(max(float(aileron), -1.0), 1.0)
+            self._ail.set_double_value(min(max(float(aileron), -1.0), 1.0))
         if elevator is not None:
-            f["fcs/elevator-cmd-norm"] = min(max(float(elevator), -1.0), 1.0)
+            self._ele.set_double_value(min(max(float(elevator), -1.0), 1.0))
         if rudder is not None:
-            f["fcs/rudder-cmd-norm"] = min(max(float(rudder), -1.0), 1.0)
+            self._rud.set_double_value(min(max(float(rudder), -1.0), 1.0))
 
     def set_flaps(self, flaps: float) -> None:
         """Flap command [0, 1] (1 = fully down)."""
-        self._fdm["fcs/flap-cmd-norm"] = min(max(float(flaps), 0.0), 1.0)
+        self._flap.set_double_value(min(max(float(flaps), 0.0), 1.0))
 
     def set_airbrake(self, airbrake: float) -> None:
         """Airbrake command [0, 1] (1 = fully out; the actuator limits the rate and blows back at high qbar)."""
-        self._fdm["fcs/airbrake-cmd-norm"] = min(max(float(airbrake), 0.0), 1.0)
+        self._abrk.set_double_value(min(max(float(airbrake), 0.0), 1.0))
 
     def set_gear(self, down: bool | float) -> None:
         """Gear command: True/1 down, False/0 up."""
-        self._fdm["gear/gear-cmd-norm"] = 1.0 if float(down) >= 0.5 else 0.0
+        self._gear_cmd.set_double_value(1.0 if float(down) >= 0.5 else 0.0)
 
     def set_brakes(self, left: float, right: float | None = None) -> None:
         """Wheel brakes [0, 1] on the left and right main wheels (right defaults to left)."""
         r = left if right is None else right
-        self._fdm["fcs/left-brake-cmd-norm"] = min(max(float(left), 0.0), 1.0)
-        self._fdm["fcs/right-brake-cmd-norm"] = min(max(float(r), 0.0), 1.0)
+        self._brk_l.set_double_value(min(max(float(left), 0.0), 1.0))
+        self._brk_r.set_double_value(min(max(float(r), 0.0), 1.0))
 
     def set_steering(self, steering: float) -> None:
         """Nose-wheel steering [-1, 1] (1 = full right)."""
-        self._fdm["fcs/steer-cmd-norm"] = min(max(float(steering), -1.0), 1.0)
+        self._steer.set_double_value(min(max(float(steering), -1.0), 1.0))
 
     def set_thrust(self, thrust_N: float) -> None:
         """Net thrust [N] along the engine axis (negative for reverse)."""

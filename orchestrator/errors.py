@@ -57,6 +57,11 @@ class SettingError(SystemStructureError, ConfigurationError):
     no variable, or not of the variable's type; every problem named by its item (``--set 'a.k=nan'``)."""
 
 
+class RunFailed(EmssError):
+    """A run that started and did not complete (an FMU's or a model's error, a full disk), or whose post-run
+    report failed; what it recorded is kept. The command exits with ``ExitCode.FAILED``, not as bad input."""
+
+
 class SlaveError(EmssError):
     """An FMU returned error/fatal/discard, or a Python slave raised.
 

@@ -42,6 +42,7 @@ from openemss.models.fcs.feasibility_perf import Limits, from_dotted
 from openemss.models.fcs.geo import LatLon
 from openemss.models.fcs.mission import Mission, load_mission, parse_mission_file
 from openemss.models.fcs.weather import Turbulence, Weather, WindLayer, WindProfile, parse_weather_text
+from openemss.orchestrator.exit_codes import ExitCode
 
 from .errors import ReportError
 from .rundata import find_roles, read_fmu_file
@@ -350,9 +351,9 @@ def _bind(system: Path, params: Sequence[Path], settings: Sequence[str]) -> tupl
 
 
 def cmd_check(args: argparse.Namespace) -> int:
-    """``emss mission check``: exit code 0 when every section can be flown (marginal ones too), else the
-    number of infeasible sections and mission-level findings (at most 125); bad input exits with 1 and one
-    line."""
+    """``emss mission check``: exit code 0 when every section can be flown (marginal ones too), 1 (findings)
+    when a section or a mission-level finding is infeasible (their number is in the table's last line, and in
+    ``--json``); bad input exits with 2 and one line (:mod:`openemss.orchestrator.exit_codes`)."""
     t0 = time.perf_counter()
     if not 0.0 <= args.margin <= 1000.0:
         raise ReportError(f"--margin {args.margin}: a percentage from 0 to 1000")
@@ -371,7 +372,8 @@ def cmd_check(args: argparse.Namespace) -> int:
         print(json.dumps(as_json(check, setup, warnings, wall), indent=2, default=str))
     else:
         print(format_check(check, setup, warnings, wall))
-    return min(check.count("infeasible") + sum(f.verdict == "infeasible" for f in check.notes), 125)
+    infeasible = check.count("infeasible") + sum(f.verdict == "infeasible" for f in check.notes)
+    return ExitCode.FINDINGS if infeasible else ExitCode.OK  # the number is in the table's last line
 
 
 def register(sub: argparse._SubParsersAction) -> tuple[type[Exception], ...]:  # type: ignore[type-arg]
@@ -385,7 +387,8 @@ def register(sub: argparse._SubParsersAction) -> tuple[type[Exception], ...]:  #
                                     "full thrust or idle (engine and trimmed airframe of the system's parameter "
                                     "set), turn radius at the bank limit against orbit radius and legs, thrust "
                                     "against drag; names each infeasible or marginal section with its numbers. "
-                                    "Exit code: the number of infeasible sections (0: all can be flown).")
+                                    f"Exit code {ExitCode.OK:d}: all can be flown; {ExitCode.FINDINGS:d}: "
+                                    "infeasible sections (their number printed).")
     c.add_argument("mission", type=Path, metavar="MISSION", help="mission file (YAML or QGroundControl .plan)")
     c.add_argument("--system", type=Path, metavar="DIR",
                    help="system folder, .ssd or .ssp whose aircraft, engine and flight control fly it "

@@ -32,6 +32,9 @@ from .summary import summarize
 __all__ = ["pre_run", "post_run", "output_files", "status_variable", "stop_condition", "register", "write_report"]
 
 SUMMARY = "summary.json"
+#: What made each figure of a folder that ``emss plot`` wrote into: runs, window, variables (so that another
+#: plot into the same folder does not silently replace it).
+PLOTS_RECORD = "plots.json"
 MAX_RUNS = len(("-", "--", ":", "-."))
 
 
@@ -59,6 +62,40 @@ def stop_condition(variables: Sequence[str]) -> str | None:
 def output_files() -> list[str]:
     """The files :func:`post_run` may write into a results folder (checked free before a run)."""
     return [SUMMARY, REPORT, *FigureFile]
+
+
+def _default_out(folders: Sequence[Path], runs: Sequence[PlotRun], window: tuple[float, float] | None) -> Path:
+    """Where ``emss plot`` writes without ``--out``: the run's own folder (its report drawn again), for
+    several runs ``RUN_DIR/compare_<others>``, with a window a folder of its own (``..._window_<T0>-<T1>``)
+    so that the whole-run figures stay."""
+    parts = ["compare_" + "_".join(r.label.replace("/", "-") for r in runs[1:])] if len(runs) > 1 else []
+    if window is not None:
+        parts.append(f"window_{window[0]:g}-{window[1]:g}")
+    return folders[0] / "_".join(parts) if parts else folders[0]
+
+
+def _check_origin(out: Path, origin: dict[str, object], names: Sequence[str], what: str) -> dict[str, object]:
+    """Refuse to replace a figure of ``out`` that another plot made (other runs, window or variables, as
+    :data:`PLOTS_RECORD` says; a figure it does not list is the run's own report, of that folder's run
+    alone); returns the record with ``names`` made by ``origin``."""
+    try:
+        record = json.loads((out / PLOTS_RECORD).read_text(encoding="utf-8"))
+        record = record if isinstance(record, dict) else {}
+    except (OSError, ValueError):
+        record = {}
+    own = {"runs": [str(out.resolve())], "window": None, "variables": []}
+    for name in names:
+        if not (out / name).exists():
+            continue
+        before = record.get(name, own)
+        if before != origin:
+            runs = " ".join(str(r) for r in before.get("runs", [])) if isinstance(before, dict) else "?"
+            win = before.get("window") if isinstance(before, dict) else None
+            made = f"emss plot {runs}" + (f" --window {win[0]:g} {win[1]:g}" if win else "")
+            raise ReportError(f"{what} {out}: {name} there was made by {made} ({PLOTS_RECORD}); it is not "
+                              "replaced by another plot: give another --out, or remove that folder's figures")
+    record.update({name: origin for name in names})
+    return record
 
 
 def _has_mission_signals(run_dir: Path) -> bool:
@@ -161,12 +198,18 @@ def cmd_plot(args: argparse.Namespace) -> int:
     for folder, label in zip(folders, _labels(folders), strict=True):
         data = load_run(folder)
         runs.append(PlotRun(data, load_mission(data)[0], label))
-    out = Path(args.out) if args.out is not None else (
-        folders[0] if len(folders) == 1 else folders[0] / ("compare_" + "_".join(r.label.replace("/", "-")
-                                                                                for r in runs[1:])))
     window = tuple(args.window) if args.window is not None else None
-    with ResultsFolder(out, "--out" if args.out is not None else "RUN_DIR", names=output_files(), clear=False):
+    names = _names_to_plot(runs, folders, names)
+    out = Path(args.out) if args.out is not None else _default_out(folders, runs, window)
+    what = "--out" if args.out is not None else "RUN_DIR"
+    stem = _variables_stem(names)
+    figures = [f"{stem}.png", f"{stem}.html"] if names else [REPORT, *FigureFile]
+    origin = {"runs": [str(f.resolve()) for f in folders], "window": list(window) if window else None,
+              "variables": list(names)}
+    with ResultsFolder(out, what, names=[*output_files(), *figures, PLOTS_RECORD], clear=False):
+        record = _check_origin(out, origin, figures, what)
         files = _plot(runs, folders, names, out, window)
+        atomic_write(out / PLOTS_RECORD, json.dumps(record, indent=1) + "\n")
     if args.json:
         print(json.dumps([str(f) for f in files], indent=2))
     else:
@@ -175,9 +218,9 @@ def cmd_plot(args: argparse.Namespace) -> int:
     return 0
 
 
-def _plot(runs: list[PlotRun], folders: list[Path], names: list[str], out: Path,
-          window: tuple[float, float] | None) -> list[Path]:
-    """The files of ``emss plot`` written into ``out`` (a folder held by the caller)."""
+def _names_to_plot(runs: list[PlotRun], folders: list[Path], names: list[str]) -> list[str]:
+    """The variables to plot: those named (checked), else none for a mission run (its figures), else every
+    recorded column (at most :data:`MAX_ALL_COLUMNS`)."""
     mission_run = runs[0].data.roles.fcs is not None and runs[0].data.roles.engine is not None
     if not names and not mission_run:
         names = [n for n in runs[0].data.columns if n != "time_s"]
@@ -186,7 +229,14 @@ def _plot(runs: list[PlotRun], folders: list[Path], names: list[str], out: Path,
                               f"to plot: emss plot {folders[0]} {' '.join(names[:2])} ...")
     if names:
         _check_names(runs, names)
-        stem = "variables" if len(names) > 3 else "plot_" + "_".join(n.replace(".", "-") for n in names)
+    return names
+
+
+def _plot(runs: list[PlotRun], folders: list[Path], names: list[str], out: Path,
+          window: tuple[float, float] | None) -> list[Path]:
+    """The files of ``emss plot`` written into ``out`` (a folder held by the caller)."""
+    if names:
+        stem = _variables_stem(names)
         files = [plot_variables(runs, names, out / f"{stem}.png", window),  # type: ignore[arg-type]
                  write_variables_html(runs, names, out / f"{stem}.html")]
     else:
@@ -197,6 +247,11 @@ def _plot(runs: list[PlotRun], folders: list[Path], names: list[str], out: Path,
         raise ReportError(f"nothing to plot in {', '.join(map(str, folders))}: no mission signals recorded "
                           "(position, altitude, engine)")
     return files
+
+
+def _variables_stem(names: Sequence[str]) -> str:
+    """File name (without suffix) of a plot of variables."""
+    return "variables" if len(names) > 3 else "plot_" + "_".join(n.replace(".", "-") for n in names)
 
 
 def cmd_summary(args: argparse.Namespace) -> int:
@@ -263,7 +318,9 @@ def register(sub: argparse._SubParsersAction) -> tuple[type[Exception], ...]:  #
                    help="results folder(s) of emss run, then optionally variables (component.variable) to plot "
                         "over time, for any system")
     p.add_argument("--out", type=folder_name, metavar="DIR",
-                   help="folder for the PNGs (default: RUN_DIR; for several runs RUN_DIR/compare_<others>)")
+                   help="folder for the figures (default: RUN_DIR; for several runs RUN_DIR/compare_<others>; with "
+                        "--window, RUN_DIR/[compare_<others>_]window_<T0>-<T1>); a figure another plot made there "
+                        f"(other runs, window or variables: {PLOTS_RECORD}) is not replaced")
     p.add_argument("--window", nargs=2, type=_window, metavar=("T0", "T1"),
                    help="time window [s] of the fuel flow and Tt4 plot (default: the whole run)")
     p.add_argument("--json", action="store_true", help="print the files written as JSON")

@@ -22,6 +22,7 @@ from typing import Any
 
 from openemss.orchestrator import interrupt
 from openemss.orchestrator.cli.argtypes import finite_number, folder_name
+from openemss.orchestrator.exit_codes import ExitCode
 from openemss.orchestrator.results import os_reason
 
 from .lock import study_lock
@@ -204,7 +205,7 @@ def cmd_run(args: argparse.Namespace) -> int:
                   + (f" ({rep['note']})" if rep.get("note") else ""))
             if rep.get("files"):
                 print(f"  plots: {', '.join(rep['files'].values())}")
-    return 1 if res["failed"] else 0
+    return ExitCode.FAILED if res["failed"] else ExitCode.OK
 
 
 def cmd_cases(args: argparse.Namespace) -> int:

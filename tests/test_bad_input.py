@@ -158,7 +158,7 @@ def test_not_a_zip(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert_one_clear_line(rc, err, "not a readable .ssp")
 
 
-def test_validate_lists_every_problem_and_exits_with_their_count(
+def test_validate_lists_every_problem_counts_them_and_exits_1(
         tmp_path: Path, fmu_dir: Path, capsys: pytest.CaptureFixture[str]) -> None:
     folder = tmp_path / "sys"
     write_system(folder, fmu_dir, [gain("a"), gain("b"), gain("c"), Comp("d", "Missing.fmu", GAIN_CONNECTORS)],
@@ -167,8 +167,9 @@ def test_validate_lists_every_problem_and_exits_with_their_count(
                   ("a.y_bool", "x.u_bool")],                       # no such component
                  stop_time=1.0)
     rc = main(["validate", str(folder)])
-    out = capsys.readouterr().out.strip().splitlines()
-    assert rc == 4 == len(out), out
+    captured = capsys.readouterr()
+    out, err = captured.out.strip().splitlines(), captured.err
+    assert rc == 1 and len(out) == 4 and "4 problem(s)" in err, (out, err)
     joined = "\n".join(out)
     for fragment in ("type mismatch", "two incoming connections", "no element 'x'", "Missing.fmu"):
         assert fragment in joined

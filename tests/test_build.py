@@ -96,7 +96,7 @@ def test_command_line_unknown_name_is_one_line(slave_dir: Path, tmp_path: Path,
                                                capsys: pytest.CaptureFixture[str]) -> None:
     rc = main(["--src", str(slave_dir), "--out", str(tmp_path / "o"), "nothing_here"])
     err = capsys.readouterr().err.strip().splitlines()
-    assert rc == 1 and len(err) == 1 and "available: vendor_probe" in err[0]
+    assert rc == 2 and len(err) == 1 and "available: vendor_probe" in err[0]
 
 
 def test_data_files_travel_in_the_resources(tmp_path: Path) -> None:

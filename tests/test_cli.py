@@ -88,7 +88,7 @@ def test_default_rate_comes_from_the_ssd_annotation(oscillator: Path, tmp_path: 
 def test_ssd_step_outside_the_allowed_rates_is_refused_unless_overridden(
         oscillator: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     _set_base_step(oscillator, "0.001")
-    assert main(["run", str(oscillator), "--stop-time", "1", "--out", str(tmp_path / "a")]) == 1
+    assert main(["run", str(oscillator), "--stop-time", "1", "--out", str(tmp_path / "a")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "1000" in err[0] and "allowed: 0.1 to 100.0 Hz" in err[0]
     assert main(["run", str(oscillator), "--stop-time", "1", "--rate", "50", "--out", str(tmp_path / "b")]) == 0
@@ -133,7 +133,7 @@ def test_commands_come_only_through_the_plugin_entry_points(
     try:
         assert main(["fake", "--x", "2"]) == 0
         assert capsys.readouterr().out.strip() == "ok 2.0"
-        assert main(["fake", "--x", "-1"]) == 1
+        assert main(["fake", "--x", "-1"]) == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert err == ["emss fake: error: x = -1.0 must be >= 0"]
     finally:
@@ -157,7 +157,7 @@ def test_export_writes_one_fmu_and_refuses_what_the_container_cannot_do(
         '<ssd:Connection startElement="mass1" startConnector="x1_m" endElement="mass2" endConnector="x1_m"/>',
         '<ssd:Connection startElement="mass1" startConnector="x1_m" endElement="mass2" endConnector="x1_m">'
         '<ssc:LinearTransformation factor="2.0"/></ssd:Connection>'))
-    assert main(["export", str(oscillator), "--container", str(tmp_path / "bad.fmu")]) == 1
+    assert main(["export", str(oscillator), "--container", str(tmp_path / "bad.fmu")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "mass1.x1_m -> mass2.x1_m" in err[0] and not (tmp_path / "bad.fmu").exists()
 

@@ -23,7 +23,7 @@ def test_plot_variables_of_any_system(oscillator: Path, tmp_path: Path, capsys: 
     assert main(["plot", str(run)]) == 0  # no mission: every recorded column (4 here)
     assert (run / "variables.png").is_file()
     capsys.readouterr()
-    assert main(["plot", str(run), "mass1.x_1m"]) == 1
+    assert main(["plot", str(run), "mass1.x_1m"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "did you mean mass1.x1_m" in err[0]
 

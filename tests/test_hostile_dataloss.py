@@ -199,7 +199,7 @@ def test_plot_into_a_folder_of_the_users_refuses_their_files(system: Path, tmp_p
     mine = tmp_path / "mine"
     planted = plant(mine, ["plot_a-y_real.png", "plot_a-y_real.html", "notes.txt"])
     rc, err = emss(capsys, "plot", str(run), "a.y_real", "--out", str(mine))
-    refused(rc, err, "plot_a-y_real.png", "did not write")
+    refused(rc, err, "plot_a-y_real.png", "not written by a run")  # before anything is drawn
     untouched(planted)
     planted.update(plant(mine, ["thrust.png"]))  # a name the report writes: refused before anything is drawn
     rc, err = emss(capsys, "plot", str(run), "a.y_real", "--out", str(mine))

@@ -138,7 +138,7 @@ def test_build_fmus_on_a_full_disk_keeps_the_old_fmu(tmp_path: Path, built: tupl
     proc = subprocess.run(_build_argv(out), capture_output=True, preexec_fn=_limit_file_size, env=_env(tmp_path),
                           timeout=HOLD_TIMEOUT_S)
     lines = [ln for ln in proc.stderr.decode().splitlines() if ln.strip()]
-    assert proc.returncode == 1 and len(lines) == 1, lines
+    assert proc.returncode == 2 and len(lines) == 1, lines
     assert "Traceback" not in lines[0] and "File too large" in lines[0]
     assert f"{out / 'Gain.fmu'} is unchanged" in lines[0]
     assert (out / "Gain.fmu").read_bytes() == data and sorted(os.listdir(out)) == ["Gain.fmu"]
@@ -294,7 +294,7 @@ def test_a_study_folder_in_use_is_refused(system: Path, tmp_path: Path, capsys: 
     with study_lock(out):  # the lock another study run holds
         rc = main(["study", "run", str(_study(tmp_path, system, 1.0)), "--out", str(out)])
         err = [ln for ln in capsys.readouterr().err.splitlines() if ln.strip()]
-        assert rc == 1 and len(err) == 1, err
+        assert rc == 2 and len(err) == 1, err
         assert str(out) in err[0] and "in use by another study run" in err[0] and f"pid {os.getpid()}" in err[0]
         assert (out / "study.csv").read_text() == "case\nmine\n" and not (out / "cases").exists()
     assert not (out / STUDY_LOCK).exists()

@@ -47,7 +47,7 @@ def test_engine_outside_its_envelope_fails_the_run(engine_system: Path, tmp_path
                                                    capsys: pytest.CaptureFixture[str]) -> None:
     scenario = _scenario(tmp_path, "engine.mach: 3.0, engine.alt_msl_m: 30000.0")
     rc, err = _run(capsys, "run", str(engine_system), "--scenario", str(scenario), "--out", str(tmp_path / "out"))
-    assert rc == 1 and len(err) == 1, err
+    assert rc == 3 and len(err) == 1, err
     for fragment in ("component 'engine'", "fmi2DoStep", "t = 1", "gas path not matched", "Mach=3",
                      "accept_solver_failure"):
         assert fragment in err[0], (fragment, err[0])
@@ -75,7 +75,7 @@ def test_nan_engine_input_fails_the_step(tmp_path: Path, fmu_dir: Path, project_
                                    Comp("engine", "Engine.fmu", ENGINE, {"start_N1_pct": 80.0})],
                  [("nan.target", "engine.distortion_dPt_frac")], stop_time=1.0)
     rc, err = _run(capsys, "run", str(folder), "--out", str(tmp_path / "out"))
-    assert rc == 1 and len(err) == 1, err
+    assert rc == 3 and len(err) == 1, err
     for fragment in ("component 'engine'", "fmi2DoStep", "t = 0", "not finite", "distortion_dPt_frac=nan"):
         assert fragment in err[0], (fragment, err[0])
 
@@ -89,7 +89,7 @@ def test_nan_parameter_set_refused_where_it_enters(engine_system: Path, tmp_path
                    '<ssv:Parameters><ssv:Parameter name="engine.distortion_dPt_frac"><ssv:Real value="NaN"/>'
                    '</ssv:Parameter></ssv:Parameters></ssv:ParameterSet>\n')
     rc, err = _run(capsys, "run", str(engine_system), "--params", str(ssv), "--out", str(tmp_path / "out"))
-    assert rc == 1 and len(err) == 1 and "Real value='NaN'" in err[0] and str(ssv) in err[0], err
+    assert rc == 2 and len(err) == 1 and "Real value='NaN'" in err[0] and str(ssv) in err[0], err
 
 
 MISSION_ERRORS = {  # a mission file's bytes, and how the one line must start (after the file name)
@@ -111,6 +111,6 @@ def test_mission_error_is_the_missions_own(tmp_path: Path, project_fmus: dict[st
     write_system(folder, tmp_path, [Comp("fcs", "Fcs.fmu", [("section_index", "output", "Integer")])], [],
                  stop_time=1.0)
     rc, err = _run(capsys, "run", str(folder), "--set", f"fcs.mission_file={bad}", "--out", str(tmp_path / "out"))
-    assert rc == 1 and len(err) == 1, err
+    assert rc == 2 and len(err) == 1, err  # an error before the first step: bad input
     assert err[0].startswith(f"emss run: error: {bad}{start}"), err[0]
     assert "MissionError(" not in err[0] and "component 'fcs'" in err[0]

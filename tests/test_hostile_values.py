@@ -60,7 +60,7 @@ def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, list[str]]
 
 def refused(capsys: pytest.CaptureFixture[str], path: Path, content: str | bytes, argv: list[str],
             line: int | None, *words: str) -> str:
-    """Run ``argv`` on ``path`` written with ``content``: exit 1, one line naming ``path:line`` and ``words``,
+    """Run ``argv`` on ``path`` written with ``content``: exit 2 (bad input), one line naming ``path:line`` and ``words``,
     the file as written."""
     if isinstance(content, bytes):
         path.write_bytes(content)
@@ -68,7 +68,7 @@ def refused(capsys: pytest.CaptureFixture[str], path: Path, content: str | bytes
         path.write_text(content, encoding="utf-8")
     before = path.read_bytes()
     rc, err = run(capsys, *argv)
-    assert rc == 1 and len(err) == 1, (rc, err)
+    assert rc == 2 and len(err) == 1, (rc, err)
     msg = err[0]
     assert "Traceback" not in msg and "internal error" not in msg, msg
     assert f"{path}:{line}: " in msg if line is not None else str(path) in msg, msg
@@ -326,5 +326,5 @@ def test_mission_check_reads_set_values_as_emss_run_does(system: Path, tmp_path:
     rc, err = run(capsys, "mission", "check", str(mission), "--system", str(system), "--set",
                   f"airframe.fuel0_kg={value}")
     err = [ln for ln in err if not ln.startswith(("built:", "up to"))]
-    assert rc == 1 and len(err) == 1 and "internal error" not in err[0], err
+    assert rc == 2 and len(err) == 1 and "internal error" not in err[0], err
     assert "--set" in err[0] and f"airframe.fuel0_kg={value}" in err[0] and "not a valid Real value" in err[0], err

@@ -83,3 +83,23 @@ def test_progress_draws_on_a_terminal_and_stays_quiet_otherwise(oscillator: Path
         ex.run(10.0)
         text = stream.getvalue()
         assert ("real time" in text and "100.0%" in text) is expect, text
+
+
+def test_progress_ends_at_100_percent_whatever_ended_the_run(oscillator: Path) -> None:
+    """The bar counts against the stop time, but a run ended by its stop condition at a third of it (as a
+    mission run ends when the mission is completed) ends at 100 %, saying so; a failed run too."""
+    stream = Tty()
+    ex = Execution(bind_system(load_system(oscillator)), rate_hz=20.0)
+    ex.add_observer(Progress(30.0, stream=stream, delay_s=0.0, interval_s=0.0))
+    ex.stop_when("mass1.x1_m > -1e300")  # holds after the first step
+    ex.run(30.0)
+    *drawn, last = stream.getvalue().split("\r")
+    assert ex.time_s < 1.0 and not any("100.0%" in d for d in drawn)
+    assert "[" + "#" * 30 + "] 100.0%" in last and "completed (mass1.x1_m > " in last, last
+    stream = Tty()
+    ex = Execution(bind_system(load_system(oscillator)), rate_hz=20.0)
+    bar = Progress(30.0, stream=stream, delay_s=0.0, interval_s=0.0)
+    ex.add_observer(bar)
+    bar._shown = True  # as after a first draw
+    bar.finish(ex, RuntimeError("an FMU failed"))
+    assert "100.0%" in stream.getvalue() and stream.getvalue().rstrip().endswith("failed")

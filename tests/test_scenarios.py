@@ -157,7 +157,7 @@ def test_scenario_on_a_variable_that_cannot_be_changed(system: Path, tmp_path: P
         ex.run(1.0)
     rc = main(["run", str(system), "--scenario", str(f), "--out", str(tmp_path / "o")])
     err = capsys.readouterr().err.strip().splitlines()
-    assert rc == 1 and len(err) == 1 and "s.yaml:3" in err[0] and fragment in err[0]
+    assert rc == 2 and len(err) == 1 and "s.yaml:3" in err[0] and fragment in err[0]
 
 
 class FakeWall:
@@ -215,7 +215,7 @@ def test_realtime_option_paces_the_run_and_its_absence_does_not(system: Path, tm
 
 
 def test_negative_realtime_factor_is_refused(system: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(["run", str(system), "--realtime", "-1", "--out", str(tmp_path / "o")]) == 1
+    assert main(["run", str(system), "--realtime", "-1", "--out", str(tmp_path / "o")]) == 2
     assert "--realtime -1.0: must be >= 0" in capsys.readouterr().err
 
 

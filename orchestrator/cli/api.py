@@ -26,7 +26,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .. import interrupt
-from ..errors import ConfigurationError, EmssError, Problem, SettingError
+from ..errors import ConfigurationError, EmssError, Problem, SettingError, SystemStructureError
+from ..exit_codes import ExitCode
 from ..fmu.build import PACKAGE_ROOT, ensure_built
 from ..master.execution import Execution
 from ..results import ResultsError, ResultsFolder, RunInterrupted, atomic_write, check_name, stop_on_signals
@@ -84,7 +85,9 @@ class RunResult:
     stopped_by : str or None
         The stop condition that ended the run early.
     exit_code : int
-        What ``emss run`` exits with: 0, 128 + signal when interrupted, 1 when failed.
+        What ``emss run`` exits with (:class:`..exit_codes.ExitCode`): 0, 128 + signal when interrupted, 2 when
+        bad input stopped it (an error before it could step: a scenario naming no variable, a mission file an
+        FMU refuses at initialization), 3 when it failed while stepping.
     """
 
     out: Path
@@ -478,7 +481,9 @@ def _run(system: Path, sysdef: SystemDef, out: Path, stop_time: float | None, pa
         result.summary = json.loads(summary.read_text(encoding="utf-8"))
     if isinstance(error, RunInterrupted):
         result.exit_code = error.exit_code
+    elif isinstance(error, (ConfigurationError, SystemStructureError)) or (error is not None and not ex.initialized):
+        result.exit_code = ExitCode.USAGE  # bad input found as the run started (a scenario, a mission file)
     elif error is not None:
-        result.exit_code = 1
+        result.exit_code = ExitCode.FAILED
     result.info["stats"] = ex.stats()
     return result

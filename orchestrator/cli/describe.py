@@ -34,17 +34,31 @@ def parameters(bound: BoundSystem) -> list[dict[str, Any]]:
     return out
 
 
+def _bound(v: Any, missing: str) -> str:
+    return missing if v is None else f"{v:g}" if isinstance(v, float) else str(v)
+
+
+def range_text(lo: Any, hi: Any) -> str:
+    """``[lo, hi]`` of a parameter (``-inf``/``inf`` for a missing bound; a bound of 0 is 0), or ``""``."""
+    return "" if lo is None and hi is None else f"[{_bound(lo, '-inf')}, {_bound(hi, 'inf')}]"
+
+
 def parameter_lines(rows: list[dict[str, Any]]) -> list[str]:
-    """The table of :func:`parameters` as text lines."""
-    w = max((len(r["name"]) for r in rows), default=10)
-    lines = [f"{'parameter':<{w}}  {'type':<8} {'unit':<10} {'default':>14} {'range':<23} {'set to':<14} description",
-             "-" * (w + 90)]
+    """The table of :func:`parameters` as text lines; every value whole (the columns as wide as their longest
+    entry), the description last."""
+    def shown(v: Any) -> str:
+        return "" if v is None else f"{v:.17g}" if isinstance(v, float) else str(v)
+
+    cells = []
     for r in rows:
-        rng = "" if r["min"] is None and r["max"] is None else f"[{'-inf' if r['min'] is None else r['min']}, {'inf' if r['max'] is None else r['max']}]"
-        val = "" if r["value"] is None or str(r["value"]) == str(r["default"]) else str(r["value"])
-        default = str(r["default"]) if r["default"] is not None else ""
-        if len(default) > 14:
-            default = "..." + default[-11:]
-        lines.append(f"{r['name']:<{w}}  {r['type']:<8} {r['unit']:<10} {default:>14} {rng:<23} {val[-14:]:<14} "
-                     f"{r['description']}" + (" (tunable)" if r["variability"] == "tunable" else ""))
-    return lines
+        default = shown(r["default"])
+        val = "" if r["value"] is None or shown(r["value"]) == default else shown(r["value"])
+        cells.append((r["name"], r["type"], r["unit"], default, range_text(r["min"], r["max"]), val,
+                      r["description"] + (" (tunable)" if r["variability"] == "tunable" else "")))
+    head = ("parameter", "type", "unit", "default", "range", "set to", "description")
+    widths = [max([len(h), *(len(c[i]) for c in cells)]) for i, h in enumerate(head[:-1])]
+
+    def line(c: tuple[str, ...]) -> str:
+        return "  ".join(f"{x:<{w}}" for x, w in zip(c, widths, strict=False)) + "  " + c[-1]
+
+    return [line(head), "-" * (sum(widths) + 2 * len(widths) + len(head[-1])), *(line(c) for c in cells)]

@@ -1,7 +1,7 @@
 """The ``emss`` command: run, inspect and validate SSP systems of FMUs.
 
 Bad input gives one line on stderr (what, where, what is allowed) and a non-zero
-exit code, never a traceback; a run that fails keeps what it recorded.
+exit code, never a traceback; a run that fails keeps what it recorded. The exit codes: :mod:`..exit_codes`.
 """
 from __future__ import annotations
 
@@ -15,12 +15,13 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 from .. import interrupt
-from ..errors import EmssError, Problem, SystemStructureError
+from ..errors import EmssError, Problem, RunFailed, SystemStructureError
+from ..exit_codes import ExitCode, help_text
 from ..master import algorithm_registry
 from ..master.algorithm import step_order
 from ..master.execution import DEFAULT_RATE_HZ, MAX_RATE_HZ, MIN_RATE_HZ
 from ..results import RunInterrupted, os_reason
-from ..scenarios.timeseries import DEFAULT_FORMAT, FORMATS, format_help
+from ..scenarios.timeseries import DEFAULT_FORMAT, DEFAULT_RECORD_TEXT, FORMATS, format_help
 from ..ssp.system import BoundSystem
 from . import api
 from .argtypes import finite_number, folder_name
@@ -35,7 +36,7 @@ class _Parser(argparse.ArgumentParser):
     """argparse, but usage errors are one line."""
 
     def error(self, message: str) -> NoReturn:
-        self.exit(2, f"{self.prog}: error: {message} (see --help)\n")
+        self.exit(ExitCode.USAGE, f"{self.prog}: error: {message} (see --help)\n")
 
 
 def _add_system_args(p: argparse.ArgumentParser) -> None:
@@ -50,11 +51,19 @@ def _add_system_args(p: argparse.ArgumentParser) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="emss", description="openEMSS: run SSP systems of FMI 2.0 co-simulation FMUs.")
+    from .. import __version__
+
+    parser = _Parser(prog="emss", description="openEMSS: run SSP systems of FMI 2.0 co-simulation FMUs.",
+                     epilog=help_text(), formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--version", action="version", version=f"emss (openEMSS) {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     run = sub.add_parser("run", help="run a system and record its time histories",
-                         description="Run a system with a fixed-step master; writes timeseries.csv and run.json.")
+                         description="Run a system with a fixed-step master; writes the time series ("
+                                     + ", ".join(f"{f.file_name}{' by default' if f.name == DEFAULT_FORMAT else ''}"
+                                                 for f in FORMATS.values())
+                                     + ": --format) and run.json into the results folder (--out); plugins add "
+                                       "theirs (the report plugin: summary.json, plots, report.html).")
     _add_system_args(run)
     run.add_argument("--stop-time", type=finite_number, metavar="S", help="stop time [s] (default: the SSD's)")
     run.add_argument("--rate", type=float, metavar="HZ",
@@ -71,10 +80,9 @@ def build_parser() -> argparse.ArgumentParser:
                                                  "runs wrote there is removed first, nothing else")
     run.add_argument("--record", nargs="+", action="extend", metavar="VARS",
                      help="variables to record, component.variable, wildcards and commas allowed "
-                          "(default: every connector)")
+                          f"(default: {DEFAULT_RECORD_TEXT})")
     run.add_argument("--record-inputs", action="store_true",
-                     help="also record the inputs that only copy a connected output (by default: outputs, and "
-                          "inputs that are not connected or whose connection converts the value)")
+                     help="also record the inputs that only copy a connected output")
     run.add_argument("--record-every", type=int, default=1, metavar="N", help="record every N-th step")
     run.add_argument("--format", choices=list(FORMATS), default=DEFAULT_FORMAT, help=format_help())
     run.add_argument("--scenario", type=Path, metavar="FILE",
@@ -111,15 +119,17 @@ def build_parser() -> argparse.ArgumentParser:
     _add_system_args(exp)
     exp.add_argument("--container", type=Path, required=True, metavar="FILE.fmu", help="the FMU to write")
     exp.add_argument("--rate", type=float, metavar="HZ",
-                     help="the container's fixed step as a rate [Hz] (default: the SSD's, else 20)")
+                     help=f"the container's fixed step as a rate [Hz] (default: the SSD's, else {DEFAULT_RATE_HZ:g})")
     exp.add_argument("--expose", nargs="+", action="extend", default=[], metavar="VARS",
                      help="further component.variable paths to expose (comma-separated allowed)")
 
     _register_plugin_commands(sub)
 
-    val = sub.add_parser("validate", help="check a system and its FMUs; exit code = number of problems",
-                         description="List every problem of a system: schema, FMUs, connectors, "
-                                     "connections, parameters. The exit code is the number of problems.")
+    val = sub.add_parser("validate", help=f"check a system and its FMUs; exit code {ExitCode.FINDINGS:d} "
+                                          "when it finds problems (their number printed)",
+                         description="List every problem of a system: schema, FMUs, connectors, connections, "
+                                     f"parameters, and their number. Exit code {ExitCode.OK:d}: none, "
+                                     f"{ExitCode.FINDINGS:d}: problems found.")
     _add_system_args(val)
     return parser
 
@@ -151,7 +161,8 @@ def cmd_run(args: argparse.Namespace) -> int:
     if res.status != "completed":
         for line in res.post_run_failures:
             print(f"emss run: {line}", file=sys.stderr)
-        raise EmssError(f"{res.error}" + (f" (results so far in {out})" if res.rows else ""))
+        error = RunFailed if res.exit_code == ExitCode.FAILED else EmssError
+        raise error(f"{res.error}" + (f" (results so far in {out})" if res.rows else ""))
     info = res.info
     summary = {k: info.get(k) for k in ("status", "algorithm", "rate_hz", "stop_time_s", "steps",
                                          "wall_time_s", "realtime_factor", "realtime")}
@@ -161,7 +172,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         summary["step_statistics"] = info["stats"]
     for line in res.post_run_failures:
         print(f"emss run: error: {line}", file=sys.stderr)
-    code = 1 if res.post_run_failures else 0
+    code = ExitCode.FAILED if res.post_run_failures else ExitCode.OK
     if args.json:
         print(json.dumps(summary, indent=2))
         return code
@@ -315,7 +326,7 @@ def cmd_validate(args: argparse.Namespace) -> int:
         print(w)
     print(f"{len(problems)} problem(s) found in {args.system or api.DEFAULT_SYSTEM}"
           + (f"; {len(warnings)} warning(s)" if warnings else ""), file=sys.stderr)
-    return min(len(problems), 125)
+    return ExitCode.FINDINGS if problems else ExitCode.OK
 
 
 def binding_warnings(bound: BoundSystem) -> list[str]:
@@ -352,21 +363,24 @@ def main(argv: Sequence[str] | None = None) -> int:
     except RunInterrupted as exc:
         print(f"emss {args.command}: {exc}", file=sys.stderr)
         return exc.exit_code
+    except RunFailed as exc:
+        print(f"emss {args.command}: error: {exc}", file=sys.stderr)
+        return ExitCode.FAILED
     except (EmssError, *USER_ERRORS) as exc:
         print(f"emss {args.command}: error: {exc}", file=sys.stderr)
-        return 1
+        return ExitCode.USAGE
     except KeyboardInterrupt as exc:  # SIGINT or SIGTERM before or after the run's own steps
         return interrupt.report(f"emss {args.command}", exc)
     except OSError as exc:  # a file the command reads or writes: one line naming it and the cause
         where = f"{exc.filename}: " if exc.filename else ""
         print(f"emss {args.command}: error: {where}{os_reason(exc)}", file=sys.stderr)
-        return 1
+        return ExitCode.USAGE
     except Exception as exc:  # an internal error: one line, traceback only on request
         if os.environ.get("EMSS_DEBUG"):
             raise
         print(f"emss {args.command}: internal error: {type(exc).__name__}: {exc} "
               "(set EMSS_DEBUG=1 for the traceback)", file=sys.stderr)
-        return 3
+        return ExitCode.INTERNAL
 
 
 if __name__ == "__main__":

@@ -43,6 +43,7 @@ from openemss.models.common.files import atomic_copy
 
 from .. import interrupt
 from ..errors import BuildError, EmssError
+from ..exit_codes import ExitCode
 from ..master.slave import BUILD_RECORD, FREE_AFTER_FAILURE
 from ..results import os_reason
 from .fmu_deps import insert_guard, link_libpython, requirements_guard, vendor_packages
@@ -477,10 +478,10 @@ def main(argv: list[str] | None = None) -> int:
             print(f"no pythonfmu slaves found in {args.src}")
     except EmssError as exc:
         print(f"build-fmus: error: {exc}", file=sys.stderr)
-        return 1
+        return ExitCode.USAGE
     except OSError as exc:  # the source folder, the output folder: one line naming it
         print(f"build-fmus: error: {exc.filename or args.out}: {os_reason(exc)}", file=sys.stderr)
-        return 1
+        return ExitCode.USAGE
     except KeyboardInterrupt as exc:
         return interrupt.report("build-fmus", exc)
     return 0

@@ -158,6 +158,11 @@ class Execution:
     def time_s(self) -> float:
         return self.time_at(self.k)
 
+    @property
+    def initialized(self) -> bool:
+        """Whether every FMU left Initialization Mode (the run may step)."""
+        return self._initialized
+
     def request_stop(self, signum: int) -> None:
         """Ask :meth:`run` to end after the current step with :class:`RunInterrupted` (safe to call from a
         signal handler: it only sets a flag, so no FMU call is cut in the middle)."""

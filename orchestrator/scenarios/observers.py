@@ -294,9 +294,8 @@ class RunRecord:
         wall = time.perf_counter() - self._wall0
         sim = execution.time_s - execution.start_time_s
         self._reserve(False)
-        interrupted = isinstance(error, (RunInterrupted, KeyboardInterrupt))
         self.info.update({
-            "status": "completed" if error is None else "interrupted" if interrupted else "failed",
+            "status": run_status(error),
             "error": None if error is None else str(error) or type(error).__name__,
             "stop_time_s": execution.time_s,
             "steps": execution.k,
@@ -431,22 +430,38 @@ class Progress:
         self._status_shown = "  " + (text if len(text) <= w else text[: w - 1] + "~").ljust(w)
         return self._status_shown
 
-    def _draw(self, time_s: float, now: float) -> None:
+    def _draw(self, time_s: float, now: float, ended: str | None = None) -> None:
         span = max(self.stop_time_s - self._sim0, 1e-12)
-        frac = min(max((time_s - self._sim0) / span, 0.0), 1.0)
+        frac = 1.0 if ended is not None else min(max((time_s - self._sim0) / span, 0.0), 1.0)
         width = 30
         bar = "#" * int(frac * width) + "-" * (width - int(frac * width))
         rtf = (time_s - self._sim0) / max(now - self._t0_wall, 1e-9)
         self.stream.write(f"\r[{bar}] {frac * 100:5.1f}%  t = {time_s:10.2f} s  {rtf:8.1f}x real time"
-                          f"{self._status_text()}")
+                          + (f"  {ended}" if ended is not None else self._status_text()))
         self.stream.flush()
         self._shown = True
 
     def finish(self, execution: Execution, error: BaseException | None) -> None:
+        """The bar drawn whole: the run is over, whatever ended it (its stop time, its stop condition, an
+        error or a signal), and how it ended is said instead of the status."""
         if error is not None:  # no FMI call into a failed FMU: the last status read stays
             self._read_status = None
         if self._shown:
-            self._draw(execution.time_s, time.perf_counter())
+            self._draw(execution.time_s, time.perf_counter(), ended=ending(execution, error))
             self.stream.write("\n")
             self.stream.flush()
+
+
+def run_status(error: BaseException | None) -> str:
+    """A run's status as ``run.json`` records it: ``completed``, ``interrupted`` (a signal) or ``failed``."""
+    if error is None:
+        return "completed"
+    return "interrupted" if isinstance(error, (KeyboardInterrupt, RunInterrupted)) else "failed"
+
+
+def ending(execution: Execution, error: BaseException | None) -> str:
+    """How a run ended, as the progress bar's last word: :func:`run_status`, and the stop condition that
+    ended it early (``completed (fcs.mission_completed == 1)``)."""
+    status = run_status(error)
+    return f"{status} ({execution.stopped_by})" if error is None and execution.stopped_by else status
 

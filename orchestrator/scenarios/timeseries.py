@@ -90,9 +90,15 @@ def columns_of(execution: Execution) -> list[Column]:
     return out
 
 
+#: What :func:`default_record` records, as ``emss run --help`` says it (written once, beside the code).
+DEFAULT_RECORD_TEXT = (f"every connector of the SSD of type {', '.join(_NUMPY)} (Strings are not recorded), less "
+                       "the inputs that only copy a connected output (--record-inputs keeps them); the inputs a "
+                       "scenario sets are added")
+
+
 def default_record(bound: BoundSystem, inputs: bool = False) -> list[str]:
     """What a run records by default: every connector of the SSD, less the inputs that only copy an output
-    (connected, with no transformation, unit conversion or mapping) unless ``inputs``.
+    (connected, with no transformation, unit conversion or mapping) unless ``inputs`` (:data:`DEFAULT_RECORD_TEXT`).
 
     An input that is not connected (it keeps its start value, or a scenario sets it) is recorded, and so is
     one whose connection converts its value (its unit or a transformation).

@@ -37,7 +37,7 @@ def test_trim_text(capsys: pytest.CaptureFixture[str]) -> None:
     (["--alt-m", "8000", "--mach", "0.2"], "stall"),
 ])
 def test_bad_input_one_line_nonzero(argv: list[str], expect: str, capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(["airframe", "trim", *argv]) == 1
+    assert main(["airframe", "trim", *argv]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and expect in err and "Traceback" not in err
 

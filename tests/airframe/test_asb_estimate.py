@@ -250,14 +250,14 @@ def test_compare_bad_input_one_line_nonzero(tmp_path: Path, content: str | None,
     path = tmp_path / "points.csv"
     if content is not None:
         _write(path, content)
-    assert main(["airframe", "compare", "--points", str(path), "--out", str(tmp_path / "out")]) == 1
+    assert main(["airframe", "compare", "--points", str(path), "--out", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and expect in err and "Traceback" not in err
     assert not (tmp_path / "out").exists()
 
 
 def test_compare_bad_sweep_one_line(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(["airframe", "compare", "--sweep-alpha-deg", "5", "0", "1", "--out", str(tmp_path)]) == 1
+    assert main(["airframe", "compare", "--sweep-alpha-deg", "5", "0", "1", "--out", str(tmp_path)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "START <= STOP" in err
 

@@ -54,5 +54,5 @@ def test_sweep_cli(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     out = json.loads(capsys.readouterr().out)
     assert len(out["points"]) == 2 and (tmp_path / "carpet.csv").is_file() and (tmp_path / "carpet.png").is_file()
     (tmp_path / "a_file").write_text("")
-    assert main(["engine", "sweep", "--out", str(tmp_path / "a_file"), "--bpr", "1", "--opr", "10"]) == 1
+    assert main(["engine", "sweep", "--out", str(tmp_path / "a_file"), "--bpr", "1", "--opr", "10"]) == 2
     assert "is a file, not a folder" in capsys.readouterr().err

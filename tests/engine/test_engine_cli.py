@@ -30,10 +30,10 @@ def test_design_text_and_presets(capsys: pytest.CaptureFixture[str]) -> None:
 def test_bad_input_is_one_line_nonzero(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     f = tmp_path / "p.json"
     f.write_text(json.dumps({"engine": "turbofan", "W2_kg_s": 20.0, "BPR": -1.0}))
-    assert main(["engine", "design", "--params", str(f)]) == 1
+    assert main(["engine", "design", "--params", str(f)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "'BPR': -1.0" in err and "p.json:1:" in err
-    assert main(["engine", "design", "--params", str(tmp_path / "missing.json")]) == 1
+    assert main(["engine", "design", "--params", str(tmp_path / "missing.json")]) == 2
     assert "does not exist" in capsys.readouterr().err
     with pytest.raises(SystemExit) as exc:
         main(["engine", "design", "--preset", "nope"])
@@ -54,7 +54,7 @@ def test_point_json_outputs_of_spec(capsys: pytest.CaptureFixture[str]) -> None:
 def test_point_turbojet_and_errors(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["engine", "point", "--preset", "pycycle_simple_turbojet", "--fn-n", "45000", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["Fn_N"] == pytest.approx(45000.0, rel=1e-8)
-    assert main(["engine", "point", "--fn-n", "1e6"]) == 1
+    assert main(["engine", "point", "--fn-n", "1e6"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "no convergence" in err and "power_setting=" in err
     with pytest.raises(SystemExit) as exc:

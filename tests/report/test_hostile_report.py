@@ -40,6 +40,6 @@ def test_summary_of_a_damaged_row_is_one_line(tmp_path: Path, capsys: pytest.Cap
     lines = csv.read_text().splitlines(keepends=True)
     lines[10] = lines[10].split(",", 1)[0] + "\n"  # line 11: one value only
     csv.write_text("".join(lines))
-    assert main(["summary", str(folder)]) == 1
+    assert main(["summary", str(folder)]) == 2
     err = [ln for ln in capsys.readouterr().err.splitlines() if ln.strip()]
     assert len(err) == 1 and f"{csv}:11: 1 values for" in err[0] and "damaged" in err[0], err

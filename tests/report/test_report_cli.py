@@ -58,6 +58,34 @@ def test_plot_two_runs_on_one_figure(tmp_path: Path, capsys: pytest.CaptureFixtu
     assert _pngs(a / "compare_engine_b") == FIGURES
 
 
+def test_plot_never_replaces_a_figure_another_plot_made(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """A windowed comparison gets its own folder; into a folder the user names, a plot of other runs or another
+    window is refused (one line naming the plot that made the figure) and the figures there stay byte for byte;
+    the same plot again redraws them."""
+    runs = Runs(tmp_path)
+    a, b = runs.make("engine_a"), runs.make("engine_b")
+    assert main(["plot", str(a), str(b)]) == 0
+    whole = (a / "compare_engine_b" / "fuel_flow_tt4.png").read_bytes()
+    assert main(["plot", str(a), str(b), "--window", "5", "20"]) == 0
+    assert _pngs(a / "compare_engine_b_window_5-20") == FIGURES
+    assert (a / "compare_engine_b" / "fuel_flow_tt4.png").read_bytes() == whole
+    assert main(["plot", str(a), "--window", "5", "20"]) == 0  # one run, windowed: not over its own figures
+    assert _pngs(a / "window_5-20") == FIGURES
+    out = tmp_path / "mine"
+    assert main(["plot", str(a), str(b), "--out", str(out), "--window", "5", "20"]) == 0
+    before = {f.name: f.read_bytes() for f in out.iterdir()}
+    capsys.readouterr()
+    assert main(["plot", str(a), str(b), "--out", str(out), "--window", "2", "30"]) == 2
+    _one_line_error(capsys, f"--out {out}", "--window 5 20", "plots.json")
+    assert main(["plot", str(b), "--out", str(out)]) == 2
+    _one_line_error(capsys, f"emss plot {a.resolve()} {b.resolve()}")
+    assert {f.name: f.read_bytes() for f in out.iterdir()} == before
+    assert main(["plot", str(a), str(b), "--out", str(out), "--window", "5", "20"]) == 0  # the same plot again
+    assert main(["plot", str(a)]) == 0  # the run's own report, drawn again
+    assert main(["plot", str(a), "--out", str(a), "--window", "5", "20"]) == 2  # ... is not replaced by a window
+    capsys.readouterr()
+
+
 @pytest.mark.parametrize(("args", "words"), [
     (["{tmp}/missing"], ("no such results folder",)),
     (["{tmp}"], ("no timeseries.parquet, timeseries.csv",)),
@@ -66,14 +94,14 @@ def test_plot_two_runs_on_one_figure(tmp_path: Path, capsys: pytest.CaptureFixtu
     (["{osc}", "mass1.y1_m"], ("mass1.y1_m: not recorded", "did you mean mass1.x1_m")),
     (["{run}"] * 5, ("at most 4",)),
 ])
-def test_plot_bad_input_is_one_line_and_exit_1(tmp_path: Path, capsys: pytest.CaptureFixture[str], args: list[str],
+def test_plot_bad_input_is_one_line_and_exit_2(tmp_path: Path, capsys: pytest.CaptureFixture[str], args: list[str],
                                                 words: tuple[str, ...]) -> None:
     run = Runs(tmp_path).make("flight")
     osc = tmp_path / "oscillator_run"
     osc.mkdir()
     (osc / "timeseries.csv").write_text("time_s,mass1.x1_m\n0,0.1\n0.05,0.2\n")
     argv = [a.format(tmp=tmp_path, run=run, osc=osc) for a in args]
-    assert main(["plot", *argv]) == 1
+    assert main(["plot", *argv]) == 2
     _one_line_error(capsys, "emss plot: error:", *words)
     assert not list(tmp_path.glob("**/*.png"))
 
@@ -92,7 +120,7 @@ def test_summary_command_prints_the_sections(tmp_path: Path, capsys: pytest.Capt
     assert "out to WP1" in out and "not reached" in out and "limits hit: none" in out
     assert main(["summary", str(run), "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["sections"][1]["name"] == "lift-off"
-    assert main(["summary", str(tmp_path / "nope")]) == 1
+    assert main(["summary", str(tmp_path / "nope")]) == 2
     _one_line_error(capsys, "no such results folder")
 
 
@@ -122,11 +150,12 @@ def test_progress_shows_the_status_variable(oscillator: Path) -> None:
         ex = Execution(bind_system(load_system(oscillator)), rate_hz=20.0)
         ex.add_observer(Progress(2.0, stream=stream, delay_s=0.0, interval_s=0.0, status=path))
         ex.run(2.0)
-        last = stream.getvalue().split("\r")[-1]
-        assert re.search(expect, last), last
+        *_, drawn, last = stream.getvalue().split("\r")
+        assert re.search(expect, drawn), drawn
+        assert "100.0%" in last and last.rstrip().endswith("completed"), last  # the last draw: how it ended
 
 
 def test_bad_status_variable_is_one_line(oscillator: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["run", str(oscillator), "--stop-time", "1", "--out", str(tmp_path / "o"),
-                 "--status", "mass1.nothing"]) == 1
+                 "--status", "mass1.nothing"]) == 2
     _one_line_error(capsys, "--status 'mass1.nothing'")

@@ -99,7 +99,7 @@ def test_failed_run_is_summarized_from_what_was_recorded(coupled_system: Path, t
     scenario.write_text("events:\n  - at: 30.0\n    set: {fcs.fuel_control.Tt41_max_K: 5000.0}\n")
     out = tmp_path / "run"
     assert main(["run", str(coupled_system), "--stop-time", "60", "--out", str(out),
-                 "--scenario", str(scenario)]) == 1
+                 "--scenario", str(scenario)]) == 3  # failed (exit codes: README)
     err = capsys.readouterr().err
     assert "results so far in" in err and "Traceback" not in err
     s = json.loads((out / "summary.json").read_text())

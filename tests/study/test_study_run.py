@@ -99,7 +99,7 @@ def test_local_cluster_runs_cases_records_a_failure_and_resumes(tmp_path: Path, 
     # two cases compared (no mission here: every recorded column), and a case that does not exist refused
     assert main(["study", "report", str(out), "light", "heavy"]) == 0
     assert {f.name for f in (out / "compare_light_heavy").iterdir()} == {"variables.png", "report.html"}
-    assert main(["study", "report", str(out), "light", "hevy"]) == 1
+    assert main(["study", "report", str(out), "light", "hevy"]) == 2
 
     stream = open(os.devnull, "w")  # noqa: SIM115 - closed below
     again = run_cases(expand_cases(load_study(tmp_path / "small.yaml")), out, workers=2, stream=stream)

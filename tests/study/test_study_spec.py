@@ -79,11 +79,11 @@ def test_parameters_are_checked_against_the_system(tmp_path: Path, oscillator: P
 
 def test_cli_bad_study_is_one_line_and_exit_1(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     p = study(tmp_path, "study: x\nsystem: [1, 2]\n")
-    assert main(["study", "run", str(p), "--out", str(tmp_path / "o")]) == 1
+    assert main(["study", "run", str(p), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err.strip()
     assert err == f"emss study: error: {p}:2: field 'system': expected a file or folder path (relative to the " \
                   "study file)"
-    assert main(["study", "run", str(tmp_path / "missing.yaml")]) == 1
+    assert main(["study", "run", str(tmp_path / "missing.yaml")]) == 2
     assert "cannot read the study file" in capsys.readouterr().err
 
 

@@ -19,13 +19,34 @@ import numpy as np
 
 from openemss.orchestrator.results import atomic_write
 
-from .panels import LIMITS, TIME_PANELS, limit_hits, limit_value, runway_lines, section_spans, values, waypoints_deg
+from .panels import (
+    LIMITS,
+    TIME_PANELS,
+    Panel,
+    is_command,
+    limit_hits,
+    limit_value,
+    runway_lines,
+    section_spans,
+    values,
+    waypoints_deg,
+)
 from .plots import PlotRun
 
 MAX_POINTS = 4000  #: points per line in the page at most
 DASHES = ("solid", "dash", "dot", "dashdot")
-COLORS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b")
+#: Run colours of the ground track, and the signals' colours over time, one per signal of the report (none
+#: shared): tab10 without its red (the limits' colour, LIMIT_COLOR) and darker or lighter shades of tab20b/c,
+#: ordered so that the two or three signals of a panel, which take consecutive entries, differ in hue.
+COLORS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#17becf", "#393b79", "#bcbd22", "#e377c2",
+          "#637939", "#3182bd", "#8c6d31", "#7b4173", "#31a354", "#843c39", "#636363", "#fd8d3c", "#756bb1",
+          "#6baed6", "#7f7f7f", "#e6550d", "#000000")
+LIMIT_COLOR = "#FB0D0D"
 REPORT = "report.html"
+#: Least distance between two section numbers over the time axis, as a fraction of it (two digits at 9 px on
+#: a plot about 1000 px wide take about 1.4 %); closer numbers go to a second row, then are left out (the
+#: sections' table below the figures names every section).
+BAND_LABEL_GAP = 0.02
 
 
 def thin(t: np.ndarray, y: np.ndarray, max_points: int = MAX_POINTS) -> tuple[np.ndarray, np.ndarray]:
@@ -70,23 +91,27 @@ def ground_track_figure(runs: Sequence[PlotRun]) -> object | None:
                                  customdata=_float_list(tt), hovertemplate="t = %{customdata:.1f} s<br>"
                                  "lat %{y:.5f} deg<br>lon %{x:.5f} deg<extra>" + html.escape(r.label) + "</extra>"))
         fig.add_trace(go.Scatter(x=[float(lon[0]), float(lon[-1])], y=[float(lat[0]), float(lat[-1])],
-                                 mode="markers+text", text=["start", "end"], textposition="top right",
-                                 marker={"symbol": ["circle", "square"], "size": 9,
-                                         "color": COLORS[i % len(COLORS)]},
-                                 name=f"start, end ({r.label})", showlegend=len(drawn) > 1 or i == 0))
+                                 mode="markers", marker={"symbol": ["circle", "square-open"], "size": 10,
+                                                         "color": COLORS[i % len(COLORS)]},
+                                 name=f"start (circle), end (square): {r.label}", hovertext=["start", "end"],
+                                 hoverinfo="text"))
         lats.extend([float(np.nanmin(lat)), float(np.nanmax(lat))])
     mission = next((r.mission for r in runs if r.mission is not None), None)
     if mission is not None:
         places = waypoints_deg(mission)
         xs, ys, names = [p[1] for p in places], [p[2] for p in places], [p[0] for p in places]
-        fig.add_trace(go.Scatter(x=xs, y=ys, mode="markers+text", text=names, textposition="top center",
+        lons = [float(v) for r in drawn for v in (np.nanmin(r.data.get("airframe", "lon_deg")),
+                                                  np.nanmax(r.data.get("airframe", "lon_deg")))]
+        fig.add_trace(go.Scatter(x=xs, y=ys, mode="markers+text", text=names,
+                                 textposition=label_positions(xs, ys, names, lons + xs, lats + ys),
                                  marker={"symbol": "triangle-up", "size": 9, "color": "#d62728"}, name="waypoints"))
         lats.extend(ys)
-        for j, rl in enumerate(runway_lines(mission)):
-            fig.add_trace(go.Scatter(x=list(rl.lon_deg), y=list(rl.lat_deg), mode="lines+text" if rl.used else "lines",
-                                     text=[f"runway {rl.name} (used)", ""] if rl.used else None,
-                                     textposition="bottom right", line={"color": "#444", "width": 5},
-                                     name="runways", legendgroup="runways", showlegend=j == 0,
+        for rl in runway_lines(mission):  # named in the legend: a name on the map would cross the track
+            fig.add_trace(go.Scatter(x=list(rl.lon_deg), y=list(rl.lat_deg), mode="lines",
+                                     line={"color": "#000" if rl.used else "#999", "width": 5},
+                                     name=f"runway {rl.name} (used)" if rl.used else "runways",
+                                     legendgroup=rl.name if rl.used else "runways",
+                                     showlegend=rl.used or not any(o.name == "runways" for o in fig.data),
                                      hovertext=f"runway {rl.name}", hoverinfo="text"))
     mid = 0.5 * (min(lats) + max(lats))
     fig.update_yaxes(title="latitude [deg]", scaleanchor="x", scaleratio=1.0 / max(math.cos(math.radians(mid)), 1e-3))
@@ -96,83 +121,169 @@ def ground_track_figure(runs: Sequence[PlotRun]) -> object | None:
     return fig
 
 
+def _signal_colors(panels: Sequence[Panel]) -> dict[tuple[str, str], str]:
+    """One colour per signal (none shared between panels), the same in every report."""
+    keys = list(dict.fromkeys((s.role, s.variable) for p in (*TIME_PANELS, *panels) for s in p.series))
+    return {k: COLORS[i % len(COLORS)] for i, k in enumerate(keys)}
+
+
+def _legend_key(row: int) -> str:
+    return "legend" if row == 1 else f"legend{row}"
+
+
+#: The ground track's plot area as laid out [px] (650 px high figure, a page about 1400 px wide), and the size
+#: of a label's character and line at 12 px: enough to place the waypoints' numbers apart.
+MAP_PX = (1100.0, 450.0)
+CHAR_PX, LINE_PX = 7.5, 15.0
+
+
+def label_positions(xs: Sequence[float], ys: Sequence[float], texts: Sequence[str], all_lon: Sequence[float],
+                    all_lat: Sequence[float]) -> list[str]:
+    """A text position per waypoint (above, below, right or left of its marker) so that no label covers
+    another label or another waypoint's marker, on the map's scale at its true aspect ratio (:data:`MAP_PX`)."""
+    lat0, lat1 = min(all_lat), max(all_lat)
+    k = math.cos(math.radians(0.5 * (lat0 + lat1)))
+    span_y = max(lat1 - lat0, 1e-6)
+    span_x = max((max(all_lon) - min(all_lon)) * k, 1e-6)
+    px = min(MAP_PX[0] / span_x, MAP_PX[1] / span_y)  # px per degree of latitude
+    pts = [(x * k * px, y * px) for x, y in zip(xs, ys, strict=True)]
+    boxes = [(x - 6, x + 6, y - 6, y + 6) for x, y in pts]  # the markers
+    out = []
+    for (x, y), text in zip(pts, texts, strict=True):
+        w, h = CHAR_PX * len(text), LINE_PX
+        options = {"top center": (x - w / 2, x + w / 2, y + 6, y + 6 + h),
+                   "bottom center": (x - w / 2, x + w / 2, y - 6 - h, y - 6),
+                   "middle right": (x + 7, x + 7 + w, y - h / 2, y + h / 2),
+                   "middle left": (x - 7 - w, x - 7, y - h / 2, y + h / 2)}
+        free = [name for name, b in options.items()
+                if not any(b[0] < o[1] and o[0] < b[1] and b[2] < o[3] and o[2] < b[3] for o in boxes
+                           if o != (x - 6, x + 6, y - 6, y + 6))]
+        pos = free[0] if free else "top center"
+        boxes.append(options[pos])
+        out.append(pos)
+    return out
+
+
 def time_figure(runs: Sequence[PlotRun]) -> object | None:
-    """Every panel of :data:`.panels.TIME_PANELS` the runs recorded, stacked on one shared time axis, with
-    the sections as numbered bands, the limits as lines and the times the limiter engaged them as marks."""
+    """Every panel of :data:`.panels.TIME_PANELS` the runs recorded, stacked on one shared time axis, each with
+    its own legend beside it and its own colours; the sections as numbered bands, the limits as lines and the
+    times the limiter engaged them as marks. Commands are drawn first, wide and light, so that what is flown
+    is drawn over them."""
     import plotly.graph_objects as go
     from plotly.subplots import make_subplots
 
     panels = [p for p in TIME_PANELS if any(values(r.data, s) is not None for r in runs for s in p.series)]
     if not panels:
         return None
-    fig = make_subplots(rows=len(panels), cols=1, shared_xaxes=True, vertical_spacing=0.012,
-                        subplot_titles=[p.ylabel for p in panels])
+    fig = make_subplots(rows=len(panels), cols=1, shared_xaxes=True, vertical_spacing=0.012)
+    colors = _signal_colors(panels)
     for row, p in enumerate(panels, start=1):
-        for i, r in enumerate(runs):
-            for c, s in enumerate(p.series):
-                y = values(r.data, s)
-                if y is None:
-                    continue
-                tt, yy = thin(r.data.time_s, y)
-                name = s.legend if len(runs) == 1 else f"{s.legend} ({r.label})"
-                command = "command" in s.legend and len(runs) == 1  # dashed, on top: visible under its result
-                fig.add_trace(go.Scattergl(x=_float_list(tt), y=_float_list(yy), mode="lines", name=name,
-                                           legendgroup=p.key, line={"color": COLORS[c % len(COLORS)],
-                                                                    "dash": "dash" if command else
-                                                                    DASHES[i % len(DASHES)],
-                                                                    "width": 2.0 if command else 1.3}),
-                              row=row, col=1)
-        for name in p.limits:
-            for r in runs:
-                v = limit_value(r.data, name)
-                if v is None:
-                    continue
-                fig.add_hline(y=v, line={"color": "#d62728", "dash": "dash", "width": 1}, row=row, col=1,
-                              annotation_text=f"{LIMITS[name][1]} {v:g}" + (f" ({r.label})" if len(runs) > 1 else ""),
-                              annotation_position="top left", annotation_font_size=10)
-                hits = limit_hits(r.data, name)
-                if hits.size:
-                    fig.add_trace(go.Scatter(x=_float_list(hits), y=[v] * len(hits), mode="markers",
-                                             marker={"symbol": "x", "size": 8, "color": "#d62728"},
-                                             name=f"{LIMITS[name][1]} engaged ({len(hits)}x)"
-                                             + (f" ({r.label})" if len(runs) > 1 else "")), row=row, col=1)
-        fig.update_yaxes(title_text=p.ylabel.split(" [")[0], row=row, col=1)
+        legend = _legend_key(row)
+        order = sorted(((i, r, s) for i, r in enumerate(runs) for s in p.series), key=lambda e: not is_command(e[2]))
+        for i, r, s in order:  # commands first: under what is flown
+            y = values(r.data, s)
+            if y is None:
+                continue
+            tt, yy = thin(r.data.time_s, y)
+            command = is_command(s)
+            fig.add_trace(go.Scattergl(x=_float_list(tt), y=_float_list(yy), mode="lines", legend=legend,
+                                       name=s.legend if len(runs) == 1 else f"{s.legend} ({r.label})",
+                                       opacity=0.45 if command else 1.0,
+                                       line={"color": colors[(s.role, s.variable)], "dash": DASHES[i % len(DASHES)],
+                                             "width": 3.5 if command else 1.3}), row=row, col=1)
+        _limits(fig, runs, p, row)
+        fig.update_yaxes(title_text=p.ylabel, title_font_size=11, row=row, col=1)
     _section_bands(fig, runs)
     fig.update_xaxes(title_text="time [s]", row=len(panels), col=1)
+    legends = {}
+    for row in range(1, len(panels) + 1):
+        domain = fig.layout[f"yaxis{'' if row == 1 else row}"].domain
+        legends[_legend_key(row)] = {"x": 1.01, "xanchor": "left", "y": domain[1], "yanchor": "top",
+                                     "font": {"size": 10}, "bgcolor": "rgba(255,255,255,0.8)"}
     fig.update_layout(height=230 * len(panels) + 120, template="plotly_white", hovermode="x unified",
-                      legend={"tracegroupgap": 4, "font": {"size": 10}},
-                      title="Over time (one time axis: zoom in any panel; double-click to reset)")
+                      margin={"r": 230}, title="Over time (one time axis: zoom in any panel; double-click to reset)",
+                      **legends)
     return fig
 
 
+def _limits(fig: object, runs: Sequence[PlotRun], p: Panel, row: int) -> None:
+    """The panel's limits: one dashed line per value (one label naming the runs that share it, labels of
+    different values at alternate ends of the axis) and an x where the fuel controller engaged it."""
+    import plotly.graph_objects as go
+
+    for name in p.limits:
+        by_value: dict[float, list[str]] = {}
+        for r in runs:
+            v = limit_value(r.data, name)
+            if v is not None:
+                by_value.setdefault(v, []).append(r.label)
+        for j, (v, labels) in enumerate(by_value.items()):
+            whose = f" ({', '.join(labels)})" if len(runs) > 1 else ""
+            fig.add_hline(y=v, line={"color": LIMIT_COLOR, "dash": "dash", "width": 1}, row=row, col=1,
+                          annotation_text=f"{LIMITS[name][1]} {v:g}{whose}", annotation_font_size=10,
+                          annotation_position=("top left", "top right", "bottom left", "bottom right")[j % 4])
+        for r in runs:
+            v = limit_value(r.data, name)
+            hits = limit_hits(r.data, name)
+            if v is None or not hits.size:
+                continue
+            fig.add_trace(go.Scatter(x=_float_list(hits), y=[v] * len(hits), mode="markers", legend=_legend_key(row),
+                                     marker={"symbol": "x", "size": 8, "color": LIMIT_COLOR},
+                                     name=f"{LIMITS[name][1]} engaged ({len(hits)}x)"
+                                     + (f" ({r.label})" if len(runs) > 1 else "")), row=row, col=1)
+
+
 def _section_bands(fig: object, runs: Sequence[PlotRun]) -> None:
-    """The first run's mission sections as alternating bands over every panel, numbered at the top."""
+    """The first run's mission sections as alternating bands over every panel, numbered as the mission
+    numbers them at the top of the first panel (numbers that would touch go to a second row, or are left
+    out: the table names every section)."""
     r = next((r for r in runs if r.data.get("fcs", "section_index") is not None), None)
     if r is None:
         return
     names = {s.index: s.name for s in r.mission.sections} if r.mission is not None else {}
-    for idx, a, b in section_spans(r.data):
-        fig.add_vrect(x0=a, x1=b, fillcolor="#888" if idx % 2 else "#ccc", opacity=0.12, line_width=0, layer="below",
-                      annotation_text=str(idx), annotation_position="top left", annotation_font_size=9,
-                      annotation_hovertext=f"section {idx}: {names.get(idx, '')}", row=1, col=1)
+    spans = section_spans(r.data, r.mission)
+    t = r.data.time_s
+    width = max(float(t[-1] - t[0]), 1e-9)
+    last = [-math.inf, -math.inf]  # the last number placed in each of the two rows
+    for idx, a, b in spans:
         fig.add_vrect(x0=a, x1=b, fillcolor="#888" if idx % 2 else "#ccc", opacity=0.12, line_width=0,
                       layer="below", row="all", col=1, exclude_empty_subplots=False)
+        x = 0.5 * (a + b)
+        level = next((k for k in (0, 1) if (x - last[k]) / width > BAND_LABEL_GAP), None)
+        if level is None:
+            continue
+        last[level] = x
+        fig.add_annotation(x=x, y=1.0, xref="x", yref="y domain", yanchor="top", showarrow=False,
+                           yshift=-12 * level, text=str(idx), font={"size": 9, "color": "#333"},
+                           hovertext=f"section {idx}: {html.escape(str(names.get(idx, '')))}")
 
 
 def _sections_table(runs: Sequence[PlotRun]) -> str:
+    """The mission's sections: number (as on the bands), name, type, and per run start, end and fuel burned."""
+    from .summary import sections_table
+
     r = next((r for r in runs if r.mission is not None), None)
     if r is None:
         return ""
-    spans: dict[int, list[float]] = {}
-    for idx, a, b in section_spans(r.data):
-        s = spans.setdefault(idx, [a, b])
-        s[1] = b
+    tables = []
+    for run in runs:
+        idx, wf = run.data.get("fcs", "section_index"), run.data.get("engine", "fuel_flow_kg_s")
+        tables.append({} if idx is None or wf is None else {
+            row["index"]: row for row in sections_table(run.data.time_s, idx, wf, None, False)})
+    several = len(runs) > 1
+
+    def cells(row: dict[str, object] | None) -> str:
+        if row is None or row["start_time_s"] is None:
+            return "<td></td><td></td><td></td>"
+        return (f"<td>{row['start_time_s']:.1f}</td><td>{row['end_time_s']:.1f}</td>"
+                f"<td>{row['fuel_burned_kg']:.2f}</td>")
+
+    head = "".join(f"<th>start [s]{f' ({html.escape(x.label)})' if several else ''}</th><th>end [s]</th>"
+                   f"<th>fuel [kg]</th>" for x in runs)
     rows = "".join(f"<tr><td>{s.index}</td><td>{html.escape(str(s.name))}</td><td>{html.escape(str(s.type))}</td>"
-                   f"<td>{'' if s.index not in spans else f'{spans[s.index][0]:.1f}'}</td>"
-                   f"<td>{'' if s.index not in spans else f'{spans[s.index][1]:.1f}'}</td></tr>"
-                   for s in r.mission.sections)
-    return ("<h2>Mission sections (bands in the time panels)</h2><table><tr><th>#</th><th>name</th><th>type</th>"
-            f"<th>start [s]</th><th>end [s]</th></tr>{rows}</table>")
+                   + "".join(cells(t.get(s.index)) for t in tables) + "</tr>" for s in r.mission.sections)
+    return ("<h2>Mission sections (numbered as the bands in the time panels)</h2><table><tr><th>#</th><th>name</th>"
+            f"<th>type</th>{head}</tr>{rows}</table>")
 
 
 def _summary_lines(runs: Sequence[PlotRun]) -> str:

@@ -53,10 +53,16 @@ def heading_deg(y: np.ndarray) -> np.ndarray:
     return out
 
 
+#: SFC is shown below this [mg/(N s)]: near zero thrust it grows without bound (and means nothing).
+SFC_SHOWN_MAX_MG_N_S = 200.0
+SFC_LABEL = f"SFC [mg/(N s)], shown below {SFC_SHOWN_MAX_MG_N_S:g}"
+
+
 def _sfc_shown(y: np.ndarray) -> np.ndarray:
-    """SFC [mg/(N s)], blank where the engine gives no meaningful value (no thrust: SFC <= 0 or huge)."""
+    """SFC [mg/(N s)], blank where the engine gives no meaningful value (no thrust: SFC <= 0 or above
+    :data:`SFC_SHOWN_MAX_MG_N_S`); the axis says so (:data:`SFC_LABEL`)."""
     v = y * 1e6
-    return np.where((v > 0) & (v < 200), v, np.nan)
+    return np.where((v > 0) & (v < SFC_SHOWN_MAX_MG_N_S), v, np.nan)
 
 
 #: The limits a panel may draw: name -> (FCS parameter holding it, legend, the signal it limits).
@@ -78,7 +84,7 @@ TIME_PANELS = (
     Panel("spools", "spool speed [%]", (Series("engine", "N1_pct", "N1 fan"), Series("engine", "N2_pct", "N2 core"),
                                         Series("engine", "N1c_pct", "N1c corrected fan speed")), ("N1_max",)),
     Panel("surge", "surge margin [-]", (Series("engine", "SM_fan", "fan"), Series("engine", "SM_hpc", "HPC"))),
-    Panel("sfc", "SFC [mg/(N s)]", (Series("engine", "SFC_kg_N_s", "SFC", _sfc_shown),)),
+    Panel("sfc", SFC_LABEL, (Series("engine", "SFC_kg_N_s", "SFC", _sfc_shown),)),
     Panel("lever", "airbrake, lever [-]", (Series("airframe", "airbrake_pos_norm", "airbrake"),
                                            Series("fcs", "lever_norm", "thrust lever"))),
     Panel("attitude", "attitude [deg]", (Series("airframe", "phi_rad", "roll phi", _deg),
@@ -112,11 +118,20 @@ def limit_hits(run: RunData, name: str) -> np.ndarray:
     return run.time_s[starts]
 
 
-def section_spans(run: RunData) -> list[tuple[int, float, float]]:
-    """(section index, start time, end time) of every stretch of one active section."""
+def is_command(s: Series) -> bool:
+    """Whether a series is a command (drawn under what is flown, so that the flown line stays visible)."""
+    return "command" in s.legend
+
+
+def section_spans(run: RunData, mission: Mission | None = None) -> list[tuple[int, float, float]]:
+    """(section index, start time, end time) of every stretch of one active section; with the mission, only
+    its sections (the index after the last one means the mission is completed: no section)."""
     idx = run.get("fcs", "section_index")
     if idx is None:
         return []
+    if mission is not None:
+        known = {s.index for s in mission.sections}
+        return [span for span in section_spans(run) if span[0] in known]
     t = run.time_s
     idx = np.rint(idx).astype(int)
     change = np.flatnonzero(np.diff(idx)) + 1

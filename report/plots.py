@@ -25,7 +25,7 @@ from openemss.orchestrator.results import atomic_write
 
 from .agg import Axes, Figure  # matplotlib imported whatever MPLBACKEND says, figures on the Agg canvas
 from .errors import ReportError
-from .panels import runway_lines, waypoints_deg
+from .panels import SFC_LABEL, runway_lines, waypoints_deg
 from .rundata import RunData
 
 STYLES = ("-", "--", ":", "-.")
@@ -66,7 +66,7 @@ def shade_sections(ax: Axes, r: PlotRun, label: bool) -> None:
     names go in the figure's legend of sections, :func:`section_legend`, so that nothing is overprinted)."""
     from .panels import section_spans
 
-    spans = section_spans(r.data)
+    spans = section_spans(r.data, r.mission)
     if not spans:
         return
     t = r.data.time_s
@@ -87,7 +87,7 @@ def section_legend(fig: Figure, r: PlotRun | None) -> None:
         return
     from .panels import section_spans
 
-    seen = {i for i, _, _ in section_spans(r.data)}
+    seen = {i for i, _, _ in section_spans(r.data, r.mission)}
     items = [f"{s.index}  {s.name}" for s in r.mission.sections if s.index in seen]
     if not items:
         return
@@ -191,7 +191,7 @@ def _lines(runs: Sequence[PlotRun], path: Path, title: str,
     """Stacked panels over time. Each panel: (y label, [(role, variable, legend, transform), ...]);
     ``decorate`` draws more on the first panel; ``limits[p]`` names the limits (:data:`.panels.LIMITS`) drawn
     on panel ``p`` as lines, with a mark where the fuel controller engaged them. A legend entry ending in
-    "command" is drawn dashed and on top, so a command that the flown value follows stays visible."""
+    "command" is drawn wide, light and under the flown lines, so that both stay visible where they agree."""
     if not any(r.data.get(role, var) is not None for r in runs for _, series in panels for role, var, _, _ in series):
         return None
     shaded = _sections(runs) if shade else None
@@ -210,10 +210,9 @@ def _lines(runs: Sequence[PlotRun], path: Path, title: str,
                 y = r.data.get(role, var)
                 if y is None:
                     continue
-                command = what.endswith("command")
-                ax.plot(t[keep], fn(y)[keep], ls=(0, (4, 2)) if command and len(runs) == 1 else _style(i),
-                        color=f"C{c}", lw=1.4 if command else 1.1, zorder=4 if command else 3,
-                        label=_label(runs, r, what))
+                command = "command" in what  # "commanded" too
+                ax.plot(t[keep], fn(y)[keep], ls=_style(i), color=f"C{c}", lw=3.0 if command else 1.1,
+                        alpha=0.45 if command else 1.0, zorder=2.5 if command else 3, label=_label(runs, r, what))
         for name in (limits[p] if p < len(limits) else ()):
             _limit_line(ax, runs, name, window)
         if p == 0 and decorate is not None:
@@ -344,7 +343,7 @@ def plot_runs(runs: Sequence[PlotRun], out: Path, window: tuple[float, float] | 
                                   ("fcs", "fuel_flow_cmd_kg_s", "fuel flow command", _ident)]),
             ("temperature [K]", [("engine", "Tt4_K", "Tt4 burner exit", _ident),
                                  ("engine", "Tt41_K", "Tt41 HPT rotor inlet", _ident)]),
-        ], window=window, limits=((), ("Tt41_max",))),
+        ], shade=True, window=window, limits=((), ("Tt41_max",))),
         _lines(runs, out / FigureFile.THRUST, "Thrust", [
             ("thrust [kN]", [("engine", "thrust_N", "net thrust", _kilo), ("engine", "gross_thrust_N", "gross thrust",
                                                                           _kilo)])], shade=True),
@@ -353,7 +352,7 @@ def plot_runs(runs: Sequence[PlotRun], out: Path, window: tuple[float, float] | 
                                  ("engine", "N1c_pct", "N1c corrected fan speed", _ident)])], shade=True,
             limits=(("N1_max",),)),
         _lines(runs, out / FigureFile.SFC_SURGE_MARGIN, "SFC and surge margins", [
-            ("SFC [mg/(N s)]", [("engine", "SFC_kg_N_s", "SFC", _sfc)]),
+            (SFC_LABEL, [("engine", "SFC_kg_N_s", "SFC", _sfc)]),
             ("surge margin [-]", [("engine", "SM_fan", "fan", _ident), ("engine", "SM_hpc", "HPC", _ident)]),
         ], shade=True),
         _lines(runs, out / FigureFile.ATTITUDE, "Attitude", [

@@ -3,7 +3,10 @@ offline, loaded in a real headless browser (Debian's Chromium through Playwright
 request leaves the file, the figures are drawn (a screenshot with the plots' pixels), the limits shown.
 
 One run of the shipped system (the Munich mission's first 260 s: take-off, climb, the first N1 limit
-hit), and one of the reference study's engine for the comparison.
+hit), and one of the reference study's engine for the comparison. The page must read without hovering
+(issue 38): Chromium lays it out and every label's box (legend entries, annotations such as the section
+numbers and the limits, axis titles, texts on the ground track, tick labels) is measured: no two overlap;
+each time panel has a legend of its own beside it, and no two signals share a colour.
 """
 from __future__ import annotations
 
@@ -63,10 +66,56 @@ def _load_in_browser(page_path: Path, screenshot: Path) -> dict[str, object]:
             plots = page.locator(".js-plotly-plot").count()
             traces = page.evaluate("Array.from(document.querySelectorAll('.js-plotly-plot')).map(d => d.data.length)")
             axes = page.evaluate("document.querySelectorAll('.js-plotly-plot')[1].layout.xaxis.matches || 'x'")
+            overlaps = page.evaluate(OVERLAPS_JS)
+            legends = page.evaluate("Array.from(document.querySelectorAll('.js-plotly-plot')).map("
+                                    "d => d.querySelectorAll('.infolayer > g[class^=legend]').length)")
             page.screenshot(path=str(screenshot))
         finally:
             ctx.close()
-    return {"errors": errors, "outside": outside, "plots": plots, "traces": traces, "axes": axes}
+    return {"errors": errors, "outside": outside, "plots": plots, "traces": traces, "axes": axes,
+            "overlaps": overlaps, "legends": legends}
+
+
+#: Every pair of labels of a figure whose boxes, as Chromium laid them out, overlap by more than a pixel
+#: either way: their texts and boxes.
+OVERLAPS_JS = """() => {
+  const sel = ['.legendtext', '.annotation-text', '.g-xtitle text', '.g-ytitle text', '.gtitle',
+               '.textpoint text', '.xtick text', '.ytick text'].join(',');
+  const out = [];
+  for (const plot of document.querySelectorAll('.js-plotly-plot')) {
+    const boxes = [];
+    for (const el of plot.querySelectorAll(sel)) {
+      const r = el.getBoundingClientRect();
+      if (r.width < 1 || r.height < 1 || !el.textContent.trim()) continue;
+      if (getComputedStyle(el).visibility === 'hidden' || getComputedStyle(el).opacity === '0') continue;
+      boxes.push({t: el.textContent, l: r.left, r: r.right, top: r.top, b: r.bottom});
+    }
+    for (let i = 0; i < boxes.length; i++) for (let j = i + 1; j < boxes.length; j++) {
+      const a = boxes[i], c = boxes[j];
+      const w = Math.min(a.r, c.r) - Math.max(a.l, c.l), h = Math.min(a.b, c.b) - Math.max(a.top, c.top);
+      if (w > 1 && h > 1) out.push([a.t, c.t, Math.round(w), Math.round(h)]);
+    }
+  }
+  return out;
+}"""
+
+
+def _time_panels(page: Path) -> list[str]:
+    """The y axes of the time figure, from the page's figure JSON (one per panel)."""
+    text = page.read_text(encoding="utf-8")
+    return sorted(set(re.findall(r'"(yaxis\d*)":\{', text)))
+
+
+def test_signals_have_colours_of_their_own_and_commands_lie_under_what_is_flown() -> None:
+    """No two signals of the time panels share a colour; in a panel, the commands' traces come first (drawn
+    under the flown lines), wider and lighter."""
+    from openemss.report.html import COLORS, LIMIT_COLOR, _signal_colors
+    from openemss.report.panels import TIME_PANELS, is_command
+
+    colors = _signal_colors(TIME_PANELS)
+    assert len(set(colors.values())) == len(colors) == sum(len(p.series) for p in TIME_PANELS)
+    assert LIMIT_COLOR not in COLORS
+    assert any(is_command(s) for p in TIME_PANELS for s in p.series)
 
 
 def _drawn(png: Path) -> float:
@@ -85,7 +134,9 @@ def test_report_of_a_run_is_self_contained_and_loads_without_error(runs: tuple[P
     shot = tmp_path / "report.png"
     seen = _load_in_browser(page, shot)
     assert seen["errors"] == [] and seen["outside"] == []
+    assert seen["overlaps"] == [], seen["overlaps"]  # type: ignore[comparison-overlap]
     assert seen["plots"] == 2  # the ground track, and the time panels on one shared time axis
+    assert seen["legends"][1] == len(_time_panels(page))  # type: ignore[index]  # one legend per panel
     assert seen["traces"][1] >= 15  # type: ignore[index]
     assert _drawn(shot) > 0.02  # a page of text alone: about 0.005
     keep = Path(tempfile.gettempdir()) / "emss-report-screenshot.png"  # for a look after the test
@@ -98,6 +149,7 @@ def test_comparison_report_of_two_runs(runs: tuple[Path, Path], tmp_path: Path) 
     assert (out / "report.html").is_file() and (out / "thrust.png").is_file()
     seen = _load_in_browser(out / "report.html", tmp_path / "cmp.png")
     assert seen["errors"] == [] and seen["outside"] == []
+    assert seen["overlaps"] == [], seen["overlaps"]  # type: ignore[comparison-overlap]
     one = _load_in_browser(runs[0] / "report.html", tmp_path / "one.png")
     assert seen["traces"][1] > one["traces"][1]  # type: ignore[index]  # both runs' lines
 

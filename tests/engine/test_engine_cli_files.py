@@ -66,7 +66,7 @@ def test_sweep_of_design_thrust_is_similar(tmp_path: Path, capsys: pytest.Captur
     assert b["SFC_kg_N_s"] == pytest.approx(a["SFC_kg_N_s"], rel=1e-7)
     rows = list(csv.DictReader((out / "sweep.csv").open()))
     assert [float(x["design.Fn_N"]) for x in rows] == [40000.0, 80000.0] and (out / "sweep.png").stat().st_size > 0
-    assert main(["engine", "sweep", "pycycle_ab_turbojet", "--vary", "comp.PR", "12", "--out", str(out)]) == 1
+    assert main(["engine", "sweep", "pycycle_ab_turbojet", "--vary", "comp.PR", "12", "--out", str(out)]) == 2
     assert "already holds sweep.csv" in capsys.readouterr().err
 
 
@@ -84,6 +84,6 @@ def test_sweep_of_design_thrust_is_similar(tmp_path: Path, capsys: pytest.Captur
     (["engine", "sweep", "larzac04"], "at least one value"),
 ])
 def test_bad_input_is_one_line(argv: list[str], words: str, capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(argv) == 1
+    assert main(argv) == 2  # bad input (exit codes: README)
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and words in err and "Traceback" not in err

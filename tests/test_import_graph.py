@@ -48,7 +48,7 @@ MAY_IMPORT: dict[str, tuple[str, ...]] = {
 #: a sub-package; "" is the package root, the shared modules (SHARED). A module imports modules of its own part
 #: or of lower parts only; fmu/ and scenarios/ are side by side.
 PART_LEVEL = {"": 0, "ssp": 1, "master": 2, "fmu": 3, "scenarios": 3, "cli": 4}
-SHARED = {"__init__", "errors", "results", "interrupt"}
+SHARED = {"__init__", "errors", "exit_codes", "results", "interrupt"}
 
 
 def _runtime_nodes(tree: ast.AST) -> list[ast.AST]:

@@ -99,7 +99,7 @@ def test_a_registered_format_is_offered_written_read_and_cleared(tsv: ResultForm
     mine.mkdir()
     (mine / "timeseries.tsv").write_text("the user's\n")
     capsys.readouterr()
-    assert main(["run", str(oscillator), "--stop-time", "1", "--out", str(mine)]) == 1
+    assert main(["run", str(oscillator), "--stop-time", "1", "--out", str(mine)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "timeseries.tsv" in err[0] and "not written by a run of openEMSS" in err[0], err
     assert (mine / "timeseries.tsv").read_text() == "the user's\n"

@@ -77,24 +77,24 @@ def test_offdesign_throttle_against_npss(jt9d: EngineGraph, i: int) -> None:
 
 def test_what_cannot_be_carried_is_refused(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     out = tmp_path / "e.yaml"
-    assert _convert(out, drop=[], inputs=()) == 1
+    assert _convert(out, drop=[], inputs=()) == 2  # bad input (exit codes: README)
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "JT9D.mdl:42: element 'Inlet': function preexecute()" in err
     assert "--drop Inlet.preexecute" in err and not out.exists()
-    assert _convert(out, drop=DROP[:5], inputs=("JT9D_designVars.input",)) == 1
+    assert _convert(out, drop=DROP[:5], inputs=("JT9D_designVars.input",)) == 2
     assert "Target_T4" in capsys.readouterr().err
     bad = tmp_path / "bad.mdl"
     bad.write_text('Element Mixer Mix {\n  Fl_O.MN = 0.3;\n}\n')
-    assert main(["engine", "convert", "npss", str(bad), "--out", str(out)]) == 1
+    assert main(["engine", "convert", "npss", str(bad), "--out", str(out)]) == 2
     assert "bad.mdl:1: element 'Mix' (Mixer): no element kind of ours" in capsys.readouterr().err
     bad.write_text('Element Duct D {\n  dPqP_dmd = 0.01;\n  Ath = 3.0;\n}\n')
-    assert main(["engine", "convert", "npss", str(bad), "--out", str(out)]) == 1
+    assert main(["engine", "convert", "npss", str(bad), "--out", str(out)]) == 2
     assert "bad.mdl:3: element 'D': Ath = 3.0: this attribute cannot be carried" in capsys.readouterr().err
     bad.write_text('Element Duct D {\n  dPqP_dmd = 0.01 * 2;\n}\n')
-    assert main(["engine", "convert", "npss", str(bad), "--out", str(out)]) == 1
+    assert main(["engine", "convert", "npss", str(bad), "--out", str(out)]) == 2
     assert "an expression cannot be carried" in capsys.readouterr().err
-    assert main(["engine", "convert", "npss", str(DATA / "JT9D.mdl"), "--out", str(out), "--drop", "nothing"]) == 1
+    assert main(["engine", "convert", "npss", str(DATA / "JT9D.mdl"), "--out", str(out), "--drop", "nothing"]) == 2
     assert "--drop" in capsys.readouterr().err
     out.write_text("mine")
-    assert _convert(out) == 1 and out.read_text() == "mine"
+    assert _convert(out) == 2 and out.read_text() == "mine"
     assert "nothing is overwritten" in capsys.readouterr().err

@@ -27,6 +27,7 @@ from pathlib import Path
 from .errors import AirframeError, FuelExhaustedError, LossOfAircraftError, OutOfEnvelopeError
 from .geometry import load_geometry
 from .loading import check_air_start, check_loading
+from .settings import AirframeEnvironment, AirframeSimulation, AirframeStart, airframe_set
 
 __all__ = ["Airframe", "AirframeState", "JSBSIM_ROOT", "DEFAULT_RATE_HZ", "WindProfile", "FUEL_ROUNDOFF_KG"]
 
@@ -126,6 +127,12 @@ class AirframeState:
     fuel_kg: float
 
 
+def _bounds(cls: type, section: str, name: str) -> tuple[float, float]:
+    """The range of parameter ``name`` of ``section`` of ``data/airframe.yaml`` (the one place it is written)."""
+    p = airframe_set(cls, section).param(name)
+    return p.min, p.max
+
+
 def _check(name: str, value: float, lo: float, hi: float, unit: str = "") -> float:
     v = float(value)
     if not (lo <= v <= hi) or math.isnan(v):
@@ -162,7 +169,7 @@ class Airframe:
                  wind_ned_m_s: tuple[float, float, float] = (0.0, 0.0, 0.0), turbulence_severity: int = 0,
                  turbulence_wind_20ft_m_s: float = 0.0, seed: int = 0,
                  wind_profile: WindProfile | None = None) -> None:
-        self.rate_hz = _check("rate_hz", rate_hz, 10.0, 2000.0, " Hz")
+        self.rate_hz = _check("rate_hz", rate_hz, *_bounds(AirframeSimulation, "simulation", "rate_hz"), " Hz")
         self.dt_s = 1.0 / self.rate_hz
         os.environ.setdefault("JSBSIM_DEBUG", "0")
         import jsbsim  # imported here so the model package loads without JSBSim for table work
@@ -210,11 +217,13 @@ class Airframe:
                        turbulence_severity: int = 0, turbulence_wind_20ft_m_s: float = 0.0) -> None:
         """ISA deviation [K], steady wind north/east/down [m/s], MIL-F-8785C turbulence (0 = off)."""
         f = self._fdm
-        f["atmosphere/delta-T"] = _check("isa_dev_K", isa_dev_K, -60.0, 60.0, " K") * 1.8
+        dT = _check("isa_dev_K", isa_dev_K, *_bounds(AirframeEnvironment, "environment", "isa_dev_K"), " K")
+        f["atmosphere/delta-T"] = dT * 1.8
         n, e, d = (float(v) for v in wind_ned_m_s)
         self._wind_fps = (n / FT, e / FT, d / FT)
         f["atmosphere/wind-north-fps"], f["atmosphere/wind-east-fps"], f["atmosphere/wind-down-fps"] = self._wind_fps
-        sev = int(_check("turbulence_severity", turbulence_severity, 0, 7))
+        sev = int(_check("turbulence_severity", turbulence_severity,
+                         *_bounds(AirframeEnvironment, "environment", "turbulence_severity")))
         f["atmosphere/turb-type"] = 3 if sev > 0 else 0  # 3: MIL-F-8785C / Tustin
         f["atmosphere/turbulence/milspec/severity"] = sev
         f["atmosphere/turbulence/milspec/windspeed_at_20ft_AGL-fps"] = float(turbulence_wind_20ft_m_s) / FT
@@ -272,9 +281,10 @@ class Airframe:
         """
         f = self._fdm
         self._begin(fuel_kg)
-        f["ic/lat-geod-deg"] = _check("lat_deg", lat_deg, -89.0, 89.0, " deg")
-        f["ic/long-gc-deg"] = _check("lon_deg", lon_deg, -180.0, 180.0, " deg")
-        f["ic/terrain-elevation-ft"] = _check("elevation_m", elevation_m, -500.0, 5000.0, " m") / FT
+        f["ic/lat-geod-deg"] = _check("lat_deg", lat_deg, *_bounds(AirframeStart, "start", "lat0_deg"), " deg")
+        f["ic/long-gc-deg"] = _check("lon_deg", lon_deg, *_bounds(AirframeStart, "start", "lon0_deg"), " deg")
+        elev = _check("elevation_m", elevation_m, *_bounds(AirframeStart, "start", "ground_elevation_m"), " m")
+        f["ic/terrain-elevation-ft"] = elev / FT
         if self._wind_profile is not None:
             self._apply_wind(float(elevation_m))
         gear = self.geometry.section("gear")
@@ -303,10 +313,10 @@ class Airframe:
         f = self._fdm
         check_air_start(alt_m, ground_elevation_m)
         self._begin(fuel_kg)
-        f["ic/lat-geod-deg"] = _check("lat_deg", lat_deg, -89.0, 89.0, " deg")
-        f["ic/long-gc-deg"] = _check("lon_deg", lon_deg, -180.0, 180.0, " deg")
+        f["ic/lat-geod-deg"] = _check("lat_deg", lat_deg, *_bounds(AirframeStart, "start", "lat0_deg"), " deg")
+        f["ic/long-gc-deg"] = _check("lon_deg", lon_deg, *_bounds(AirframeStart, "start", "lon0_deg"), " deg")
         f["ic/terrain-elevation-ft"] = float(ground_elevation_m) / FT
-        f["ic/h-sl-ft"] = _check("alt_m", alt_m, -400.0, 12000.0, " m") / FT
+        f["ic/h-sl-ft"] = _check("alt_m", alt_m, *_bounds(AirframeStart, "start", "alt0_m"), " m") / FT
         if self._wind_profile is not None:
             self._apply_wind(float(alt_m))
         # The initial condition is given as attitude and body-axis velocity over the ground, with

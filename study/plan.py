@@ -19,16 +19,12 @@ FMI_INT_MIN, FMI_INT_MAX = -(2**31), 2**31 - 1  #: an FMI 2.0 Integer is a 32-bi
 
 
 def prepare_system(system: Path) -> None:
-    """Build the FMUs of the project's own systems (ssp/, the shipped example) once, before the cases run.
+    """Build the FMUs of the project's own systems (ssp/ and ssp/hybrid/, the oscillator example) once, before
+    the cases run, as ``emss run`` does (:func:`openemss.orchestrator.cli.api.ensure_project_fmus`); cases
+    running at the same time must not."""
+    from openemss.orchestrator.cli.api import ensure_project_fmus
 
-    ``emss run`` builds them when missing or stale; cases running at the same time must not.
-    """
-    from openemss.orchestrator.fmu.build import PACKAGE_ROOT, ensure_built
-
-    example = PACKAGE_ROOT / "examples" / "oscillator"
-    for folder, sources in ((PACKAGE_ROOT / "ssp", PACKAGE_ROOT / "fmus"), (example, example / "fmus")):
-        if system.is_dir() and folder.is_dir() and system.resolve() == folder.resolve():
-            ensure_built(sources, folder / "resources", report=lambda m: None)
+    ensure_project_fmus(system, report=lambda m: None)
 
 
 def typed_value(type_name: str, value: ValueT, where: str) -> ValueT:

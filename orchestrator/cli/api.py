@@ -256,17 +256,27 @@ def default_system() -> Path:
     return DEFAULT_SYSTEM
 
 
+#: The project's own systems whose FMUs are built on demand: (system folder, its slaves' sources, whether its
+#: sub-folders are systems of the same FMUs too, e.g. ssp/hybrid/).
+PROJECT_SYSTEMS = ((Path("ssp"), Path("fmus"), True),
+                   (Path("examples") / "oscillator", Path("examples") / "oscillator" / "fmus", False))
+
+
 def ensure_project_fmus(system: Path, report: Callable[[str], None] | None = None) -> None:
-    """The project's own systems (ssp/ and its sub-folders, e.g. ssp/hybrid/) get their FMUs built from fmus/
-    when they are missing or stale; ``report`` (default: stderr) hears of each FMU built, nothing of those up
-    to date."""
-    project = PACKAGE_ROOT / "ssp"
-    if system.is_dir() and project.is_dir() and project.resolve() in (system.resolve(), system.resolve().parent):
-        before = interrupt.current()
-        interrupt.phase("build", "during the FMU build")
-        ensure_built(PACKAGE_ROOT / "fmus", system / "resources", report_up_to_date=False,
-                     report=report or (lambda m: print(m, file=sys.stderr)))
-        interrupt.phase(before.key, before.during, before.outcome)
+    """The project's own systems (:data:`PROJECT_SYSTEMS`: ssp/ and its sub-folders, e.g. ssp/hybrid/, and
+    the oscillator example) get their FMUs built from their sources when they are missing or stale; ``report``
+    (default: stderr) hears of each FMU built, nothing of those up to date. Other systems are left alone."""
+    if not system.is_dir():
+        return
+    where = system.resolve()
+    for folder, sources, nested in PROJECT_SYSTEMS:
+        project = PACKAGE_ROOT / folder
+        if project.is_dir() and project.resolve() in ((where, where.parent) if nested else (where,)):
+            before = interrupt.current()
+            interrupt.phase("build", "during the FMU build")
+            ensure_built(PACKAGE_ROOT / sources, system / "resources", report_up_to_date=False,
+                         report=report or (lambda m: print(m, file=sys.stderr)))
+            interrupt.phase(before.key, before.during, before.outcome)
 
 
 def _record_not_run(out: Path, system: Path, exc: BaseException) -> None:

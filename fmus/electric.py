@@ -21,6 +21,7 @@ import math
 from pythonfmu import Fmi2Slave
 from pythonfmu.enums import Fmi2Status
 
+from openemss.fmus.fmu_state import FmuState
 from openemss.fmus.initial_outputs import InitialOutputs
 from openemss.fmus.signal_io import SignalIO
 from openemss.models.electric.electric_signals import PARAMETERS, SIGNALS
@@ -31,7 +32,7 @@ REQUIREMENTS = ["pyyaml>=6.0"]
 _INPUT_NAMES = tuple(name for name, _, _ in INPUTS)
 
 
-class Electric(InitialOutputs, SignalIO, Fmi2Slave):
+class Electric(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
     """Hybrid-electric power system on the two spools of a turbofan."""
 
     author = "openEMSS"

@@ -27,6 +27,7 @@ import numpy as np
 from pythonfmu import Fmi2Slave
 from pythonfmu.enums import Fmi2Status
 
+from openemss.fmus.fmu_state import FmuState
 from openemss.fmus.initial_outputs import InitialOutputs
 from openemss.fmus.signal_io import SignalIO
 from openemss.models.engine.design_params import TurbofanParams, load_params, preset_path, replace
@@ -59,7 +60,7 @@ _BOOLS = tuple((i, _FIELD_INPUT[f]) for i, f in enumerate(INPUT_FIELDS) if _SLOT
 _ALT, _DT = INPUT_FIELDS.index("alt_m"), INPUT_FIELDS.index("dT_isa_K")
 
 
-class Engine(InitialOutputs, SignalIO, Fmi2Slave):
+class Engine(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
     """Two-spool separate-flow turbofan with spool dynamics, bleeds, offtakes and inlet distortion."""
 
     author = "openEMSS"

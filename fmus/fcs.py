@@ -34,6 +34,7 @@ import math
 from pythonfmu import Fmi2Slave
 
 from openemss.fmus.data import data_file
+from openemss.fmus.fmu_state import FmuState
 from openemss.fmus.initial_outputs import InitialOutputs
 from openemss.fmus.signal_io import SignalIO
 from openemss.models.fcs.atmosphere import isa, mach_from_tas
@@ -103,7 +104,7 @@ def _defaults() -> FlightControlSystem:
     return FlightControlSystem(Mission("defaults", "", (), (), (), "<defaults>"))
 
 
-class Fcs(InitialOutputs, SignalIO, Fmi2Slave):
+class Fcs(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
     """UPERA flight and propulsion control: a mission of stacked sections flown by TECS and L1 guidance."""
 
     author = "openEMSS"

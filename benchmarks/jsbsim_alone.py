@@ -69,7 +69,7 @@ def airframe_inputs(bound: Any, component: str, table: Any, steps: int) -> tuple
         x = table[col].to_numpy(dtype=float)[:steps]
         out[name] = ln.affine.scale * x + ln.affine.offset
     for key in ("start_on_runway", "weather_file", "wind_north_m_s", "wind_east_m_s", "wind_down_m_s",
-                "turbulence_severity", "isa_dev_K", "lat0_deg", "lon0_deg", "heading0_deg", "alt0_m"):
+                "turbulence_severity", "weather_dT_isa_K", "lat0_deg", "lon0_deg", "heading0_deg", "alt0_m"):
         if starts.get(key) != defaults.get(key):
             return {}, f"the airframe's {key} is not its default (only the shipped start is replayed)"
     return out, ""

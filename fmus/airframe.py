@@ -114,7 +114,7 @@ class Airframe(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
         sev, w20, seed = (env.turbulence_severity, env.turbulence_wind_20ft_m_s, env.turbulence_seed)
         if turb is not None:  # the file's turbulence replaces the parameters'
             sev, w20, seed = turb.severity, turb.wind_20ft_m_s, turb.seed
-        m = AirframeModel(rate_hz=sets["simulation"].rate_hz, isa_dev_K=env.isa_dev_K,
+        m = AirframeModel(rate_hz=sets["simulation"].rate_hz, dT_isa_K=env.weather_dT_isa_K,
                           wind_ned_m_s=(env.wind_north_m_s, env.wind_east_m_s, env.wind_down_m_s),
                           turbulence_severity=sev, turbulence_wind_20ft_m_s=w20, seed=seed,
                           wind_profile=w.wind.ned_m_s if w is not None and w.wind is not None else None)

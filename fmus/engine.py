@@ -2,7 +2,7 @@
 
 A thin pythonfmu slave over :class:`openemss.models.engine.engine_model.EngineModel`.
 In initialisation the engine is put in a steady state at the initial
-flight condition (inputs ``alt_msl_m``, ``mach``, ``isa_dev_K``, or with
+flight condition (inputs ``alt_msl_m``, ``mach``, ``dT_isa_K``, or with
 ``use_ambient`` the ambient static ``p_amb_Pa`` and ``T_amb_K``, e.g. from the airframe): at the fuel flow
 ``start_fuel_flow_kg_s`` if it is > 0, else at ``start_N1_pct``; computed when a master reads its outputs
 in Initialization Mode and again for inputs set after that (``fmus/initial_outputs.py``), so that the

@@ -83,7 +83,7 @@ OUTPUTS = tuple((s.name, s.described()) for s in _OUTPUTS["Real"])
 #: The Real inputs in the order :meth:`Fcs.do_step` unpacks them from the slave's input list ``_u`` (one
 #: unpacking instead of a property call per input, about 1.5 us a step); checked against the table here.
 _UNPACKED = ("lat_deg", "lon_deg", "alt_msl_m", "tas_m_s", "gs_m_s", "vs_m_s", "phi_rad", "theta_rad", "psi_rad",
-             "p_rad_s", "q_rad_s", "r_rad_s", "beta_rad", "rho_amb_kg_m3", "mass_kg", "N1_pct", "N1c_pct", "Tt41_K")
+             "p_rad_s", "q_rad_s", "r_rad_s", "beta_rad", "rho_amb_kg_m3", "dT_isa_K", "mass_kg", "N1_pct", "N1c_pct", "Tt41_K")
 if tuple(name for name, _ in INPUTS) != _UNPACKED:
     raise ImportError("fmus/fcs.py: Fcs.do_step unpacks the Real inputs as " + ", ".join(_UNPACKED)
                       + "; models/fcs/fcs_signals.py lists " + ", ".join(name for name, _ in INPUTS))
@@ -181,7 +181,7 @@ class Fcs(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
                             section_name=fcs.runner.active_name, mission_completed=fcs.finished)
 
     def do_step(self, current_time: float, step_size: float) -> bool:
-        (lat, lon, alt, tas, gs, vs, phi, theta, psi, p, q, r, beta, rho, mass, N1, N1c, Tt41) = self._u
+        (lat, lon, alt, tas, gs, vs, phi, theta, psi, p, q, r, beta, rho, dev, mass, N1, N1c, Tt41) = self._u
         if not mass > 0.0 or not rho > 0.0:
             # Not an aircraft's state (a master that starts every input at 0, as FMPy's SSP runner does):
             # the commands are held and the mission does not advance on it.
@@ -195,7 +195,6 @@ class Fcs(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
             n, e = local_ne_m(self._prev_pos, pos)
             vn, ve = n / self._prev_h, e / self._prev_h
         self._prev_pos, self._prev_h = pos, step_size
-        dev = self.isa_dev_K
         sg = vs / (1.0 if 1.0 > tas else tas)  # max(-1, min(1, vs / max(tas, 1))), NaN as 1
         sg = sg if sg < 1.0 else 1.0
         gamma = math.asin(sg if sg > -1.0 else -1.0)

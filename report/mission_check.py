@@ -14,7 +14,7 @@ FMU's start values, else the models' defaults), by role, never by component name
   and descent angle limits, idle, lever range, Tt41 and N1 limits, glide slope), ``flaps_cmd_norm``;
 * engine: ``preset`` or ``design_override`` with its ``design_*`` values, its fuel-system stops;
 * airframe: ``fuel0_kg`` and ``added_mass_kg`` (the take-off mass, warned about above the maximum),
-  ``isa_dev_K``, the weather it flies: ``weather_file`` (a mission's ``wind`` and ``turbulence``), else its
+  ``weather_dT_isa_K``, the weather it flies: ``weather_file`` (a mission's ``wind`` and ``turbulence``), else its
   steady ``wind_*_m_s``; an air start (``start_on_runway`` false) at ``lat0_deg``, ``lon0_deg``, ``alt0_m``,
   ``tas0_m_s``.
 
@@ -63,7 +63,7 @@ class CheckSetup:
     engine_limits: Any                   #: EngineLimits
     mass_kg: float
     fuel_kg: float
-    isa_dev_K: float
+    dT_isa_K: float
     flaps: float
     weather: Weather | None
     weather_origin: str
@@ -200,7 +200,7 @@ def setup_from_system(components: Mapping[str, Path], parameters: Mapping[str, A
         start = (LatLon.from_deg(af_v.number("lat0_deg", 0.0), af_v.number("lon0_deg", 0.0)),
                  af_v.number("alt0_m", 0.0), af_v.number("tas0_m_s", 0.0))
     return CheckSetup(system, gains, engine, label, engine_limits, g.oem_kg + fuel0 + added, fuel0,
-                      af_v.number("isa_dev_K", fcs_v.number("isa_dev_K", 0.0)), fcs_v.number("flaps_cmd_norm", 0.0),
+                      af_v.number("weather_dT_isa_K", 0.0), fcs_v.number("flaps_cmd_norm", 0.0),
                       weather, origin, read_fmu_file(str(fcs_v.get("mission_file", "")), fcs_v.fmu), start)
 
 
@@ -232,10 +232,10 @@ def run_check(mission: Mission, setup: CheckSetup, margin: float = 0.2) -> Missi
     from .model_performance import FuelControlLimits, ModelPerformance
 
     fuel = from_dotted(FuelControlLimits, setup.parameters.__getitem__)
-    perf = ModelPerformance(setup.engine, fuel, setup.engine_limits, setup.isa_dev_K, setup.flaps)
+    perf = ModelPerformance(setup.engine, fuel, setup.engine_limits, setup.dT_isa_K, setup.flaps)
     wind = setup.weather.wind if setup.weather is not None else None
     return check_mission(mission, perf, setup.limits, setup.mass_kg, start=setup.start, wind=wind,
-                         isa_dev_K=setup.isa_dev_K, margin=margin, fuel_kg=setup.fuel_kg)
+                         dT_isa_K=setup.dT_isa_K, margin=margin, fuel_kg=setup.fuel_kg)
 
 
 def _f(x: float | None, scale: float = 1.0, fmt: str = "{:.1f}") -> str:
@@ -248,7 +248,7 @@ def format_check(check: MissionCheck, setup: CheckSetup, warnings: Sequence[str]
     w = setup.weather
     lines = [f"mission check: {check.mission} ({check.source})",
              f"system {setup.system}: engine {setup.engine_label}, {setup.mass_kg:.0f} kg at the start, ISA "
-             f"{setup.isa_dev_K:+.0f} K, {w.describe() if w is not None else 'still air'}"
+             f"{setup.dT_isa_K:+.0f} K, {w.describe() if w is not None else 'still air'}"
              f"{f' ({setup.weather_origin})' if w is not None else ''}; marginal: less than "
              f"{100 * check.margin:.0f} % of margin",
              f"  {'#':>2}  {'section':<34} {'type':<17} {'altitude m':<13} {'dist km':>7} {'need %':>7} "
@@ -281,7 +281,7 @@ def as_json(check: MissionCheck, setup: CheckSetup, warnings: Sequence[str], wal
     """The check as a JSON-able mapping (SI units in the key names)."""
     w = setup.weather
     return {"mission": check.mission, "source": check.source, "system": setup.system,
-            "engine": setup.engine_label, "mass_kg": setup.mass_kg, "isa_dev_K": setup.isa_dev_K,
+            "engine": setup.engine_label, "mass_kg": setup.mass_kg, "dT_isa_K": setup.dT_isa_K,
             "weather": None if w is None else {"description": w.describe(), "origin": setup.weather_origin},
             "margin": check.margin, "counts": {v: check.count(v) for v in ("ok", "marginal", "infeasible", "n/a")},
             "fuel_estimate_kg": check.fuel_estimate_kg, "time_estimate_s": check.time_estimate_s,

@@ -70,16 +70,16 @@ class ModelPerformance:
         Lever, N1c, Tt41, N1 and fuel-flow limits of the flight control.
     engine_limits : EngineLimits, optional
         The engine's fuel-system stops (its FMU parameters).
-    isa_dev_K : float
+    dT_isa_K : float
         ISA temperature deviation [K].
     flaps : float
         Flap setting the flight control commands [0, 1].
     """
 
     def __init__(self, engine: TurbofanParams, fuel: FuelControlLimits, engine_limits: EngineLimits | None = None,
-                 isa_dev_K: float = 0.0, flaps: float = 0.0) -> None:
-        self.fuel, self.dT, self.flaps = fuel, float(isa_dev_K), float(flaps)
-        self._af = Airframe(isa_dev_K=isa_dev_K)
+                 dT_isa_K: float = 0.0, flaps: float = 0.0) -> None:
+        self.fuel, self.dT, self.flaps = fuel, float(dT_isa_K), float(flaps)
+        self._af = Airframe(dT_isa_K=dT_isa_K)
         self._aero = aero_model()
         self.rolling_friction = float(self._af.geometry.section("gear")["rolling_friction"])
         try:

@@ -97,6 +97,8 @@ class AirframeState:
     airbrake_pos_norm : airbrake position, 0 retracted to 1 fully out [-]
     on_ground : any wheel carries weight
     mass_kg, fuel_kg : total mass, fuel mass [kg]
+    dT_isa_K : ISA temperature deviation of the atmosphere [K] (:meth:`Airframe.set_atmosphere`), the one
+        value of the system: the engine and the flight control take it from here
     """
 
     time_s: float
@@ -125,6 +127,7 @@ class AirframeState:
     on_ground: bool
     mass_kg: float
     fuel_kg: float
+    dT_isa_K: float
 
 
 def _bounds(cls: type, section: str, name: str) -> tuple[float, float]:
@@ -147,7 +150,7 @@ class Airframe:
     ----------
     rate_hz : float
         Internal JSBSim rate [Hz] (default 120).
-    isa_dev_K : float
+    dT_isa_K : float
         ISA temperature deviation [K].
     wind_ned_m_s : tuple of float
         Steady wind towards north, east, down [m/s].
@@ -165,7 +168,7 @@ class Airframe:
     >>> af.set_thrust(13000.0); af.step(0.05); af.state().gs_m_s  # doctest: +SKIP
     """
 
-    def __init__(self, rate_hz: float = DEFAULT_RATE_HZ, isa_dev_K: float = 0.0,
+    def __init__(self, rate_hz: float = DEFAULT_RATE_HZ, dT_isa_K: float = 0.0,
                  wind_ned_m_s: tuple[float, float, float] = (0.0, 0.0, 0.0), turbulence_severity: int = 0,
                  turbulence_wind_20ft_m_s: float = 0.0, seed: int = 0,
                  wind_profile: WindProfile | None = None) -> None:
@@ -209,16 +212,17 @@ class Airframe:
                                                         "left-brake", "right-brake", "steer"))
         self._wind_profile: WindProfile | None = None
         self._started = False
-        self.set_atmosphere(isa_dev_K, wind_ned_m_s, turbulence_severity, turbulence_wind_20ft_m_s)
+        self.set_atmosphere(dT_isa_K, wind_ned_m_s, turbulence_severity, turbulence_wind_20ft_m_s)
         self.set_wind_profile(wind_profile)
 
     # -- environment --------------------------------------------------------
-    def set_atmosphere(self, isa_dev_K: float = 0.0, wind_ned_m_s: tuple[float, float, float] = (0.0, 0.0, 0.0),
+    def set_atmosphere(self, dT_isa_K: float = 0.0, wind_ned_m_s: tuple[float, float, float] = (0.0, 0.0, 0.0),
                        turbulence_severity: int = 0, turbulence_wind_20ft_m_s: float = 0.0) -> None:
         """ISA deviation [K], steady wind north/east/down [m/s], MIL-F-8785C turbulence (0 = off)."""
         f = self._fdm
-        dT = _check("isa_dev_K", isa_dev_K, *_bounds(AirframeEnvironment, "environment", "isa_dev_K"), " K")
-        f["atmosphere/delta-T"] = dT * 1.8
+        self._dT_isa_K = _check("dT_isa_K", dT_isa_K,
+                                *_bounds(AirframeEnvironment, "environment", "weather_dT_isa_K"), " K")
+        f["atmosphere/delta-T"] = self._dT_isa_K * 1.8  # [R per K]
         n, e, d = (float(v) for v in wind_ned_m_s)
         self._wind_fps = (n / FT, e / FT, d / FT)
         f["atmosphere/wind-north-fps"], f["atmosphere/wind-east-fps"], f["atmosphere/wind-down-fps"] = self._wind_fps
@@ -496,7 +500,7 @@ class Airframe:
         """The current state in SI units."""
         vals = [n.get_double_value() * k for n, k in self._nodes]
         return AirframeState(self.time_s, *vals, self._wow.get_double_value() > 0.5,
-                             self._mass.get_double_value() * SLUG, self._fuel_kg)
+                             self._mass.get_double_value() * SLUG, self._fuel_kg, self._dT_isa_K)
 
     def values(self) -> list[float]:
         """The state as a flat list in AirframeState order (booleans as 0/1), for fast FMU output."""
@@ -505,6 +509,7 @@ class Airframe:
         vals.append(1.0 if self._wow.get_double_value() > 0.5 else 0.0)
         vals.append(self._mass.get_double_value() * SLUG)
         vals.append(self._fuel_kg)
+        vals.append(self._dT_isa_K)
         return vals
 
     def get_property(self, name: str) -> float:

@@ -80,7 +80,7 @@ DESIGN_MACH = 0.5
 DESIGN_ALT_M = 5000.0  # altitude of the design condition (Reynolds number of the viscous drag due to lift)
 
 
-def isa(alt_m: float, dT_K: float = 0.0) -> tuple[float, float, float, float, float]:
+def isa(alt_m: float, dT_isa_K: float = 0.0) -> tuple[float, float, float, float, float]:
     """The standard atmosphere (:mod:`openemss.models.common.atmosphere`, ISO 2533) with Sutherland's
     viscosity, as a tuple for the aerodynamic formulas.
 
@@ -96,7 +96,7 @@ def isa(alt_m: float, dT_K: float = 0.0) -> tuple[float, float, float, float, fl
         Outside the standard's range (-1000 to 32000 m, 150 to 350 K).
     """
     try:
-        a = _atm.isa(alt_m, dT_K)
+        a = _atm.isa(alt_m, dT_isa_K)
     except _atm.AtmosphereRangeError as exc:
         raise OutOfEnvelopeError(str(exc)) from None
     return a.T_K, a.p_Pa, a.rho_kg_m3, a.a_m_s, _atm.sutherland_viscosity(a.T_K)

@@ -60,6 +60,7 @@ SIGNALS: tuple[Signal, ...] = check_table((
     _out("airbrake_pos_norm", "1", "Airbrake position, 0 retracted to 1 fully out"),
     _out("on_ground", "1", "A wheel carries weight", type_="Boolean"),
     _out("mass_kg", "kg", "Aircraft mass"), _out("fuel_kg", "kg", "Fuel mass"),
+    _out("dT_isa_K", "K", "ISA temperature deviation of the atmosphere flown (the parameter weather_dT_isa_K)"),
     # after the state: the trimmed air start (values() + these two)
     _out("trim_elevator_norm", "1", "Elevator of the trimmed air start"),
     _out("trim_thrust_N", "N", "Thrust of the trimmed air start"),

@@ -53,7 +53,7 @@ class AirframeEnvironment:
     a weather file (winds aloft and turbulence) that replaces the wind and turbulence."""
 
     weather_file: str
-    isa_dev_K: float
+    weather_dT_isa_K: float
     wind_north_m_s: float
     wind_east_m_s: float
     wind_down_m_s: float

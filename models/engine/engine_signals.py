@@ -310,7 +310,8 @@ SIGNALS: tuple[Signal, ...] = check_table((
     _in("alt_msl_m", "m", "Altitude above mean sea level, flown as the ISA geopotential altitude",
         _IN["alt_m"], "alt_m"),
     _in("mach", "1", "Flight Mach number", _IN["Mach"], "Mach"),
-    _in("isa_dev_K", "K", "ISA temperature deviation", _IN["dT_isa_K"], "dT_isa_K"),
+    _in("dT_isa_K", "K", "ISA temperature deviation of the atmosphere flown (the airframe's dT_isa_K)",
+        _IN["dT_isa_K"], None),
     _in("offtake_hp_W", "W", "HP shaft port power, + taken from the spool (offtake, generator), - delivered to "
                              "it (motor assist)", _IN["offtake_hp_W"], "offtake_hp_W"),
     _in("offtake_lp_W", "W", "LP shaft port power, + taken from the spool (offtake, generator), - delivered to "

@@ -47,7 +47,6 @@ SIGNALS: tuple[Signal, ...] = check_table((
     _par("Wf0_kg_s", "kg/s", "Fuel-flow command at the start; < 0: the minimum fuel_control.Wf_min_kg_s", 0.07),
     _par("elevator0_norm", "1", "Elevator at the start (e.g. the airframe's trim_elevator_norm): the pitch "
                                 "integral starts from it", 0.0),
-    _par("isa_dev_K", "K", "ISA temperature deviation the laws assume (as the airframe's isa_dev_K)", 0.0),
     _par("flaps_cmd_norm", "1", "Flap setting commanded throughout (the laws do not schedule flaps), 0 to 1",
          0.0, variability="tunable"),
     _in("lat_deg", "deg", "Geodetic latitude", None), _in("lon_deg", "deg", "Longitude", None),
@@ -59,6 +58,8 @@ SIGNALS: tuple[Signal, ...] = check_table((
     _in("p_rad_s", "rad/s", "Body roll rate"), _in("q_rad_s", "rad/s", "Body pitch rate"),
     _in("r_rad_s", "rad/s", "Body yaw rate"), _in("beta_rad", "rad", "Sideslip angle"),
     _in("rho_amb_kg_m3", "kg/m3", "Ambient density, for the dynamic pressure", 1.17),
+    _in("dT_isa_K", "K", "ISA temperature deviation of the atmosphere flown (the airframe's), for the airspeed "
+                         "conversions"),
     _in("mass_kg", "kg", "Aircraft mass", 2100.0),
     _in("N1_pct", "%", "Engine fan speed N1, percent of design"),
     _in("N1c_pct", "%", "Engine corrected fan speed N1c, percent of design"),

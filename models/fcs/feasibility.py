@@ -160,7 +160,7 @@ def _check_section(ck: Checker, sec: Section, st: CheckState, nxt: Section | Non
 
 def check_mission(mission: Mission, perf: Performance, limits: Limits, mass_kg: float, *,
                   start: tuple[LatLon, float, float] | None = None, wind: WindProfile | None = None,
-                  isa_dev_K: float = 0.0, margin: float = 0.2, fuel_kg: float | None = None) -> MissionCheck:
+                  dT_isa_K: float = 0.0, margin: float = 0.2, fuel_kg: float | None = None) -> MissionCheck:
     """Check every section of ``mission`` (see the module docstring).
 
     Parameters
@@ -177,7 +177,7 @@ def check_mission(mission: Mission, perf: Performance, limits: Limits, mass_kg: 
         Where the mission starts; default the first section's runway threshold at rest.
     wind : WindProfile, optional
         Winds aloft (ground speeds, turn radii).
-    isa_dev_K : float
+    dT_isa_K : float
         ISA temperature deviation [K].
     margin : float
         Relative margin below which a feasible section is marginal [-].
@@ -195,7 +195,7 @@ def check_mission(mission: Mission, perf: Performance, limits: Limits, mass_kg: 
         start = (rwy.threshold, rwy.elevation_m, 0.0)
     pos, alt, tas = start
     st = CheckState(pos, alt, tas, mass_kg, None)
-    ck = Checker(mission, perf, limits, wind, isa_dev_K, margin)
+    ck = Checker(mission, perf, limits, wind, dT_isa_K, margin)
     secs = mission.sections
     results = tuple(_check_section(ck, s, st, secs[i + 1] if i + 1 < len(secs) else None) for i, s in enumerate(secs))
     notes = []

@@ -92,8 +92,8 @@ class Checker:
     """
 
     def __init__(self, mission: Mission, perf: Performance, limits: Limits, wind: WindProfile | None,
-                 isa_dev_K: float, margin: float) -> None:
-        self.m, self.perf, self.lim, self.wind, self.dT, self.margin = mission, perf, limits, wind, isa_dev_K, margin
+                 dT_isa_K: float, margin: float) -> None:
+        self.m, self.perf, self.lim, self.wind, self.dT, self.margin = mission, perf, limits, wind, dT_isa_K, margin
         self.findings: list[Finding] = []
         self.next_fix: LatLon | None = None
 

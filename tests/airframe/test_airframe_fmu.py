@@ -39,9 +39,9 @@ def test_model_description(fmu: Path) -> None:
     for name in ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "gear_down", "brakes_norm",
                  "steering_norm", "thrust_N", "fuel_flow_kg_s"):
         assert names[name].causality == "input"
-    for name in (*OUT, "on_ground"):
+    for name in (*OUT, "on_ground", "dT_isa_K"):
         assert names[name].causality == "output"
-    for name in ("lat0_deg", "lon0_deg", "heading0_deg", "alt0_m", "tas0_m_s", "fuel0_kg", "isa_dev_K",
+    for name in ("lat0_deg", "lon0_deg", "heading0_deg", "alt0_m", "tas0_m_s", "fuel0_kg", "weather_dT_isa_K",
                  "wind_north_m_s", "turbulence_severity", "rate_hz", "start_on_runway"):
         assert names[name].causality == "parameter"
 

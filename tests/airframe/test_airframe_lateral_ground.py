@@ -140,7 +140,7 @@ def test_gear_retracts_and_adds_drag(af: Airframe) -> None:
 def test_isa_deviation_and_wind(wind: tuple[float, float, float]) -> None:
     """The air start's airspeed, sideslip and angle of attack are relative to the air mass, and the
     ground velocity is air velocity + wind (vector sum, checked in north/east components)."""
-    af = Airframe(isa_dev_K=15.0, wind_ned_m_s=wind)
+    af = Airframe(dT_isa_K=15.0, wind_ned_m_s=wind)
     s0 = af.start_air(5000.0, 150.0, 90.0, alpha_rad=0.05, ground_elevation_m=0.0)
     assert s0.tas_m_s == pytest.approx(150.0, abs=1e-6) and abs(s0.beta_rad) < 1e-9  # at time zero already
     af.step(af.dt_s)

@@ -33,7 +33,7 @@ def test_model_description(fmu: Path) -> None:
     md = read_model_description(str(fmu))
     names = {v.name: v for v in md.modelVariables}
     assert_house_style(md)
-    for name in ("fuel_flow_cmd_kg_s", "alt_msl_m", "mach", "isa_dev_K", "offtake_hp_W", "offtake_lp_W",
+    for name in ("fuel_flow_cmd_kg_s", "alt_msl_m", "mach", "dT_isa_K", "offtake_hp_W", "offtake_lp_W",
                  "customer_bleed_frac", "distortion_on", "distortion_sector_deg", "distortion_dPt_frac",
                  "distortion_dTt_K"):
         assert names[name].causality == "input", name
@@ -55,7 +55,7 @@ def _inputs(k: int) -> EngineInputs:
                         0.02 if t > 1.5 else 0.0, 1.0 <= t < 2.5, 120.0, 0.08, 0.0)
 
 
-_FMU_IN = ("fuel_flow_cmd_kg_s", "alt_msl_m", "mach", "isa_dev_K", "offtake_hp_W", "offtake_lp_W", "customer_bleed_frac")
+_FMU_IN = ("fuel_flow_cmd_kg_s", "alt_msl_m", "mach", "dT_isa_K", "offtake_hp_W", "offtake_lp_W", "customer_bleed_frac")
 
 
 def _reals(u: EngineInputs) -> list[float]:

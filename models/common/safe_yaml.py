@@ -208,15 +208,13 @@ def node_lines(root: yaml.Node) -> dict[tuple[Any, ...], int]:
     keys and list indices (the root is ``()``)."""
     out: dict[tuple[Any, ...], int] = {}
     stack: list[tuple[yaml.Node, tuple[Any, ...]]] = [(root, ())]
-    while stack:  # iterative: a checked document may still be deep
+    while stack:  # iterative pre-order, in document order (a key given twice: its last node's line)
         node, path = stack.pop()
-        out[path] = node.start_mark.line + 1  # a key's path: the line where its value starts
+        out[path] = node.start_mark.line + 1
         if node.id == "mapping":
-            for k, v in node.value:
-                out[path + (k.value,)] = k.start_mark.line + 1
-                stack.append((v, path + (k.value,)))
+            stack.extend((v, path + (k.value,)) for k, v in reversed(node.value))
         elif node.id == "sequence":
-            stack.extend((v, path + (i,)) for i, v in enumerate(node.value))
+            stack.extend((v, path + (i,)) for i, v in reversed(list(enumerate(node.value))))
     return out
 
 

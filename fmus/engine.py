@@ -40,7 +40,9 @@ from openemss.models.engine.engine_model import (
     condition_from_ambient,
 )
 from openemss.models.engine.engine_signals import DESIGN_FIELDS, FLAMEOUT_STARVED, PARAMETER_SETS, SIGNALS
+from openemss.models.engine.errors import OutOfRangeError
 from openemss.models.engine.fuel_supply import FuelSupply
+from openemss.models.engine.health import HealthDeltas, health_parameter_names
 from openemss.models.engine.settings import engine_set
 
 REQUIREMENTS = ["numpy>=1.24", "scipy>=1.10", "numba>=0.59"]
@@ -58,6 +60,9 @@ _FIELD_INPUT = {field: name for name, field in _TO_MODEL}
 _SLOTS = tuple(_REAL_INPUTS.index(_FIELD_INPUT[f]) if _FIELD_INPUT[f] in _REAL_INPUTS else None for f in INPUT_FIELDS)
 _BOOLS = tuple((i, _FIELD_INPUT[f]) for i, f in enumerate(INPUT_FIELDS) if _SLOTS[i] is None)
 _ALT, _DT = INPUT_FIELDS.index("alt_m"), INPUT_FIELDS.index("dT_isa_K")
+#: The health parameters (tunable): held in one list behind a setter that marks them changed, so that a step
+#: costs one Boolean test, not eight attribute reads; applied to the model when they changed
+_HEALTH = health_parameter_names()
 
 
 class Engine(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
@@ -73,13 +78,24 @@ class Engine(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
             setattr(self, f"design_{f}", float(getattr(base, f)))
         self._model: EngineModel | None = None
         self._filled_Wf_kg_s = math.nan  # the fuel flow input's value as compute_start filled it in [kg/s]
-        self.register_signals(SIGNALS)
+        self._hvals = [0.0] * len(_HEALTH)     # the health parameters' values, in the order of _HEALTH
+        self._health_changed = False
+        first, last = (i for i, s in enumerate(SIGNALS) if s.name in (_HEALTH[0], _HEALTH[-1]))
+        self.register_signals(SIGNALS[:first])
+        for i, row in enumerate(SIGNALS[first:last + 1]):
+            self._hvals[i] = float(row.start)  # type: ignore[arg-type]
+            self.register_signal(row, getter=lambda i=i: self._hvals[i], setter=lambda x, i=i: self._set_health(i, x))
+        self.register_signals(SIGNALS[last + 1:])
         # the model's input array from the Real inputs (a Boolean's slot filled after): one itemgetter
         self._take = itemgetter(*(j if j is not None else 0 for j in _SLOTS))
         self._y = [0.0] * len(OUTPUTS)
         self._yb = [False] * len(FLAGS)
         self._yi = [0, 0]
         self._supply = FuelSupply()
+
+    def _set_health(self, i: int, value: float) -> None:
+        self._hvals[i] = float(value)
+        self._health_changed = True
 
     def _inputs(self) -> EngineInputs:
         """The model's inputs, each from the FMU input the signal table names for it."""
@@ -106,6 +122,8 @@ class Engine(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
         sets = self._sets()
         m = EngineModel.from_sets(self._params(), sets["numerics"], sets["limits"], sets["bleed_valve"],
                                   logger=lambda msg: self.log(msg, Fmi2Status.warning, "logStatusWarning"))
+        m.set_health(HealthDeltas(*self._hvals))        # the degraded engine's steady start
+        self._health_changed = False
         u, start = self._inputs(), sets["start"]
         if start.start_fuel_flow_kg_s > 0.0:
             u = dataclasses.replace(u, Wf_kg_s=start.start_fuel_flow_kg_s)
@@ -144,6 +162,13 @@ class Engine(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
                          "cannot compute its outputs", Fmi2Status.error, "logStatusError")
                 return False
         m = self._model
+        if self._health_changed:             # a tunable health parameter was set (a scenario's ramp)
+            try:
+                m.set_health(HealthDeltas(*self._hvals))  # type: ignore[union-attr]
+            except OutOfRangeError as exc:
+                self.log(f"engine: t={current_time:.6g} s: {exc}", Fmi2Status.error, "logStatusError")
+                return False
+            self._health_changed = False
         if m.flamed_out:  # type: ignore[union-attr]
             self.log(f"{m.flamed_out}: a flamed-out engine cannot be stepped on (there is no model of a "  # type: ignore[union-attr]
                      "windmilling engine)", Fmi2Status.error, "logStatusError")

@@ -302,6 +302,8 @@ def write_html_report(runs: Sequence[PlotRun], path: Path) -> Path | None:
     import plotly.io as pio
     from plotly.offline import get_plotlyjs
 
+    from .life import life_html
+
     figures = [f for f in (ground_track_figure(runs), time_figure(runs)) if f is not None]
     if not figures:
         return None
@@ -319,6 +321,7 @@ shows at most {MAX_POINTS} points (minimum and maximum of each time bucket kept)
 sample.</p>
 {divs}
 {_sections_table(runs)}
+{life_html(runs)}
 </body></html>
 """
     return atomic_write(path, page)

@@ -310,6 +310,7 @@ class FigureFile(StrEnum):
     SFC_SURGE_MARGIN = "sfc_surge_margin.png"
     ATTITUDE = "attitude.png"
     ELECTRIC = "electric.png"
+    LIFE = "life.png"
 
 
 def plot_runs(runs: Sequence[PlotRun], out: Path, window: tuple[float, float] | None = None) -> list[Path]:
@@ -324,6 +325,8 @@ def plot_runs(runs: Sequence[PlotRun], out: Path, window: tuple[float, float] | 
     window : (float, float) or None
         Time window [s] of the fuel flow and Tt4 figure; None: the whole run.
     """
+    from .life import life_figure  # (it uses this module's helpers)
+
     check_window(runs, window)
     out.mkdir(parents=True, exist_ok=True)
     figures = [
@@ -367,6 +370,7 @@ def plot_runs(runs: Sequence[PlotRun], out: Path, window: tuple[float, float] | 
                             ("electric", "offtake_hp_W", "HP shaft offtake", _kilo),
                             ("electric", "load_W", "bus load", _kilo)]),
         ], shade=True),
+        life_figure(runs, out / FigureFile.LIFE),
     ]
     return [f for f in figures if f is not None]
 

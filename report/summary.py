@@ -23,6 +23,7 @@ from openemss.models.fcs.mission import Mission
 
 from .conformance import holds, ils_conformance, section_conformance
 from .electric import electric_summary
+from .life import life_summary
 from .rundata import RunData, parameter_float
 from .series import flag_stats, held_increments
 
@@ -270,4 +271,5 @@ def summarize(run: RunData, mission: Mission | None) -> dict[str, Any]:
         "holds": holds(run, mission),
         "ils": ils_conformance(run, mission),
         "electric": electric_summary(run),
+        "life": life_summary(run),
     })

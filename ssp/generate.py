@@ -9,7 +9,8 @@ the shipped configuration) and the parameter sets ``engine_larzac04.ssv``,
 ``engine_reference_study.ssv``, ``engine_redesigned.ssv`` (the lowest-SFC engine of the
 cycle study; ``emss run --params ssp/engine_redesigned.ssv`` flies it),
 ``aircraft_mtow.ssv`` (2100 kg: full tank), ``aircraft_half_fuel.ssv`` (1800 kg) and
-``munich_wind_turbulence.ssv`` (the airframe's weather: a 20 kt wind aloft, light turbulence);
+``munich_wind_turbulence.ssv`` (the airframe's weather: a 20 kt wind aloft, light turbulence),
+``engine_degraded.ssv`` (the engine's health parameters of a mid-life deterioration, to combine with an engine's set);
 and ``hybrid/`` the same system with the electrical power system (``fmus/electric.py``) on both spools,
 with its parameter sets ``ems_off.ssv`` and ``no_boost.ssv``. ``emss run ssp/hybrid`` flies it.
 ``tests/test_system_files.py`` checks every connector of the result against the FMUs, so the
@@ -20,6 +21,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from openemss.models.engine.health import MID_LIFE, health_parameters
 from openemss.models.fcs.fcs_signals import GAIN_DEFAULTS
 from openemss.orchestrator.ssp.write import ParameterSet, SystemBuilder, connectors_from_fmu
 
@@ -45,7 +47,7 @@ SOURCES = {
 # Inputs that are connectors without a connection, so that a scenario that sets them is recorded.
 UNCONNECTED_INPUTS = {"engine": ("distortion_on", "distortion_sector_deg", "distortion_dPt_frac")}
 ENGINE_OUT = ("thrust_N", "gross_thrust_N", "fuel_flow_kg_s", "N1_rpm", "N2_rpm", "N1_pct", "N2_pct", "N1c_pct",
-              "Tt4_K", "Tt41_K", "Tt21_K", "Tt17_K", "Tt7_K", "Pt3_Pa", "OPR", "BPR", "SM_fan", "SM_hpc",
+              "Tt4_K", "Tt41_K", "Tt21_K", "Tt17_K", "Tt7_K", "Tt3_K", "Pt3_Pa", "OPR", "BPR", "SM_fan", "SM_hpc",
               "SFC_kg_N_s", "fuel_burned_kg", "surge", "flameout", "overspeed", "solver_failed", "flameout_cause")
 AIRFRAME_OUT = ("lat_deg", "lon_deg", "alt_msl_m", "alt_agl_m", "tas_m_s", "cas_m_s", "gs_m_s", "mach",
                 "alpha_rad", "beta_rad", "phi_rad", "theta_rad", "psi_rad", "p_rad_s", "q_rad_s", "r_rad_s",
@@ -157,6 +159,9 @@ def parameter_sets() -> dict[str, ParameterSet]:
             "engine_reference_study.ssv": ParameterSet("engine_reference_study",
                                                        {"engine.preset": "reference_study", **IDLE}),
             "engine_redesigned.ssv": ParameterSet("engine_redesigned", {**redesigned_engine(), **IDLE}),
+            # a mid-life deteriorated engine (models/engine/health.py MID_LIFE): combine with any engine's set
+            "engine_degraded.ssv": ParameterSet("engine_degraded", {
+                f"engine.{k}": v for k, v in health_parameters(MID_LIFE).items()}),
             # UPERA: operating empty mass 1500 kg, tank 600 kg (SPEC.md): take-off mass = 1500 kg + fuel
             "aircraft_mtow.ssv": ParameterSet("aircraft_mtow", {"airframe.fuel0_kg": 600.0}),
             "aircraft_half_fuel.ssv": ParameterSet("aircraft_half_fuel", {"airframe.fuel0_kg": 300.0}),

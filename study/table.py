@@ -15,10 +15,12 @@ __all__ = ["OUTCOME_COLUMNS", "rows", "write_table"]
 
 #: Columns after the case's parameters. ``summary.json`` (written by ``emss run`` where the
 #: project's report hook is installed) gives mission_completed ... limits_hit (final_soc: the battery's
-#: state of charge at the end, in a system with an electrical system); a case without one leaves them empty.
+#: state of charge at the end, in a system with an electrical system; life_*: its ``life.mission``, the engine's
+#: life usage); a case without one leaves them empty.
 OUTCOME_COLUMNS: tuple[str, ...] = ("status", "error", "attempts", "ran", "mission_completed", "landed",
                                     "fuel_burned_kg", "sim_time_s", "wall_time_s", "realtime_factor",
-                                    "max_Tt4_K", "final_soc", "limits_hit", "folder")
+                                    "max_Tt4_K", "final_soc", "life_lcf_equivalent_cycles", "life_lcf_damage",
+                                    "life_creep_damage", "life_missions_to_life", "limits_hit", "folder")
 
 
 def _cell(v: Any) -> Any:
@@ -61,6 +63,8 @@ def rows(cases: Sequence[CaseDef], results: dict[str, CaseResult], ran: set[str]
             "realtime_factor": s.get("realtime_factor", sim / wall if sim is not None and wall else None),
             "max_Tt4_K": s.get("max_Tt4_K"),
             "final_soc": ((s.get("electric") or {}).get("soc") or {}).get("end"),  # systems with a battery
+            **{f"life_{k}": (s.get("life") or {}).get("mission", {}).get(k)   # summary.json's life (report/life.py)
+               for k in ("lcf_equivalent_cycles", "lcf_damage", "creep_damage", "missions_to_life")},
             "limits_hit": s.get("limits_hit"),
             "folder": str(Path("cases") / c.name),
         })

@@ -58,6 +58,7 @@ from .engine_signals import EO, FLAGS, OUTPUTS, BleedValve, EngineInputs, Engine
 from .errors import FlameoutError, ModelError, OutOfRangeError
 from .flow import T_STD_K
 from .gas_path import OX
+from .health import HealthDeltas
 from .jit_kernels import AVAILABLE
 from .offdesign import OffDesignPoint, TurbofanMaps, TurbofanOffDesign, scaled_maps
 from .settings import EngineNumerics
@@ -251,6 +252,22 @@ class EngineModel:
         self._key = None
         self._clipped: set[str] = set()
         self._theta: tuple[object, float] = (None, 1.0)        # (flight condition, sqrt(Tt2 / 288.15 K))
+        #: The health parameters applied (:meth:`set_health`); the clean scalars of the maps the gas path reads
+        self.health = HealthDeltas()
+        self._clean_scalars: tuple[np.ndarray, ...] | None = None
+
+    def set_health(self, health: HealthDeltas) -> None:
+        """Apply health parameters (:mod:`.health`) to the maps the gas path reads: the flow and efficiency
+        scalars of fan, HPC, HPT and LPT times (1 + delta), from their clean values. Between steps (also before
+        :meth:`start`, which then finds the degraded engine's steady state); the next step matches the gas path
+        again at its start (no linearised shortcut across a change of the engine)."""
+        fc = self.od.fast
+        if self._clean_scalars is None:
+            self._clean_scalars = tuple(m[6].copy() for m in fc.maps)
+        for m, clean, (k_Wc, k_eta) in zip(fc.maps, self._clean_scalars, health.factors(), strict=True):
+            m[6][0], m[6][2] = clean[0] * k_Wc, clean[2] * k_eta
+        self.health = health
+        self._key = None
 
     # ------------------------------------------------------------------ state
     N1_rpm = _slot(_ST_N1, "LP spool speed [rpm].")
@@ -718,6 +735,7 @@ class EngineModel:
         v[EO.dN1_dt_rpm_s], v[EO.dN2_dt_rpm_s] = float(s.dN1_dt_rpm_s), float(s.dN2_dt_rpm_s)
         v[EO.handling_bleed_frac], v[EO.FAR4], v[EO.W2_kg_s] = o[OX.hb], o[OX.FAR4], o[OX.W2]
         v[EO.offtake_hp_applied_W], v[EO.offtake_lp_applied_W] = self.port_W
+        v[EO.Tt3_K] = o[OX.Tt3]
         FAR4 = v[EO.FAR4]
         lim = self.limits
         N1_pct, N2_pct, SM_fan, SM_hpc = v[EO.N1_pct], v[EO.N2_pct], v[EO.SM_fan], v[EO.SM_hpc]

@@ -25,6 +25,7 @@ from dataclasses import dataclass, fields
 from ..common.signals import Signal, check_table
 from .errors import OutOfRangeError
 from .settings import EngineNumerics, EngineStart, engine_set
+from .health import HEALTH_LIMIT, health_parameter_names
 
 __all__ = ["EngineInputs", "EngineLimits", "BleedValve", "OUTPUTS", "FLAGS", "SIGNALS", "DESIGN_FIELDS",
            "PARAMETER_SETS", "condition_from_ambient", "FUEL_UNLIMITED_KG", "FLAMEOUT_CAUSES", "FLAMEOUT_STARVED"]
@@ -86,6 +87,7 @@ _OUTPUT_ROWS: tuple[Signal, ...] = (
                                       "- delivered to it"),
     _out("offtake_lp_applied_W", "W", "LP shaft port power applied after its limits, + taken from the spool, "
                                       "- delivered to it"),
+    _out("Tt3_K", "K", "HPC exit total temperature Tt3 (the turbine's cooling air)"),
 )
 #: Boolean outputs, in the order of :attr:`EngineModel.flags`.
 _FLAG_ROWS: tuple[Signal, ...] = (
@@ -293,6 +295,13 @@ _IN = _defaults(EngineInputs)
 #: parameters' FMU names). The FMU's parameters are their entries, and it builds the model from them.
 PARAMETER_SETS: dict[str, tuple[type, str]] = {"limits": (EngineLimits, ""), "bleed_valve": (BleedValve, "bleed_"),
                                                "numerics": (EngineNumerics, ""), "start": (EngineStart, "")}
+_NAMES = {"fan": "Fan", "hpc": "HPC", "hpt": "HPT", "lpt": "LPT"}
+#: The health parameters (:mod:`.health`): tunable, so a scenario can ramp them over a run.
+_HEALTH_ROWS: tuple[Signal, ...] = tuple(
+    Signal(name, "parameter", "1", f"{_NAMES[name.split('_')[1]]} health: relative change of its "
+           + ("isentropic efficiency" if "_eta_" in name else "flow capacity")
+           + f" against the clean map (e.g. -0.01), within +-{HEALTH_LIMIT:g}", start=0.0, variability="tunable")
+    for name in health_parameter_names())
 
 #: The engine's signal table: every variable of the engine FMU, in its order of registration. The
 #: parameters' start values are the shipped configuration (the Larzac 04 at its flight idle start);
@@ -305,6 +314,7 @@ SIGNALS: tuple[Signal, ...] = check_table((
     # limits, bleed valve, numerics and start: generated from data/engine.json (value, unit, range, note)
     *(row for section, (cls, prefix) in PARAMETER_SETS.items()
       for row in engine_set(cls, section).signals(prefix, variability=None)),
+    *_HEALTH_ROWS,
     # inputs: accessor = the field of EngineInputs they fill
     _in("fuel_flow_cmd_kg_s", "kg/s", "Fuel flow command; <= 0 at the start: the start point's", 0.0, "Wf_kg_s"),
     _in("alt_msl_m", "m", "Altitude above mean sea level, flown as the ISA geopotential altitude",

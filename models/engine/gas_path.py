@@ -93,7 +93,7 @@ OUT: tuple[str, ...] = ("Fn", "Fg", "ram", "N1c", "N2c", "Tt4", "T41", "Tt21", "
                         "SM_hpc_clean", "n_bleeds", "Fg_core", "Fg_bypass", "A8_eff", "A18_eff", "choked_core",
                         "choked_bypass", "Wc2", "Wc25", "Wc4", "Wc45", "Wc21", "PR_fan", "eta_fan", "PR_booster",
                         "eta_booster", "PR_hpc", "eta_hpc", "eta_hpt", "eta_lpt", "Nc_fan_1", "beta_fan_1",
-                        "Nc_hpc_1", "beta_hpc_1", "Wf", "N1", "N2", "BPR", "PRh", "PRl")
+                        "Nc_hpc_1", "beta_hpc_1", "Wf", "N1", "N2", "BPR", "PRh", "PRl", "Tt3")
 OX = enum.IntEnum("OX", [(n, i) for i, n in enumerate(OUT)])
 
 #: Error codes (``err[0]``): 1 a temperature outside the gas tables or a map read beyond its margin (the
@@ -604,7 +604,7 @@ def turbofan(x: np.ndarray, fs: np.ndarray, ctl: np.ndarray, e: np.ndarray, gc: 
     vals2 = (A18, 1.0 if ch_c else 0.0, 1.0 if ch_b else 0.0, W2 * sq2 / (P2 / P_STD_PA),
              W25 * sq25 / (P25 / P_STD_PA), W4 * math.sqrt(Tt4 / T_STD_K) / (P4 / P_STD_PA),
              W44 * math.sqrt(T44 / T_STD_K) / (P45 / P_STD_PA), Wc21, PRs[0], effs[0], PR_b, eff_b, PRc, heff[0],
-             eff_t1, eff_t2, Ncs[0], bfan, hNc[0], bhpc, Wf, N1, N2, BPR, PRh, PRl)
+             eff_t1, eff_t2, Ncs[0], bfan, hNc[0], bhpc, Wf, N1, N2, BPR, PRh, PRl, T3)
     for i in range(len(vals2)):
         o[n1 + i] = vals2[i]
     return int(err[0])

@@ -282,6 +282,7 @@ def euler_step(dt_s: float, h: float, d: StepData, k_prev: int, tol: float) -> i
     vals[EO.fuel_burned_kg], vals[EO.dN1_dt_rpm_s], vals[EO.dN2_dt_rpm_s] = fuel, a1, a2
     vals[EO.handling_bleed_frac], vals[EO.FAR4], vals[EO.W2_kg_s] = hb_o, FAR4, o[OX.W2]
     vals[EO.offtake_hp_applied_W], vals[EO.offtake_lp_applied_W] = hp, lp
+    vals[EO.Tt3_K] = o[OX.Tt3]
     flags = (sm_f < 0.0 or sm_h < 0.0, FAR4 < par[_FARL] or uin[0] < par[_WFMIN],
              N1_pct > par[_N1MAX] or N2_pct > par[_N2MAX], False, False, hp_cut or lp_cut)
     out = 0

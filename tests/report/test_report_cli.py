@@ -20,7 +20,7 @@ from openemss.orchestrator.ssp.system import bind_system
 from openemss.report.plugin import status_variable
 
 FIGURES = {"ground_track.png", "altitude_mach.png", "fuel_burned.png", "fuel_flow_tt4.png", "spool_speeds.png",
-           "attitude.png"}
+           "attitude.png", "life.png"}
 
 
 def _pngs(folder: Path) -> set[str]:
@@ -43,7 +43,7 @@ def test_plot_one_run_writes_every_figure(tmp_path: Path, capsys: pytest.Capture
     run = Runs(tmp_path).make("flight")
     assert main(["plot", str(run)]) == 0
     assert _pngs(run) == FIGURES
-    assert "7 file(s) of flight" in capsys.readouterr().out  # the six figures its signals allow, report.html
+    assert "8 file(s) of flight" in capsys.readouterr().out  # the seven figures its signals allow, report.html
 
 
 def test_plot_two_runs_on_one_figure(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -28,7 +28,7 @@ from openemss.orchestrator.scenarios.timeseries import read_timeseries
 
 ROOT = Path(__file__).resolve().parents[2]
 FIGURES = {"ground_track.png", "altitude_mach.png", "fuel_burned.png", "fuel_flow_tt4.png", "spool_speeds.png",
-           "attitude.png", "thrust.png", "sfc_surge_margin.png"}
+           "attitude.png", "thrust.png", "sfc_surge_margin.png", "life.png"}
 
 
 @pytest.fixture()

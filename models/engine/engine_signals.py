@@ -24,8 +24,8 @@ from dataclasses import dataclass, fields
 
 from ..common.signals import Signal, check_table
 from .errors import OutOfRangeError
-from .settings import EngineNumerics, EngineStart, engine_set
 from .health import HEALTH_LIMIT, health_parameter_names
+from .settings import EngineNumerics, EngineStart, engine_set
 
 __all__ = ["EngineInputs", "EngineLimits", "BleedValve", "OUTPUTS", "FLAGS", "SIGNALS", "DESIGN_FIELDS",
            "PARAMETER_SETS", "condition_from_ambient", "FUEL_UNLIMITED_KG", "FLAMEOUT_CAUSES", "FLAMEOUT_STARVED"]

@@ -32,6 +32,8 @@ ROOT = Path(__file__).resolve().parents[1]
 #: The airframe's inputs the FMU's do_step passes to the model, in its order.
 INPUTS = ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "airbrake_norm", "gear_down",
           "brakes_norm", "steering_norm", "thrust_N", "fuel_flow_kg_s", "added_mass_kg")
+#: The airframe's parameters the replay starts the model with; any other away from its default is refused.
+HONOURED = ("fuel0_kg", "flaps0_norm", "rate_hz")
 
 
 @dataclass(frozen=True)
@@ -68,10 +70,10 @@ def airframe_inputs(bound: Any, component: str, table: Any, steps: int) -> tuple
             return {}, f"the run did not record {col}"
         x = table[col].to_numpy(dtype=float)[:steps]
         out[name] = ln.affine.scale * x + ln.affine.offset
-    for key in ("start_on_runway", "weather_file", "wind_north_m_s", "wind_east_m_s", "wind_down_m_s",
-                "turbulence_severity", "weather_dT_isa_K", "lat0_deg", "lon0_deg", "heading0_deg", "alt0_m"):
-        if starts.get(key) != defaults.get(key):
-            return {}, f"the airframe's {key} is not its default (only the shipped start is replayed)"
+    from openemss.models.airframe.airframe_signals import SIGNALS
+    for key in sorted(s.name for s in SIGNALS if s.causality == "parameter" and s.name not in HONOURED
+                      and starts[s.name] != defaults[s.name]):
+        return {}, f"the airframe's parameter {key} is not its default (only the shipped start is replayed)"
     return out, ""
 
 

@@ -8,10 +8,9 @@ unchanged). The engine's gas path (``models/engine``) and the flight control's i
 (``models/fcs``) use it.
 
 Compiled code is cached on disk under ``$OPENEMSS_JIT_CACHE`` (else the user's cache folder), in
-one folder per kernel package (its name below the top-level package) and content of its modules and of
-``models/common`` (an FMU unpacks its packages to a new temporary folder on every import, where numba's
-own cache, kept beside the source and keyed by its path, would never be found again): compiled once per
-machine, shared by the repository's packages, every FMU's copy of them and every worker.
+one folder per kernel package and content of its modules and of ``models/common`` (an FMU
+unpacks its packages to a new temporary folder on every import, where numba's own cache, kept
+beside the source and keyed by its path, would never be found again).
 
 :func:`borrowed` gives a compiled entry point its caller's arrays without numba's atomic
 reference counts (see there).
@@ -44,19 +43,10 @@ def _annotation_name(annotation: Any) -> str | None:
 
 def _cache_dir(folder: str, package: str) -> str:
     """Where the compiled kernels of the package ``package`` (its modules in ``folder``) are kept:
-    $OPENEMSS_JIT_CACHE, else the user's cache folder, then a hash of the package's name below its top-level
-    package and of its content.
-
-    The top-level package is left out, so that every copy of the same code shares one cache: the repository's
-    ``openemss.models.engine`` (compiled by ``emss run``'s mission check in the master's process) and each FMU's
-    vendored ``emss_engine_<hash>_lib.models.engine`` (the same files: build-fmus copies them with relative
-    imports). Before, a first ``emss run`` compiled the engine's kernels twice, about 27 s of CPU each. numba
-    keys each entry by the source file's content stamp and the signature as well; a kernel loaded from another
-    copy's entry looks its module up by that copy's name only for an object-mode environment, which ``jit``
-    never makes (nopython), and falls back to numba's dynamic module where that name is not importable."""
+    $OPENEMSS_JIT_CACHE, else the user's cache folder, then a hash of the package's name and content."""
     root = os.environ.get("OPENEMSS_JIT_CACHE") or os.path.join(
         os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "openemss", "numba")
-    digest = hashlib.sha256(package.partition(".")[2].encode())  # e.g. models.engine (see above)
+    digest = hashlib.sha256(package.encode())            # compiled code refers to its modules by name
     # a kernel embeds the kernels it calls and the constants it reads (IntEnum indices of other modules, the
     # common atmosphere): hash every module of the package and of models/common, so that no change to what a
     # compiled kernel embeds can leave a stale one in the cache (any change recompiles, once)

@@ -395,7 +395,7 @@ def run(system: Path | str | None = None, *, stop_time: float | None = None, par
     stop_time = float(stop_time) if stop_time is not None else None  # a NumPy number as a Python float
     system = Path(system) if system is not None else default_system()
     interrupt.phase("start", "before the run", interrupt.NOTHING_RUN)
-    ensure_project_fmus(system, say)
+    ensure_project_fmus(system, warn or (lambda line: print(f"emss run: {line}", file=sys.stderr)))  # news, no warning
     interrupt.phase("load", "while loading the system", interrupt.NOTHING_RUN)
     sysdef = load_system(system)  # the one reading of the SSD in this run
     if out is None:  # the default folder is named after the system: that name must be one path component

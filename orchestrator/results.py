@@ -186,8 +186,7 @@ class ResultsFolder:
         How the user named it, for messages (``--out``).
     names : iterable of str
         Files the run will write (the time series, the plugins' ``output_files``; with ``clear``,
-        :data:`RUN_FILES` too),
-        checked free before anything runs.
+        :data:`RUN_FILES` too), checked free before anything runs.
     clear : bool
         Remove what earlier runs wrote (a new run); False to add to a run's folder (a report made
         again), whose recorded files may then be replaced.

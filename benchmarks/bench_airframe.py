@@ -63,7 +63,7 @@ def main(argv: list[str] | None = None) -> int:
     r = trim_level(5000.0, 0.6, airframe=af)
 
     def reset() -> None:
-        af.start_air(5000.0, r.tas_m_s, 0.0, alpha_rad=r.alpha_rad, elevator=r.elevator, thrust_N=r.thrust_N,
+        af.start_air(5000.0, r.tas_m_s, 0.0, alpha_rad=r.alpha_rad, elevator=r.elevator, Fn_N=r.Fn_N,
                      fuel_kg=600.0)
         af.set_fuel_flow(0.1)
 
@@ -93,7 +93,7 @@ def main(argv: list[str] | None = None) -> int:
             af.set_gear(False)
             af.set_brakes(0.0, 0.0)
             af.set_steering(0.0)
-            af.set_thrust(r.thrust_N)
+            af.set_thrust(r.Fn_N)
             af.set_fuel_flow(0.1)
             af.step(H)
             af.values()
@@ -119,15 +119,15 @@ def main(argv: list[str] | None = None) -> int:
             s.instantiate()
             s.setupExperiment(startTime=0.0)
             s.setBoolean([vr["start_on_runway"], vr["gear_down"]], [False, False])
-            s.setReal([vr["alt0_m"], vr["tas0_m_s"], vr["elevator_norm"], vr["thrust_N"], vr["fuel_flow_kg_s"]],
-                      [5000.0, r.tas_m_s, r.elevator, r.thrust_N, 0.1])
+            s.setReal([vr["alt0_m"], vr["tas0_m_s"], vr["elevator_norm"], vr["Fn_N"], vr["Wf_kg_s"]],
+                      [5000.0, r.tas_m_s, r.elevator, r.Fn_N, 0.1])
             s.enterInitializationMode()
             s.exitInitializationMode()
             ins = ["aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "brakes_norm", "steering_norm",
-                   "thrust_N", "fuel_flow_kg_s"]
+                   "Fn_N", "Wf_kg_s"]
             outs = [v.name for v in md.modelVariables if v.causality == "output" and v.type == "Real"]
             in_vr = (c_uint * len(ins))(*[vr[n] for n in ins])
-            in_val = (c_double * len(ins))(0.0, r.elevator, 0.0, 0.0, 0.0, 0.0, r.thrust_N, 0.1)
+            in_val = (c_double * len(ins))(0.0, r.elevator, 0.0, 0.0, 0.0, 0.0, r.Fn_N, 0.1)
             b_vr = (c_uint * 1)(vr["gear_down"])
             b_val = (c_int * 1)(0)
             out_vr = (c_uint * len(outs))(*[vr[n] for n in outs])

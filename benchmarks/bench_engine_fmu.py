@@ -137,8 +137,8 @@ def _fmu_case(steps: int, repeat: int) -> tuple[float, float] | str:
         folder = tmp / "system"
         (folder / "resources").mkdir(parents=True)
         shutil.copy2(fmu, folder / "resources" / fmu.name)
-        comp = Comp("engine", fmu.name, [("thrust_N", "output", "Real"), ("N1_rpm", "output", "Real")],
-                    {"alt_msl_m": ALT_M, "mach": MACH, "start_fuel_flow_kg_s": float(pt.Wf_kg_s)})
+        comp = Comp("engine", fmu.name, [("Fn_N", "output", "Real"), ("N1_rpm", "output", "Real")],
+                    {"alt_m": ALT_M, "mach": MACH, "start_Wf_kg_s": float(pt.Wf_kg_s)})
         write_system(folder, fmu.parent, [comp], [], copy_fmus=False)
         warm = 20                                               # steps before the timing starts
 

@@ -102,7 +102,7 @@ def main(argv: list[str] | None = None) -> int:
             s.Wf0_kg_s = 0.2
             vr = {v.name: k for k, v in s.vars.items()}
             names = [n for n, _ in INPUTS]
-            base = {n: 0.0 for n in names} | {"alt_msl_m": 1000.0, "tas_m_s": V, "gs_m_s": V, "psi_rad": hdg,
+            base = {n: 0.0 for n in names} | {"alt_m": 1000.0, "tas_m_s": V, "gs_m_s": V, "psi_rad": hdg,
                                               "theta_rad": 0.03, "rho_amb_kg_m3": rho, "mass_kg": 2000.0,
                                               "N1_pct": 80.0, "N1c_pct": 82.0, "Tt41_K": 1200.0}
             in_vr, values = [vr[n] for n in names], [base[n] for n in names]
@@ -157,7 +157,7 @@ def _fmu_row(work: Path, args: argparse.Namespace, mission_file: Path, path: lis
     unzip = work / "unzipped"
     shutil.unpack_archive(str(fmu), str(unzip), "zip")
     names = [n for n, _ in inputs]
-    base = {n: 0.0 for n in names} | {"alt_msl_m": 1000.0, "tas_m_s": V, "gs_m_s": V, "psi_rad": hdg,
+    base = {n: 0.0 for n in names} | {"alt_m": 1000.0, "tas_m_s": V, "gs_m_s": V, "psi_rad": hdg,
                                       "theta_rad": 0.03, "rho_amb_kg_m3": rho, "mass_kg": 2000.0, "N1_pct": 80.0,
                                       "N1c_pct": 82.0, "Tt41_K": 1200.0}
     outs = [v.name for v in md.modelVariables if v.causality == "output" and v.type == "Real"]

@@ -23,7 +23,7 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-VARS = ["engine.fuel_burned_kg", "airframe.alt_msl_m", "airframe.lat_deg", "airframe.lon_deg", "fcs.mission_completed"]
+VARS = ["engine.fuel_burned_kg", "airframe.alt_m", "airframe.lat_deg", "airframe.lon_deg", "fcs.mission_completed"]
 
 _CHILD = """
 import json, os, sys
@@ -78,7 +78,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"\n{'':<28}{'ours':>14}{'container':>14}{'difference':>14}")
     print("-" * 70)
     print(f"{'fuel burned [kg]':<28}{fuel_a:>14.3f}{fuel_b:>14.3f}{100 * (fuel_b - fuel_a) / fuel_a:>13.4f}%")
-    alt_a, alt_b = float(ours["airframe.alt_msl_m"][k30]), float(theirs["airframe.alt_msl_m"][k30])
+    alt_a, alt_b = float(ours["airframe.alt_m"][k30]), float(theirs["airframe.alt_m"][k30])
     print(f"{'altitude at 30 s [m]':<28}{alt_a:>14.3f}{alt_b:>14.3f}{alt_b - alt_a:>13.4f} m")
     done = []
     for run, t in ((ours, ours["time_s"]), (theirs, theirs["time"])):

@@ -31,7 +31,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 #: The airframe's inputs the FMU's do_step passes to the model, in its order.
 INPUTS = ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "airbrake_norm", "gear_down",
-          "brakes_norm", "steering_norm", "thrust_N", "fuel_flow_kg_s", "added_mass_kg")
+          "brakes_norm", "steering_norm", "Fn_N", "Wf_kg_s", "added_mass_kg")
 #: The airframe's parameters the replay starts the model with; any other away from its default is refused.
 HONOURED = ("fuel0_kg", "flaps0_norm", "rate_hz")
 
@@ -129,8 +129,8 @@ def _jsbsim_loop(m: Any, u: dict[str, np.ndarray], h: float) -> float:
                                                             ("airbrake_norm", 0.0))]
     cols.append(np.where(u["gear_down"] >= 0.5, 1.0, 0.0).tolist())
     brakes = np.clip(u["brakes_norm"], 0.0, 1.0).tolist()
-    cols += [brakes, brakes, np.clip(u["steering_norm"], -1.0, 1.0).tolist(), (u["thrust_N"] / LBF).tolist()]
-    burns = (u["fuel_flow_kg_s"] * dt).tolist()
+    cols += [brakes, brakes, np.clip(u["steering_norm"], -1.0, 1.0).tolist(), (u["Fn_N"] / LBF).tolist()]
+    burns = (u["Wf_kg_s"] * dt).tolist()
     for row in zip(*cols, burns, strict=True):
         for set_value, x in zip(nodes, row, strict=False):
             set_value(x)

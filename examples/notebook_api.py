@@ -36,8 +36,8 @@ for name, r in runs.items():
 # %%
 r = runs["larzac04"]
 df = r.df
-print(df[["engine.thrust_N", "engine.fuel_flow_kg_s", "airframe.alt_msl_m"]].describe().round(3))
-print({c: df.attrs["units"][c] for c in ("engine.thrust_N", "engine.fuel_flow_kg_s", "airframe.alt_msl_m")})
+print(df[["engine.Fn_N", "engine.Wf_kg_s", "airframe.alt_m"]].describe().round(3))
+print({c: df.attrs["units"][c] for c in ("engine.Fn_N", "engine.Wf_kg_s", "airframe.alt_m")})
 
 # %% [markdown]
 # ## Compare: fuel burned, maximum thrust and Tt4, the altitude reached
@@ -50,9 +50,9 @@ for name, r in runs.items():
     d = r.df
     rows.append({"engine": name,
                  "fuel burned [kg]": d["engine.fuel_burned_kg"].iloc[-1] - d["engine.fuel_burned_kg"].iloc[0],
-                 "max thrust [kN]": d["engine.thrust_N"].max() / 1e3,
+                 "max thrust [kN]": d["engine.Fn_N"].max() / 1e3,
                  "max Tt4 [K]": d["engine.Tt4_K"].max(),
-                 "altitude at 240 s [m]": d["airframe.alt_msl_m"].iloc[-1]})
+                 "altitude at 240 s [m]": d["airframe.alt_m"].iloc[-1]})
 table = pd.DataFrame(rows).set_index("engine")
 print(table.round(2))
 
@@ -65,7 +65,7 @@ import matplotlib  # noqa: E402
 matplotlib.use("Agg")
 ax = None
 for name, r in runs.items():
-    ax = (r.df["engine.thrust_N"] / 1e3).plot(ax=ax, label=name)
+    ax = (r.df["engine.Fn_N"] / 1e3).plot(ax=ax, label=name)
 ax.set_ylabel("net thrust [kN]")
 ax.legend()
 ax.figure.savefig(out / "thrust_compare.png", dpi=100)

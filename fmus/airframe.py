@@ -7,7 +7,7 @@ steps at ``rate_hz``) and caches the outputs in one list, read by index.
 Start: on a runway at rest (``start_on_runway``) or in the air at ``alt0_m`` and
 ``tas0_m_s``; with ``trim_at_start`` the air start is trimmed in level flight (angle of
 attack from :func:`openemss.models.airframe.trim.trim_level`; the trim's elevator and
-thrust are published as ``trim_elevator_norm`` and ``trim_thrust_N`` so the flight
+thrust are published as ``trim_elevator_norm`` and ``trim_Fn_N`` so the flight
 control can start from them).
 
 Weather: ``weather_file`` (String, empty by default: the steady ``wind_*_m_s`` and the
@@ -30,7 +30,6 @@ from openemss.fmus.data import data_file
 from openemss.fmus.fmu_state import FmuState, SlaveState, StateError, attrs_from_plain, plain_attrs
 from openemss.fmus.initial_outputs import InitialOutputs
 from openemss.fmus.signal_io import SignalIO
-from openemss.models.airframe.adapter import FT
 from openemss.models.airframe.adapter import Airframe as AirframeModel
 from openemss.models.airframe.airframe_signals import SIGNALS, STATE_FIELDS
 from openemss.models.airframe.loading import check_air_start, check_loading
@@ -44,7 +43,7 @@ REQUIREMENTS = ["jsbsim>=1.2", "numpy>=1.24", "scipy>=1.10", "pyyaml>=6.0"]
 DATA_FILES = ["missions/weather/munich_wind_light_turbulence.yaml", "missions/munich.yaml"]
 DEFAULT_MISSION = "missions/munich.yaml"  # the flight control's: the aircraft starts on its departure runway
 _ON_GROUND = STATE_FIELDS.index("on_ground")
-_TRIM = ("trim_elevator_norm", "trim_thrust_N")
+_TRIM = ("trim_elevator_norm", "trim_Fn_N")
 
 
 class Airframe(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
@@ -124,18 +123,18 @@ class Airframe(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
             m.start_runway(st.lat0_deg, st.lon0_deg, st.heading0_deg, st.alt0_m, fuel_kg=st.fuel0_kg,
                            flaps=st.flaps0_norm)
         else:
-            alpha, elevator, thrust = st.alpha0_rad, self.elevator_norm, self.thrust_N
+            alpha, elevator, thrust = st.alpha0_rad, self.elevator_norm, self.Fn_N
             if st.trim_at_start:
                 m.start_air(st.alt0_m, 100.0, st.heading0_deg, fuel_kg=st.fuel0_kg,
                             ground_elevation_m=st.ground_elevation_m)
-                mach = st.tas0_m_s / (m.get_property("atmosphere/a-fps") * FT)
+                mach = st.tas0_m_s / m.speed_of_sound_m_s()
                 r = trim_level(st.alt0_m, mach, m.geometry.oem_kg + self.added_mass_kg + st.fuel0_kg, airframe=m,
                                flaps=st.flaps0_norm, gear_down=self.gear_down, heading_deg=st.heading0_deg,
                                lat_deg=st.lat0_deg, lon_deg=st.lon0_deg)
-                alpha, elevator, thrust = r.alpha_rad, r.elevator, r.thrust_N
+                alpha, elevator, thrust = r.alpha_rad, r.elevator, r.Fn_N
                 self._trim = [elevator, thrust]
             m.start_air(st.alt0_m, st.tas0_m_s, st.heading0_deg, st.lat0_deg, st.lon0_deg,
-                        alpha_rad=alpha, elevator=elevator, thrust_N=thrust, flaps=st.flaps0_norm,
+                        alpha_rad=alpha, elevator=elevator, Fn_N=thrust, flaps=st.flaps0_norm,
                         gear_down=self.gear_down, fuel_kg=st.fuel0_kg, ground_elevation_m=st.ground_elevation_m)
         self._model = m
         self._publish()
@@ -155,8 +154,8 @@ class Airframe(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
         m.set_gear(self.gear_down)
         m.set_brakes(self.brakes_norm, self.brakes_norm)
         m.set_steering(self.steering_norm)
-        m.set_thrust(self.thrust_N)
-        m.set_fuel_flow(self.fuel_flow_kg_s)
+        m.set_thrust(self.Fn_N)
+        m.set_fuel_flow(self.Wf_kg_s)
         m.set_added_mass(self.added_mass_kg)
         m.step(step_size)
 

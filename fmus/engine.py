@@ -2,9 +2,9 @@
 
 A thin pythonfmu slave over :class:`openemss.models.engine.engine_model.EngineModel`.
 In initialisation the engine is put in a steady state at the initial
-flight condition (inputs ``alt_msl_m``, ``mach``, ``dT_isa_K``, or with
+flight condition (inputs ``alt_m``, ``mach``, ``dT_isa_K``, or with
 ``use_ambient`` the ambient static ``p_amb_Pa`` and ``T_amb_K``, e.g. from the airframe): at the fuel flow
-``start_fuel_flow_kg_s`` if it is > 0, else at ``start_N1_pct``; computed when a master reads its outputs
+``start_Wf_kg_s`` if it is > 0, else at ``start_N1_pct``; computed when a master reads its outputs
 in Initialization Mode and again for inputs set after that (``fmus/initial_outputs.py``), so that the
 start is at the airframe's flight condition whatever the master's exchange. If the fuel flow
 input is not set (<= 0) at that moment it takes the start point's fuel flow.
@@ -125,15 +125,15 @@ class Engine(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
         m.set_health(HealthDeltas(*self._hvals))        # the degraded engine's steady start
         self._health_changed = False
         u, start = self._inputs(), sets["start"]
-        if start.start_fuel_flow_kg_s > 0.0:
-            u = dataclasses.replace(u, Wf_kg_s=start.start_fuel_flow_kg_s)
+        if start.start_Wf_kg_s > 0.0:
+            u = dataclasses.replace(u, Wf_cmd_kg_s=start.start_Wf_kg_s)
             m.start(u)
         else:
             m.start(u, N1_pct=start.start_N1_pct)
         # the fuel flow input takes the start point's unless a master set it (a start computed again keeps
         # no fill-in of an earlier one: that was at the flight condition of then)
-        if self.fuel_flow_cmd_kg_s <= 0.0 or self.fuel_flow_cmd_kg_s == self._filled_Wf_kg_s:
-            self.fuel_flow_cmd_kg_s = self._filled_Wf_kg_s = m.state.point.Wf_kg_s if m.state is not None else 0.0
+        if self.Wf_cmd_kg_s <= 0.0 or self.Wf_cmd_kg_s == self._filled_Wf_kg_s:
+            self.Wf_cmd_kg_s = self._filled_Wf_kg_s = m.state.point.Wf_kg_s if m.state is not None else 0.0
         self._model = m
         self._supply = FuelSupply()
         self._y, self._yb, self._yi = m.values, m.flags, [m.events, int(m.flags[FLAMEOUT])]
@@ -173,7 +173,7 @@ class Engine(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
             self.log(f"{m.flamed_out}: a flamed-out engine cannot be stepped on (there is no model of a "  # type: ignore[union-attr]
                      "windmilling engine)", Fmi2Status.error, "logStatusError")
             return False
-        if self._supply.starves(m, self.fuel_kg, self.fuel_flow_cmd_kg_s, step_size):  # type: ignore[arg-type]
+        if self._supply.starves(m, self.fuel_kg, self.Wf_cmd_kg_s, step_size):  # type: ignore[arg-type]
             self._yi[0], self._yi[1] = m.events, FLAMEOUT_STARVED  # type: ignore[union-attr]
             return True
         m.step_array(step_size, self.model_inputs())  # type: ignore[union-attr]

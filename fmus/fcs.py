@@ -3,7 +3,7 @@
 A thin pythonfmu slave over :class:`openemss.models.fcs.fcs.FlightControlSystem`. Its
 inputs carry the airframe FMU's output names (``fmus/airframe.py``) and the engine's
 ``N1_pct``, ``N1c_pct`` and ``Tt41_K``; its surface, airbrake, gear, brake, steering and flap outputs carry the airframe
-FMU's input names and ``fuel_flow_cmd_kg_s`` the engine FMU's, so they connect name to name.
+FMU's input names and ``Wf_cmd_kg_s`` the engine FMU's, so they connect name to name.
 
 Measured state. The FCS needs what the airframe does not output directly:
 
@@ -82,8 +82,9 @@ INPUTS = tuple((s.name, s.described()) for s in SIGNALS if s.causality == "input
 OUTPUTS = tuple((s.name, s.described()) for s in _OUTPUTS["Real"])
 #: The Real inputs in the order :meth:`Fcs.do_step` unpacks them from the slave's input list ``_u`` (one
 #: unpacking instead of a property call per input, about 1.5 us a step); checked against the table here.
-_UNPACKED = ("lat_deg", "lon_deg", "alt_msl_m", "tas_m_s", "gs_m_s", "vs_m_s", "phi_rad", "theta_rad", "psi_rad",
-             "p_rad_s", "q_rad_s", "r_rad_s", "beta_rad", "rho_amb_kg_m3", "dT_isa_K", "mass_kg", "N1_pct", "N1c_pct", "Tt41_K")
+_UNPACKED = ("lat_deg", "lon_deg", "alt_m", "tas_m_s", "gs_m_s", "vs_m_s", "phi_rad", "theta_rad", "psi_rad",
+             "p_rad_s", "q_rad_s", "r_rad_s", "beta_rad", "rho_amb_kg_m3", "dT_isa_K", "mass_kg", "N1_pct", "N1c_pct",
+             "Tt41_K")
 if tuple(name for name, _ in INPUTS) != _UNPACKED:
     raise ImportError("fmus/fcs.py: Fcs.do_step unpacks the Real inputs as " + ", ".join(_UNPACKED)
                       + "; models/fcs/fcs_signals.py lists " + ", ".join(name for name, _ in INPUTS))
@@ -119,7 +120,7 @@ class Fcs(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
         self.out: FcsOutput | None = None
         self.cmd = Commands()
         self.register_signals(SIGNALS, starts={"lat_deg": rwy.threshold.lat_deg, "lon_deg": rwy.threshold.lon_deg,
-                                               "alt_msl_m": rwy.elevation_m, "psi_rad": rwy.heading_rad})
+                                               "alt_m": rwy.elevation_m, "psi_rad": rwy.heading_rad})
         # -- gains: every tunable parameter of the FCS under its dotted name of the Python API (valid FMI
         #    names in pythonfmu's structured naming convention; nested=False: no attribute lookup by parts),
         #    generated from the parameter files (value, unit, range, note) with the shipped system's defaults
@@ -177,7 +178,7 @@ class Fcs(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
             fcs.set_parameter(name, value)
         self._fcs = fcs
         self._start_outputs(elevator_norm=self.elevator0_norm, flaps_norm=self.flaps_cmd_norm,
-                            fuel_flow_cmd_kg_s=fcs.fuel.Wf_cmd_kg_s, section_index=fcs.runner.active_index,
+                            Wf_cmd_kg_s=fcs.fuel.Wf_cmd_kg_s, section_index=fcs.runner.active_index,
                             section_name=fcs.runner.active_name, mission_completed=fcs.finished)
 
     def do_step(self, current_time: float, step_size: float) -> bool:

@@ -65,7 +65,7 @@ def _speed_signal(run: RunData, kind: SpeedKind) -> np.ndarray | None:
         cas = run.get("airframe", "cas_m_s")
         if cas is not None:
             return cas
-        tas, alt = run.get("airframe", "tas_m_s"), run.get("airframe", "alt_msl_m")
+        tas, alt = run.get("airframe", "tas_m_s"), run.get("airframe", "alt_m")
         if tas is None or alt is None:
             return None
         return np.array([cas_from_tas(v, isa(h)) for v, h in zip(tas, alt, strict=True)])
@@ -93,7 +93,7 @@ def section_conformance(run: RunData, sec: Section, i0: int, i_end: int) -> dict
     section whose type is not flown to targets (its ``conformance`` is not ``targets``: rolling, take-off,
     landing, custom) or that has no altitude."""
     alt_target = sec.get("altitude_m")
-    alt = run.get("airframe", "alt_msl_m")
+    alt = run.get("airframe", "alt_m")
     if alt_target is None or alt is None or REGISTRY[sec.type].conformance != TARGETS:
         return None
     t = run.time_s
@@ -117,7 +117,7 @@ def _suffix(d: dict[str, Any], unit: str) -> dict[str, Any]:
 
 def holds(run: RunData, mission: Mission | None) -> list[dict[str, Any]]:
     """Every stretch of vertical mode HOLD: section, start and end [s], duration [s], height lost [m]."""
-    mode, idx, alt = run.get("fcs", "vnav_mode"), run.get("fcs", "section_index"), run.get("airframe", "alt_msl_m")
+    mode, idx, alt = run.get("fcs", "vnav_mode"), run.get("fcs", "section_index"), run.get("airframe", "alt_m")
     if mode is None or idx is None:
         return []
     t = run.time_s
@@ -138,7 +138,7 @@ def ils_conformance(run: RunData, mission: Mission | None) -> dict[str, Any] | N
     """The ILS capture of the (first) approach section (its type's ``conformance`` is ``approach``: a landing), or
     None without an ``ils_phase`` record or such a section."""
     phase = run.get("fcs", "ils_phase")
-    lat, lon, alt = (run.get("airframe", k) for k in ("lat_deg", "lon_deg", "alt_msl_m"))
+    lat, lon, alt = (run.get("airframe", k) for k in ("lat_deg", "lon_deg", "alt_m"))
     land = next((s for s in mission.sections if REGISTRY[s.type].conformance == APPROACH), None) \
         if mission is not None else None
     if phase is None or land is None or lat is None or lon is None or alt is None:

@@ -267,7 +267,7 @@ def _sections_table(runs: Sequence[PlotRun]) -> str:
         return ""
     tables = []
     for run in runs:
-        idx, wf = run.data.get("fcs", "section_index"), run.data.get("engine", "fuel_flow_kg_s")
+        idx, wf = run.data.get("fcs", "section_index"), run.data.get("engine", "Wf_kg_s")
         tables.append({} if idx is None or wf is None else {
             row["index"]: row for row in sections_table(run.data.time_s, idx, wf, None, False)})
     several = len(runs) > 1

@@ -165,14 +165,14 @@ class ModelPerformance:
         """Steady maximum net thrust [N]."""
         return self.max_point(alt_m, mach).Fn_N
 
-    def cruise_fuel_kg_s(self, alt_m: float, mach: float, thrust_N: float) -> float:
+    def cruise_fuel_kg_s(self, alt_m: float, mach: float, Fn_N: float) -> float:
         """Fuel flow for a net thrust [kg/s], clipped to the idle..maximum range."""
         lo, hi = self.idle_point(alt_m, mach), self.max_point(alt_m, mach)
-        if thrust_N <= lo.Fn_N:
+        if Fn_N <= lo.Fn_N:
             return lo.Wf_kg_s
-        if thrust_N >= hi.Fn_N:
+        if Fn_N >= hi.Fn_N:
             return hi.Wf_kg_s
-        return self._solve(alt_m, mach, Fn_N=float(thrust_N)).Wf_kg_s
+        return self._solve(alt_m, mach, Fn_N=float(Fn_N)).Wf_kg_s
 
     # -- aircraft -------------------------------------------------------------------------------
     def _airbrake_drag_N(self, qbar_Pa: float) -> float:

@@ -72,13 +72,13 @@ LIMITS = {
 }
 
 TIME_PANELS = (
-    Panel("altitude", "altitude MSL [m]", (Series("airframe", "alt_msl_m", "flown"),
+    Panel("altitude", "altitude MSL [m]", (Series("airframe", "alt_m", "flown"),
                                            Series("fcs", "alt_cmd_m", "commanded"))),
     Panel("mach", "Mach [-]", (Series("airframe", "mach", "flown"), Series("fcs", "mach_cmd", "commanded"))),
-    Panel("thrust", "net thrust [kN]", (Series("engine", "thrust_N", "net thrust", lambda y: y / 1e3),
-                                        Series("engine", "gross_thrust_N", "gross thrust", lambda y: y / 1e3))),
-    Panel("fuel_flow", "fuel flow [kg/s]", (Series("engine", "fuel_flow_kg_s", "fuel flow (engine)"),
-                                            Series("fcs", "fuel_flow_cmd_kg_s", "fuel flow command (FCS)"))),
+    Panel("thrust", "net thrust [kN]", (Series("engine", "Fn_N", "net thrust", lambda y: y / 1e3),
+                                        Series("engine", "Fg_N", "gross thrust", lambda y: y / 1e3))),
+    Panel("fuel_flow", "fuel flow [kg/s]", (Series("engine", "Wf_kg_s", "fuel flow (engine)"),
+                                            Series("fcs", "Wf_cmd_kg_s", "fuel flow command (FCS)"))),
     Panel("temperatures", "temperature [K]", (Series("engine", "Tt4_K", "Tt4 burner exit"),
                                               Series("engine", "Tt41_K", "Tt41 HPT rotor inlet")), ("Tt41_max",)),
     Panel("spools", "spool speed [%]", (Series("engine", "N1_pct", "N1 fan"), Series("engine", "N2_pct", "N2 core"),

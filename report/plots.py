@@ -162,7 +162,7 @@ def constraint_markers(ax: Axes, runs: Sequence[PlotRun]) -> None:
     if r is None or r.mission is None:
         return
     t, idx = r.data.time_s, np.rint(r.data.get("fcs", "section_index")).astype(int)
-    alt = r.data.get("airframe", "alt_msl_m")
+    alt = r.data.get("airframe", "alt_m")
     first = True
     for sec in r.mission.sections:
         target = sec.get("altitude_m")
@@ -332,7 +332,7 @@ def plot_runs(runs: Sequence[PlotRun], out: Path, window: tuple[float, float] | 
     figures = [
         ground_track(runs, out / FigureFile.GROUND_TRACK),
         _lines(runs, out / FigureFile.ALTITUDE_MACH, "Altitude and Mach, flown and commanded", [
-            ("altitude MSL [m]", [("airframe", "alt_msl_m", "flown", _ident), ("fcs", "alt_cmd_m", "commanded",
+            ("altitude MSL [m]", [("airframe", "alt_m", "flown", _ident), ("fcs", "alt_cmd_m", "commanded",
                                                                                  _ident)]),
             ("Mach [-]", [("airframe", "mach", "flown", _ident), ("fcs", "mach_cmd", "commanded", _ident)]),
             ("airbrake, lever [-]", [("airframe", "airbrake_pos_norm", "airbrake", _ident),
@@ -342,13 +342,13 @@ def plot_runs(runs: Sequence[PlotRun], out: Path, window: tuple[float, float] | 
             ("burned fuel [kg]", [("engine", "fuel_burned_kg", "burned fuel", _from_start)])], shade=True),
         _lines(runs, out / FigureFile.FUEL_FLOW_TT4, "Fuel flow and Tt4" + (
             f", {window[0]:g} to {window[1]:g} s" if window is not None else ""), [
-            ("fuel flow [kg/s]", [("engine", "fuel_flow_kg_s", "fuel flow", _ident),
-                                  ("fcs", "fuel_flow_cmd_kg_s", "fuel flow command", _ident)]),
+            ("fuel flow [kg/s]", [("engine", "Wf_kg_s", "fuel flow", _ident),
+                                  ("fcs", "Wf_cmd_kg_s", "fuel flow command", _ident)]),
             ("temperature [K]", [("engine", "Tt4_K", "Tt4 burner exit", _ident),
                                  ("engine", "Tt41_K", "Tt41 HPT rotor inlet", _ident)]),
         ], shade=True, window=window, limits=((), ("Tt41_max",))),
         _lines(runs, out / FigureFile.THRUST, "Thrust", [
-            ("thrust [kN]", [("engine", "thrust_N", "net thrust", _kilo), ("engine", "gross_thrust_N", "gross thrust",
+            ("thrust [kN]", [("engine", "Fn_N", "net thrust", _kilo), ("engine", "Fg_N", "gross thrust",
                                                                           _kilo)])], shade=True),
         _lines(runs, out / FigureFile.SPOOL_SPEEDS, "Spool speeds", [
             ("spool speed [%]", [("engine", "N1_pct", "N1 fan", _ident), ("engine", "N2_pct", "N2 core", _ident),

@@ -1,7 +1,7 @@
 """The report as an ``emss`` plugin (entry point ``openemss.plugins``: see :mod:`openemss.orchestrator.cli.plugins`).
 
 * ``post_run``: after every ``emss run`` of a system with a flight control system's
-  ``section_index`` and an engine's ``fuel_flow_kg_s`` and ``fuel_burned_kg``, writes
+  ``section_index`` and an engine's ``Wf_kg_s`` and ``fuel_burned_kg``, writes
   ``summary.json``, the mission as flown (``mission.yaml``) and the plots into the
   results folder (also after a failed run, from what was recorded); nothing otherwise.
 * ``status_variable``: the progress bar shows the FCS's ``section_name``.
@@ -258,7 +258,7 @@ def cmd_summary(args: argparse.Namespace) -> int:
     run = load_run(args.run_dir)  # a clear line for a missing or unreadable folder
     if run.roles.fcs is None or run.roles.engine is None:
         raise ReportError(f"{args.run_dir}: no mission run (needs an FCS section_index and an engine's "
-                          "fuel_flow_kg_s and fuel_burned_kg)")
+                          "Wf_kg_s and fuel_burned_kg)")
     with ResultsFolder(args.run_dir, "RUN_DIR", names=[SUMMARY], clear=False):
         write_report(args.run_dir, plots=False)
     summary = json.loads((args.run_dir / SUMMARY).read_text(encoding="utf-8"))

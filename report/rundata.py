@@ -1,9 +1,9 @@
 """A finished (or failed) run's results folder: its time histories, run.json and mission.
 
 Columns are found by role, never by component name: the flight control system is the
-component with a ``section_index`` column, the engine the one with ``fuel_flow_kg_s``
+component with a ``section_index`` column, the engine the one with ``Wf_kg_s``
 and ``fuel_burned_kg``, the airframe the one with ``lat_deg``, ``lon_deg``,
-``alt_msl_m`` and ``mach`` (other than the FCS, whose inputs carry some of those names), the
+``alt_m`` and ``mach`` (other than the FCS, whose inputs carry some of those names), the
 electrical system (if any) the one with ``soc``, ``E_batt_J`` and ``offtake_lp_W``.
 """
 from __future__ import annotations
@@ -48,8 +48,8 @@ def find_roles(columns: Iterable[str]) -> Roles:
         if sep:
             by_comp.setdefault(comp, set()).add(var)
     fcs = next((c for c, v in by_comp.items() if "section_index" in v), None)
-    engine = next((c for c, v in by_comp.items() if {"fuel_flow_kg_s", "fuel_burned_kg"} <= v), None)
-    nav = {"lat_deg", "lon_deg", "alt_msl_m"}
+    engine = next((c for c, v in by_comp.items() if {"Wf_kg_s", "fuel_burned_kg"} <= v), None)
+    nav = {"lat_deg", "lon_deg", "alt_m"}
     airframe = next((c for c, v in by_comp.items() if c != fcs and nav | {"mach"} <= v), None)
     if airframe is None and fcs is not None and nav <= by_comp[fcs]:
         airframe = fcs

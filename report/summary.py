@@ -40,13 +40,13 @@ FCS_LIMITERS = (("Tt41_limit", 1, "Tt41_K", "fuel_control.Tt41_max_K"),
                 ("N1_limit", 2, "N1_pct", "fuel_control.N1_max_pct"))
 
 
-def sections_table(time_s: np.ndarray, index: np.ndarray, fuel_flow_kg_s: np.ndarray,
+def sections_table(time_s: np.ndarray, index: np.ndarray, Wf_kg_s: np.ndarray,
                    sections: Sequence[tuple[str | None, str | None]] | None, completed: bool) -> list[dict[str, Any]]:
     """One entry per mission section: time span, fuel burned and status.
 
     Parameters
     ----------
-    time_s, index, fuel_flow_kg_s : numpy.ndarray
+    time_s, index, Wf_kg_s : numpy.ndarray
         Sample times [s], the FCS's active section index [-] and the engine's fuel flow [kg/s].
     sections : sequence of (name, type), or None
         The mission's sections; None lists the indices seen, unnamed.
@@ -62,7 +62,7 @@ def sections_table(time_s: np.ndarray, index: np.ndarray, fuel_flow_kg_s: np.nda
     idx = np.rint(index).astype(int)
     owner = idx[:-1]  # section of each interval (t[k], t[k+1]]
     dt = np.diff(time_s)
-    fuel = held_increments(time_s, fuel_flow_kg_s)
+    fuel = held_increments(time_s, Wf_kg_s)
     last = int(idx[-1])
     if sections is None:
         sections = [(None, None)] * (int(idx.max()) + 1)
@@ -224,13 +224,13 @@ def _with_conformance(run: RunData, mission: Mission | None, table: list[dict[st
 def summarize(run: RunData, mission: Mission | None) -> dict[str, Any]:
     """The summary of a mission run (see the README's Results section for the keys and units).
 
-    Requires the FCS's ``section_index`` and the engine's ``fuel_flow_kg_s`` and ``fuel_burned_kg``.
+    Requires the FCS's ``section_index`` and the engine's ``Wf_kg_s`` and ``fuel_burned_kg``.
     """
     t = run.time_s
-    idx, wf, burned = run.get("fcs", "section_index"), run.get("engine", "fuel_flow_kg_s"), \
+    idx, wf, burned = run.get("fcs", "section_index"), run.get("engine", "Wf_kg_s"), \
         run.get("engine", "fuel_burned_kg")
     if idx is None or wf is None or burned is None:
-        raise ValueError("summarize needs the FCS's section_index and the engine's fuel_flow_kg_s and fuel_burned_kg")
+        raise ValueError("summarize needs the FCS's section_index and the engine's Wf_kg_s and fuel_burned_kg")
     n = len(mission.sections) if mission is not None else None
     done_col = run.get("fcs", "mission_completed")
     if done_col is not None:

@@ -32,29 +32,29 @@ STEP_S = 0.05  # 20 Hz, the reference system's rate
 # What each component's inputs are connected to: every input takes the output of the same name (one
 # name per quantity, from the models' signal tables), from the component named here.
 SOURCES = {
-    "fcs": {"airframe": ("lat_deg", "lon_deg", "alt_msl_m", "tas_m_s", "gs_m_s", "vs_m_s", "phi_rad", "theta_rad",
+    "fcs": {"airframe": ("lat_deg", "lon_deg", "alt_m", "tas_m_s", "gs_m_s", "vs_m_s", "phi_rad", "theta_rad",
                          "psi_rad", "p_rad_s", "q_rad_s", "r_rad_s", "beta_rad", "rho_amb_kg_m3", "dT_isa_K",
                          "mass_kg", "on_ground"),
             "engine": ("N1_pct", "N1c_pct", "Tt41_K")},
     "airframe": {"fcs": ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "airbrake_norm",
                          "brakes_norm", "steering_norm", "gear_down"),
-                 "engine": ("thrust_N", "fuel_flow_kg_s")},
+                 "engine": ("Fn_N", "Wf_kg_s")},
     # (fuel_kg before mach: FMPy's SSP runner, fmpy 0.3, wires an unconnected input to the source of the input
     # before it, so the unconnected distortion inputs after mach get the Mach number, as they always did, and not
     # the 600 kg of the tank)
-    "engine": {"fcs": ("fuel_flow_cmd_kg_s",), "airframe": ("fuel_kg", "alt_msl_m", "dT_isa_K", "mach")},
+    "engine": {"fcs": ("Wf_cmd_kg_s",), "airframe": ("fuel_kg", "alt_m", "dT_isa_K", "mach")},
 }
 # Inputs that are connectors without a connection, so that a scenario that sets them is recorded.
 UNCONNECTED_INPUTS = {"engine": ("distortion_on", "distortion_sector_deg", "distortion_dPt_frac")}
-ENGINE_OUT = ("thrust_N", "gross_thrust_N", "fuel_flow_kg_s", "N1_rpm", "N2_rpm", "N1_pct", "N2_pct", "N1c_pct",
+ENGINE_OUT = ("Fn_N", "Fg_N", "Wf_kg_s", "N1_rpm", "N2_rpm", "N1_pct", "N2_pct", "N1c_pct",
               "Tt4_K", "Tt41_K", "Tt21_K", "Tt17_K", "Tt7_K", "Tt3_K", "Pt3_Pa", "OPR", "BPR", "SM_fan", "SM_hpc",
               "SFC_kg_N_s", "fuel_burned_kg", "surge", "flameout", "overspeed", "solver_failed", "flameout_cause")
-AIRFRAME_OUT = ("lat_deg", "lon_deg", "alt_msl_m", "alt_agl_m", "tas_m_s", "cas_m_s", "gs_m_s", "mach",
+AIRFRAME_OUT = ("lat_deg", "lon_deg", "alt_m", "alt_agl_m", "tas_m_s", "cas_m_s", "gs_m_s", "mach",
                 "alpha_rad", "beta_rad", "phi_rad", "theta_rad", "psi_rad", "p_rad_s", "q_rad_s", "r_rad_s",
                 "load_factor", "vs_m_s", "p_amb_Pa", "T_amb_K", "rho_amb_kg_m3", "airbrake_pos_norm", "on_ground",
                 "mass_kg", "fuel_kg", "dT_isa_K")
 FCS_OUT = ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "airbrake_norm", "brakes_norm",
-           "steering_norm", "gear_down", "lever_norm", "fuel_flow_cmd_kg_s", "alt_cmd_m", "tas_cmd_m_s", "mach_cmd",
+           "steering_norm", "gear_down", "lever_norm", "Wf_cmd_kg_s", "alt_cmd_m", "tas_cmd_m_s", "mach_cmd",
            "track_cmd_rad", "section_index", "mission_completed", "fuel_limiter", "vnav_mode", "ils_phase")
 # The electrical power system of ssp/hybrid/ (fmus/electric.py): spool speeds, lever, vertical speed and
 # on-ground in; the signed shaft powers to the engine's port inputs (> 0 taken from the spool, < 0

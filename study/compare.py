@@ -61,7 +61,7 @@ def compare_engines(out: Path, cases: dict[str, str], results: dict[str, CaseRes
 
     report = out / "report"
     report.mkdir(parents=True, exist_ok=True)
-    cols = [f"{component}.fuel_burned_kg", f"{component}.fuel_flow_kg_s", f"{component}.Tt4_K", section_variable]
+    cols = [f"{component}.fuel_burned_kg", f"{component}.Wf_kg_s", f"{component}.Tt4_K", section_variable]
     series: dict[str, dict[str, np.ndarray]] = {}
     for label, name in cases.items():
         path = case_dir(out, name)

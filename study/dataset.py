@@ -6,8 +6,8 @@ into the study's dataset, partitioned by case in the Hive layout, beside ``study
 partitioned Parquet queries all cases together, with a ``case`` column::
 
     import pandas as pd
-    df = pd.read_parquet("results/study-x/timeseries", columns=["case", "time_s", "engine.thrust_N"])
-    df.groupby("case")["engine.thrust_N"].max()
+    df = pd.read_parquet("results/study-x/timeseries", columns=["case", "time_s", "engine.Fn_N"])
+    df.groupby("case")["engine.Fn_N"].max()
 
 or ``duckdb.sql("select case, max(\\"engine.fuel_burned_kg\\") from 'results/study-x/timeseries/**/*.parquet'
 group by case")``. A case folder holding CSV or .mat instead (a run made with ``--format``) is converted

@@ -71,10 +71,10 @@ def test_missing_fmu_file(tmp_path: Path, fmu_dir: Path, capsys: pytest.CaptureF
 
 def test_connector_not_in_fmu(tmp_path: Path, fmu_dir: Path, capsys: pytest.CaptureFixture[str]) -> None:
     folder = tmp_path / "sys"
-    write_system(folder, fmu_dir, [Comp("a", "Gain.fmu", GAIN_CONNECTORS + [("thrust_N", "output", "Real")])], [],
+    write_system(folder, fmu_dir, [Comp("a", "Gain.fmu", GAIN_CONNECTORS + [("Fn_N", "output", "Real")])], [],
                  stop_time=1.0)
     rc, err = run_cli(capsys, "run", str(folder))
-    assert_one_clear_line(rc, err, "'a.thrust_N'", "not a variable", "SystemStructure.ssd:")
+    assert_one_clear_line(rc, err, "'a.Fn_N'", "not a variable", "SystemStructure.ssd:")
 
 
 def test_type_mismatch_on_connection(tmp_path: Path, fmu_dir: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -188,4 +188,4 @@ def test_run_without_a_system_flies_the_project_system(tmp_path: Path, capsys: p
     assert main(["run", "--stop-time", "2", "--out", str(out), "--no-post-run"]) == 0
     assert "openEMSS: 40 steps" in capsys.readouterr().out
     head = columns(out)
-    assert "engine.thrust_N" in head and "fcs.section_index" in head and "airframe.alt_msl_m" in head
+    assert "engine.Fn_N" in head and "fcs.section_index" in head and "airframe.alt_m" in head

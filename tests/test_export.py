@@ -321,9 +321,9 @@ def test_the_shipped_system_as_a_container_flies_the_first_30_s_as_our_master(tm
     system = tmp_path / "ssp"
     shutil.copytree(root / "ssp", system, ignore=shutil.ignore_patterns("resources", "__pycache__"))
     ensure_built(root / "fmus", system / "resources")
-    names = ["airframe.alt_msl_m", "airframe.tas_m_s", "airframe.theta_rad", "engine.thrust_N",
-             "engine.fuel_flow_kg_s", "engine.N1_pct", "fcs.elevator_norm", "fcs.lever_norm",
-             "fcs.fuel_flow_cmd_kg_s"]
+    names = ["airframe.alt_m", "airframe.tas_m_s", "airframe.theta_rad", "engine.Fn_N",
+             "engine.Wf_kg_s", "engine.N1_pct", "fcs.elevator_norm", "fcs.lever_norm",
+             "fcs.Wf_cmd_kg_s"]
     fmu = export_container(bind_system(load_system(system)), tmp_path / "Munich.fmu", step_size_s=0.05)
     theirs = run_isolated("fmpy_simulate_fmu", fmu=str(fmu), outputs=names, stop_time=30.0, step_size=0.05,
                           output_interval=0.05)
@@ -333,7 +333,7 @@ def test_the_shipped_system_as_a_container_flies_the_first_30_s_as_our_master(tm
     ex.run(30.0)
     ours = {n: np.asarray(v, dtype=float) for n, v in rec.result().items()}
     theirs = {n: np.asarray(v, dtype=float) for n, v in theirs.items()}
-    assert len(theirs["time"]) == len(ours["airframe.alt_msl_m"]) == 601
+    assert len(theirs["time"]) == len(ours["airframe.alt_m"]) == 601
     assert theirs["time"][600] == pytest.approx(30.0)
     for n in names:
         diff = float(np.max(np.abs(ours[n][:7] - theirs[n][:7])))
@@ -343,8 +343,8 @@ def test_the_shipped_system_as_a_container_flies_the_first_30_s_as_our_master(tm
     # the steady start at the runway's flight condition (not the placeholders'), the same in both
     assert ours["engine.N1_pct"][0] == theirs["engine.N1_pct"][0] == pytest.approx(60.0)
     assert ours["fcs.lever_norm"][1] == theirs["fcs.lever_norm"][1] == 1.0  # take-off commanded at the 1st step
-    assert ours["airframe.alt_msl_m"][600] > ours["airframe.alt_msl_m"][0] + 150.0  # airborne and climbing
-    assert abs(theirs["airframe.alt_msl_m"][600] - ours["airframe.alt_msl_m"][600]) < 1.0
-    assert theirs["engine.thrust_N"][600] == pytest.approx(ours["engine.thrust_N"][600], rel=1e-3)
+    assert ours["airframe.alt_m"][600] > ours["airframe.alt_m"][0] + 150.0  # airborne and climbing
+    assert abs(theirs["airframe.alt_m"][600] - ours["airframe.alt_m"][600]) < 1.0
+    assert theirs["engine.Fn_N"][600] == pytest.approx(ours["engine.Fn_N"][600], rel=1e-3)
     assert theirs["airframe.tas_m_s"][600] == pytest.approx(ours["airframe.tas_m_s"][600], rel=1e-3)
     assert abs(theirs["airframe.theta_rad"][600] - ours["airframe.theta_rad"][600]) < 1e-3

@@ -108,7 +108,7 @@ def test_vendored_fmu_runs_where_only_fmpy_is(only_fmpy: Path, tmp_path: Path) -
     names = zipfile.ZipFile(vendored).namelist()
     assert any(n.startswith("resources/vendor/yaml/") for n in names)
     assert any(n.startswith("resources/vendor/pythonfmu/") for n in names)
-    outs = ["lever_norm", "elevator_norm", "fuel_flow_cmd_kg_s", "alt_cmd_m"]
+    outs = ["lever_norm", "elevator_norm", "Wf_cmd_kg_s", "alt_cmd_m"]
     theirs, stderr = _simulate(only_fmpy, vendored, outs)
     assert "values" in theirs, (theirs, stderr[-2000:])
     ours, _ = _simulate(Path(sys.executable), plain, outs)
@@ -118,7 +118,7 @@ def test_vendored_fmu_runs_where_only_fmpy_is(only_fmpy: Path, tmp_path: Path) -
 
 
 # the output compared per FMU (run at their start values, no inputs set)
-C_HOST_OUTPUT = {"engine": "thrust_N", "airframe": "alt_msl_m", "fcs": "fuel_flow_cmd_kg_s"}
+C_HOST_OUTPUT = {"engine": "Fn_N", "airframe": "alt_m", "fcs": "Wf_cmd_kg_s"}
 
 
 @pytest.fixture(scope="module")

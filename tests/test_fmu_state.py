@@ -24,9 +24,9 @@ N1, N2 = 200, 120  # steps to t1, then from t1 to t2
 
 #: Per FMU, the inputs at step k (varied, so that the state moves): name -> value
 INPUTS: dict[str, Callable[[int], dict[str, float]]] = {
-    "airframe": lambda k: {"thrust_N": 14000.0 + 10.0 * k, "brakes_norm": 0.0,
-                           "elevator_norm": -0.15 if k > 260 else 0.0, "fuel_flow_kg_s": 0.2},
-    "engine": lambda k: {"fuel_flow_cmd_kg_s": 0.12 + 0.0005 * k, "mach": min(0.002 * k, 0.3),
+    "airframe": lambda k: {"Fn_N": 14000.0 + 10.0 * k, "brakes_norm": 0.0,
+                           "elevator_norm": -0.15 if k > 260 else 0.0, "Wf_kg_s": 0.2},
+    "engine": lambda k: {"Wf_cmd_kg_s": 0.12 + 0.0005 * k, "mach": min(0.002 * k, 0.3),
                          "fuel_kg": 500.0},
     "fcs": lambda k: {"tas_m_s": min(0.3 * k, 70.0), "gs_m_s": min(0.3 * k, 70.0), "mass_kg": 5000.0,
                       "rho_amb_kg_m3": 1.2, "N1_pct": 60.0 + 0.05 * k},

@@ -28,11 +28,11 @@ PUBLISHED = {
 }
 BASE = ("kg", "m", "s", "A", "K", "mol", "cd", "rad")
 # a quantity of each FMU and the unit its name promises
-EXPECTED = {"Engine": {"thrust_N": "N", "Pt3_Pa": "Pa", "N1_rpm": "rpm", "offtake_hp_W": "W", "Tt41_K": "K",
+EXPECTED = {"Engine": {"Fn_N": "N", "Pt3_Pa": "Pa", "N1_rpm": "rpm", "offtake_hp_W": "W", "Tt41_K": "K",
                        "SFC_kg_N_s": "kg/(N s)", "N1_pct": "%", "OPR": "1"},
             "Airframe": {"lat_deg": "deg", "tas_m_s": "m/s", "rho_amb_kg_m3": "kg/m3", "p_rad_s": "rad/s",
                          "mach": "1"},
-            "Fcs": {"fuel_flow_cmd_kg_s": "kg/s", "N1c_pct": "%", "tecs.lever_min": "1"}}
+            "Fcs": {"Wf_cmd_kg_s": "kg/s", "N1c_pct": "%", "tecs.lever_min": "1"}}
 
 
 @pytest.mark.parametrize("name", ["Engine", "Airframe", "Fcs"])

@@ -34,11 +34,11 @@ ROOT = HERE.parent
 #: doStep fail (with the step size), and the Real output compared between instances.
 CASES: dict[str, dict[str, Any]] = {
     "engine": {"init": ("preset", "no_such_engine"), "set": None,
-               "step": ("fuel_flow_cmd_kg_s", math.nan, 0.05), "output": "thrust_N"},
+               "step": ("Wf_cmd_kg_s", math.nan, 0.05), "output": "Fn_N"},
     "fcs": {"init": ("mission_file", "{tmp}/no_such_mission.yaml"), "set": None,
-            "step": ("alt_msl_m", math.inf, 0.05), "output": "fuel_flow_cmd_kg_s"},
+            "step": ("alt_m", math.inf, 0.05), "output": "Wf_cmd_kg_s"},
     "airframe": {"init": ("weather_file", "{tmp}/no_such_weather.yaml"), "set": None,
-                 "step": (None, None, math.nan), "output": "alt_msl_m"},
+                 "step": (None, None, math.nan), "output": "alt_m"},
     "electric": {"init": None, "set": ("hp_machine.P_max_W", -5.0),
                  "step": ("N1_rpm", math.nan, 0.05), "output": "battery_V"},
 }

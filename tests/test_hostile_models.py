@@ -19,8 +19,8 @@ from conftest import table
 from openemss.orchestrator.cli.main import main
 from systems import Comp, write_system
 
-ENGINE = [("mach", "input", "Real"), ("alt_msl_m", "input", "Real"), ("distortion_dPt_frac", "input", "Real"),
-          ("thrust_N", "output", "Real"), ("solver_failed", "output", "Boolean")]
+ENGINE = [("mach", "input", "Real"), ("alt_m", "input", "Real"), ("distortion_dPt_frac", "input", "Real"),
+          ("Fn_N", "output", "Real"), ("solver_failed", "output", "Boolean")]
 
 
 @pytest.fixture()
@@ -45,7 +45,7 @@ def _scenario(tmp_path: Path, body: str) -> Path:
 
 def test_engine_outside_its_envelope_fails_the_run(engine_system: Path, tmp_path: Path,
                                                    capsys: pytest.CaptureFixture[str]) -> None:
-    scenario = _scenario(tmp_path, "engine.mach: 3.0, engine.alt_msl_m: 30000.0")
+    scenario = _scenario(tmp_path, "engine.mach: 3.0, engine.alt_m: 30000.0")
     rc, err = _run(capsys, "run", str(engine_system), "--scenario", str(scenario), "--out", str(tmp_path / "out"))
     assert rc == 3 and len(err) == 1, err
     for fragment in ("component 'engine'", "fmi2DoStep", "t = 1", "gas path not matched", "Mach=3",
@@ -55,7 +55,7 @@ def test_engine_outside_its_envelope_fails_the_run(engine_system: Path, tmp_path
 
 def test_engine_degraded_run_is_recorded_when_accepted(engine_system: Path, tmp_path: Path,
                                                        capsys: pytest.CaptureFixture[str]) -> None:
-    scenario = _scenario(tmp_path, "engine.mach: 3.0, engine.alt_msl_m: 30000.0")
+    scenario = _scenario(tmp_path, "engine.mach: 3.0, engine.alt_m: 30000.0")
     out = tmp_path / "out"
     rc, err = _run(capsys, "run", str(engine_system), "--scenario", str(scenario), "--out", str(out),
                    "--set", "engine.accept_solver_failure=true")

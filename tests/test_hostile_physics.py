@@ -82,8 +82,8 @@ def test_tank_running_dry_flames_the_engine_out(munich: Path, tmp_path: Path,
     assert summary["flameout"]["cause"].startswith("fuel starvation")
     data = table(out)
     t, h = data["time_s"], 0.05
-    wf, tank, burned = data["engine.fuel_flow_kg_s"], data["airframe.fuel_kg"], data["engine.fuel_burned_kg"]
-    assert t[-1] == pytest.approx(t_out) and wf[-1] == 0.0 and data["engine.thrust_N"][-1] == 0.0
+    wf, tank, burned = data["engine.Wf_kg_s"], data["airframe.fuel_kg"], data["engine.fuel_burned_kg"]
+    assert t[-1] == pytest.approx(t_out) and wf[-1] == 0.0 and data["engine.Fn_N"][-1] == 0.0
     assert data["engine.flameout_cause"][-1] == 2 and not np.any(data["engine.flameout_cause"][:-1])
     # conservation, from the recorded flows: the tank lost what the engine published (the airframe burns a
     # sample's flow over the next step, Jacobi), never went below zero, and the engine's counter is the same
@@ -98,8 +98,8 @@ def _engine_alone(tmp_path: Path, project_fmus: dict[str, Path], params: dict[st
     folder = tmp_path / "sys"
     shutil.copy2(project_fmus["engine"], tmp_path / "Engine.fmu")
     write_system(folder, tmp_path, [Comp("engine", "Engine.fmu",
-                                         [("fuel_kg", "input", "Real"), ("fuel_flow_kg_s", "output", "Real"),
-                                          ("fuel_burned_kg", "output", "Real"), ("thrust_N", "output", "Real"),
+                                         [("fuel_kg", "input", "Real"), ("Wf_kg_s", "output", "Real"),
+                                          ("fuel_burned_kg", "output", "Real"), ("Fn_N", "output", "Real"),
                                           ("flameout_cause", "output", "Integer")],
                                          {"start_N1_pct": 80.0, **params})], [], stop_time=2.0)
     return folder
@@ -113,8 +113,8 @@ def test_engine_without_a_tank_is_not_limited(tmp_path: Path, project_fmus: dict
                    "--format", "csv")
     assert rc == 0, err
     data = table(out)
-    assert not np.any(data["engine.flameout_cause"]) and np.all(data["engine.thrust_N"] > 1000.0)
-    assert data["engine.fuel_burned_kg"][-1] == pytest.approx(float(np.sum(data["engine.fuel_flow_kg_s"][1:])) * 0.05)
+    assert not np.any(data["engine.flameout_cause"]) and np.all(data["engine.Fn_N"] > 1000.0)
+    assert data["engine.fuel_burned_kg"][-1] == pytest.approx(float(np.sum(data["engine.Wf_kg_s"][1:])) * 0.05)
 
 
 def test_engine_on_a_small_tank_burns_no_more_than_it_holds(tmp_path: Path, project_fmus: dict[str, Path],
@@ -126,8 +126,8 @@ def test_engine_on_a_small_tank_burns_no_more_than_it_holds(tmp_path: Path, proj
     assert_one_line(rc, err, "flame-out at t = ", "fuel tank empty")
     data = table(out)
     burned = data["engine.fuel_burned_kg"]
-    assert burned[-1] <= 0.05 and data["engine.flameout_cause"][-1] == 2 and data["engine.thrust_N"][-1] == 0.0
-    assert burned[-1] > 0.05 - 2 * data["engine.fuel_flow_kg_s"][-2] * 0.05  # it stopped within a step's metered fuel
+    assert burned[-1] <= 0.05 and data["engine.flameout_cause"][-1] == 2 and data["engine.Fn_N"][-1] == 0.0
+    assert burned[-1] > 0.05 - 2 * data["engine.Wf_kg_s"][-2] * 0.05  # it stopped within a step's metered fuel
 
 
 def test_airframe_refuses_a_flow_its_tank_cannot_give(tmp_path: Path, project_fmus: dict[str, Path],
@@ -135,7 +135,7 @@ def test_airframe_refuses_a_flow_its_tank_cannot_give(tmp_path: Path, project_fm
     folder = tmp_path / "sys"
     shutil.copy2(project_fmus["airframe"], tmp_path / "Airframe.fmu")
     write_system(folder, tmp_path, [Comp("airframe", "Airframe.fmu", [("fuel_kg", "output", "Real")],
-                                         {"fuel0_kg": 0.01, "fuel_flow_kg_s": 1.0})], [], stop_time=1.0)
+                                         {"fuel0_kg": 0.01, "Wf_kg_s": 1.0})], [], stop_time=1.0)
     rc, err = _run(capsys, "run", str(folder), "--out", str(tmp_path / "out"))
     assert_one_line(rc, err, "component 'airframe'", "tank empty", "0.01 kg")
 

@@ -27,7 +27,7 @@ def test_the_airframe_shows_its_runway_start_in_initialization_mode(resources: P
     """Before leaving Initialization Mode the airframe shows the aircraft on the mission's departure runway
     (its elevation, a positive mass and air density), not placeholders, and the same values after leaving."""
     rwy = departure_runway(load_mission(ROOT / "missions" / "munich.yaml"))
-    names = ["alt_msl_m", "lat_deg", "mass_kg", "rho_amb_kg_m3"]
+    names = ["alt_m", "lat_deg", "mass_kg", "rho_amb_kg_m3"]
     r = run_isolated("fmpy_initialization_outputs", fmu=str(resources / "Airframe.fmu"), outputs=names, inputs={})
     alt, lat, mass, rho = r["entered"]
     assert r["entered"] == r["exited"]
@@ -41,9 +41,9 @@ def test_the_engine_start_follows_the_flight_condition_set_in_initialization_mod
     read: at its input starts (sea level, static) first, then, after the altitude is set to 2000 m, at that
     altitude, with less thrust (lower density: at the same N1 the mass flow falls about as the density
     ratio, ISA 0.822 at 2000 m) and less fuel flow; leaving Initialization Mode keeps that start."""
-    names = ["thrust_N", "fuel_flow_kg_s", "N1_pct"]
+    names = ["Fn_N", "Wf_kg_s", "N1_pct"]
     r = run_isolated("fmpy_initialization_outputs", fmu=str(resources / "Engine.fmu"), outputs=names,
-                     inputs={"alt_msl_m": 2000.0})
+                     inputs={"alt_m": 2000.0})
     (fn0, wf0, n10), (fn1, wf1, n11) = r["entered"], r["after_set"]
     assert n10 == pytest.approx(60.0) and n11 == pytest.approx(60.0)
     assert fn0 > 0.0 and 0.7 < fn1 / fn0 < 0.95

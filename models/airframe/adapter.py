@@ -29,7 +29,8 @@ from .geometry import load_geometry
 from .loading import check_air_start, check_loading
 from .settings import AirframeEnvironment, AirframeSimulation, AirframeStart, airframe_set
 
-__all__ = ["Airframe", "AirframeState", "JSBSIM_ROOT", "DEFAULT_RATE_HZ", "WindProfile", "FUEL_ROUNDOFF_KG"]
+__all__ = ["Airframe", "AirframeState", "AeroForces", "JSBSIM_ROOT", "DEFAULT_RATE_HZ", "WindProfile",
+           "FUEL_ROUNDOFF_KG"]
 
 #: Winds aloft: altitude MSL [m] -> wind velocity (north, east, down) [m/s], e.g.
 #: ``openemss.models.fcs.weather.WindProfile.ned_m_s``.
@@ -85,7 +86,7 @@ class AirframeState:
     ----------
     time_s : simulation time [s]
     lat_deg, lon_deg : geodetic latitude, longitude [deg]
-    alt_msl_m, alt_agl_m : altitude above mean sea level, above ground [m]
+    alt_m, alt_agl_m : altitude above mean sea level, above ground [m]
     tas_m_s, cas_m_s, gs_m_s : true, calibrated airspeed, ground speed [m/s]
     mach : Mach number [-]
     alpha_rad, beta_rad : angle of attack, sideslip [rad]
@@ -93,7 +94,7 @@ class AirframeState:
     p_rad_s, q_rad_s, r_rad_s : body roll, pitch, yaw rates [rad/s]
     load_factor : normal load factor Nz [-] (1 in level flight)
     vs_m_s : vertical speed, positive up [m/s]
-    p_Pa, T_K, rho_kg_m3 : ambient static pressure [Pa], temperature [K], density [kg/m^3]
+    p_amb_Pa, T_amb_K, rho_amb_kg_m3 : ambient static pressure [Pa], temperature [K], density [kg/m^3]
     airbrake_pos_norm : airbrake position, 0 retracted to 1 fully out [-]
     on_ground : any wheel carries weight
     mass_kg, fuel_kg : total mass, fuel mass [kg]
@@ -104,7 +105,7 @@ class AirframeState:
     time_s: float
     lat_deg: float
     lon_deg: float
-    alt_msl_m: float
+    alt_m: float
     alt_agl_m: float
     tas_m_s: float
     cas_m_s: float
@@ -120,9 +121,9 @@ class AirframeState:
     r_rad_s: float
     load_factor: float
     vs_m_s: float
-    p_Pa: float
-    T_K: float
-    rho_kg_m3: float
+    p_amb_Pa: float
+    T_amb_K: float
+    rho_amb_kg_m3: float
     airbrake_pos_norm: float
     on_ground: bool
     mass_kg: float
@@ -134,6 +135,28 @@ def _bounds(cls: type, section: str, name: str) -> tuple[float, float]:
     """The range of parameter ``name`` of ``section`` of ``data/airframe.yaml`` (the one place it is written)."""
     p = airframe_set(cls, section).param(name)
     return p.min, p.max
+
+
+@dataclass(frozen=True)
+class AeroForces:
+    """JSBSim's aerodynamic forces at one instant, in SI (:meth:`Airframe.aero_forces`).
+
+    Attributes
+    ----------
+    qbar_Pa : dynamic pressure [Pa]
+    lift_N, drag_N : wind-axis lift and drag [N], positive as named
+    wing_area_m2 : JSBSim's reference wing area [m^2]
+    re_mac : Reynolds number on the mean aerodynamic chord [-]
+    CL, CD : lift and drag coefficients on JSBSim's reference area [-]
+    """
+
+    qbar_Pa: float
+    lift_N: float
+    drag_N: float
+    wing_area_m2: float
+    re_mac: float
+    CL: float
+    CD: float
 
 
 def _check(name: str, value: float, lo: float, hi: float, unit: str = "") -> float:
@@ -308,7 +331,7 @@ class Airframe:
         return self._zero_time()
 
     def start_air(self, alt_m: float, tas_m_s: float, heading_deg: float, lat_deg: float = 48.3539,
-                  lon_deg: float = 11.7860, alpha_rad: float = 0.0, elevator: float = 0.0, thrust_N: float = 0.0,
+                  lon_deg: float = 11.7860, alpha_rad: float = 0.0, elevator: float = 0.0, Fn_N: float = 0.0,
                   flaps: float = 0.0, gear_down: bool = False, fuel_kg: float | None = None,
                   ground_elevation_m: float = 0.0, flight_path_rad: float = 0.0,
                   airbrake: float = 0.0) -> AirframeState:
@@ -348,7 +371,7 @@ class Airframe:
         self.set_surfaces(elevator=elevator)
         self.set_flaps(flaps)
         self.set_airbrake(airbrake)
-        self.set_thrust(thrust_N)
+        self.set_thrust(Fn_N)
         self._run_ic()
         return self._zero_time()
 
@@ -399,9 +422,9 @@ class Airframe:
         """Nose-wheel steering [-1, 1] (1 = full right)."""
         self._steer.set_double_value(min(max(float(steering), -1.0), 1.0))
 
-    def set_thrust(self, thrust_N: float) -> None:
+    def set_thrust(self, Fn_N: float) -> None:
         """Net thrust [N] along the engine axis (negative for reverse)."""
-        self._thrust.set_double_value(float(thrust_N) / LBF)
+        self._thrust.set_double_value(float(Fn_N) / LBF)
 
     def set_fuel_flow(self, wf_kg_s: float) -> None:
         """Fuel flow [kg/s] (>= 0), burnt from the tank during the following steps."""
@@ -511,6 +534,25 @@ class Airframe:
         vals.append(self._fuel_kg)
         vals.append(self._dT_isa_K)
         return vals
+
+    def speed_of_sound_m_s(self) -> float:
+        """Speed of sound of JSBSim's atmosphere at the aircraft [m/s]."""
+        return self._fdm["atmosphere/a-fps"] * FT
+
+    def accelerations(self) -> tuple[float, float, float]:
+        """Body-axis accelerations along x and z [m/s^2] and pitch acceleration [rad/s^2] (the trim's residuals)."""
+        f = self._fdm
+        return (f["accelerations/udot-ft_sec2"] * FT, f["accelerations/wdot-ft_sec2"] * FT,
+                f["accelerations/qdot-rad_sec2"])
+
+    def aero_forces(self) -> AeroForces:
+        """The aerodynamic lift and drag JSBSim computes now (wind axes, positive as named), with the dynamic
+        pressure, JSBSim's reference wing area and the Reynolds number on the mean chord."""
+        f = self._fdm
+        return AeroForces(f["aero/qbar-psf"] * PSF, f["forces/fwz-aero-lbs"] * LBF, f["forces/fwx-aero-lbs"] * LBF,
+                          f["metrics/Sw-sqft"] * FT * FT, f["aero/Re"],
+                          f["forces/fwz-aero-lbs"] / (f["aero/qbar-psf"] * f["metrics/Sw-sqft"]),
+                          f["forces/fwx-aero-lbs"] / (f["aero/qbar-psf"] * f["metrics/Sw-sqft"]))
 
     def get_property(self, name: str) -> float:
         """Raw JSBSim property (English units), for diagnostics and tests."""

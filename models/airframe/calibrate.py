@@ -328,11 +328,10 @@ def jsbsim_coefficients(p: CalibrationPoint, airframe: object | None = None) -> 
     This reads the forces of the file as flown (JSBSim's own table look-up and functions), not the
     Python model the file was written from.
     """
-    from .adapter import LBF, Airframe
+    from .adapter import Airframe
 
     af = airframe if isinstance(airframe, Airframe) else Airframe()
     _, _, _, a_snd, _ = isa(p.alt_m)
     af.start_air(p.alt_m, p.mach * a_snd, 0.0, alpha_rad=p.alpha_rad, elevator=0.0, gear_down=False)
-    fdm = af.fdm
-    qs = fdm["aero/qbar-psf"] * fdm["metrics/Sw-sqft"] * LBF
-    return fdm["forces/fwz-aero-lbs"] * LBF / qs, fdm["forces/fwx-aero-lbs"] * LBF / qs
+    forces = af.aero_forces()
+    return forces.CL, forces.CD

@@ -1,7 +1,7 @@
 """``emss airframe ...`` sub-commands, contributed to the ``emss`` command.
 
 ``emss airframe trim --alt-m A --mach M [--mass-kg W] [--json]`` trims UPERA in
-level flight and prints alpha_deg, elevator, thrust_N, lift_N, drag_N, CL, CD.
+level flight and prints alpha_deg, elevator, Fn_N, lift_N, drag_N, CL, CD.
 ``emss airframe polar [--out DIR] [--mass-kg W]`` trims over the envelope and
 writes the drag polar and the thrust required (``polar.csv``, ``polar.png``).
 ``emss airframe compare [--points CSV] [--out DIR] [--json]`` puts the handbook
@@ -33,7 +33,7 @@ __all__ = ["register", "cmd_trim", "cmd_polar", "cmd_compare", "POLAR_ALTS_M", "
 
 POLAR_ALTS_M = (0.0, 2500.0, 5000.0, 7500.0)
 POLAR_MACHS = tuple(np.round(np.arange(0.2, 0.801, 0.05), 3))
-_TRIM_KEYS = ("alpha_deg", "elevator", "thrust_N", "lift_N", "drag_N", "CL", "CD")
+_TRIM_KEYS = ("alpha_deg", "elevator", "Fn_N", "lift_N", "drag_N", "CL", "CD")
 
 
 def register(subparsers: argparse._SubParsersAction) -> tuple[type[Exception], ...]:  # type: ignore[type-arg]
@@ -126,14 +126,14 @@ def cmd_polar(args: argparse.Namespace) -> int:
     out: Path = args.out
     out.mkdir(parents=True, exist_ok=True)
     keys = ("alt_m", "mach", "tas_m_s", "mass_kg", "alpha_deg", "elevator", "CL", "CD", "lift_N", "drag_N",
-            "thrust_N", "qbar_Pa", "re_mac")
+            "Fn_N", "qbar_Pa", "re_mac")
     atomic_write(out / "polar.csv", csv_text(keys, ([f"{r.as_dict()[k]:.6g}" for k in keys] for r in rows)))
     a = aero_model()
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 5))
     for alt in POLAR_ALTS_M:
         sel = [r for r in rows if r.alt_m == alt]
         ax1.plot([r.CD for r in sel], [r.CL for r in sel], "o-", ms=3, label=f"trim, {alt:g} m")
-        ax2.plot([r.mach for r in sel], [r.thrust_N / 1e3 for r in sel], "o-", ms=3, label=f"{alt:g} m")
+        ax2.plot([r.mach for r in sel], [r.Fn_N / 1e3 for r in sel], "o-", ms=3, label=f"{alt:g} m")
     cl = np.linspace(0.0, 0.9, 50)
     ax1.plot(float(a.cd0(0.5, 1.5e7)) + a.k_induced() * cl ** 2, cl, "k--", lw=1,
              label="CD0 + k CL^2 (M 0.5, Re 1.5e7)")
@@ -155,10 +155,10 @@ def cmd_polar(args: argparse.Namespace) -> int:
         sys.stdout.write("\n")
     else:
         print(f"{len(rows)} trimmed conditions; wrote {out / 'polar.csv'} and {out / 'polar.png'}")
-        print(f"  {'alt_m':>7} {'mach':>5} {'CL':>7} {'CD':>8} {'L/D':>6} {'thrust_N':>9}")
+        print(f"  {'alt_m':>7} {'mach':>5} {'CL':>7} {'CD':>8} {'L/D':>6} {'Fn_N':>9}")
         for r in rows:
             print(f"  {r.alt_m:7.0f} {r.mach:5.2f} {r.CL:7.4f} {r.CD:8.5f} {r.lift_N / r.drag_N:6.2f} "
-                  f"{r.thrust_N:9.0f}")
+                  f"{r.Fn_N:9.0f}")
     return 0
 
 

@@ -20,12 +20,13 @@ from pathlib import Path
 from typing import Any
 
 from ..common import safe_yaml
+from ..common.atmosphere import G0_M_S2
 from .errors import AirframeError
 
 __all__ = ["Planform", "Geometry", "load_geometry", "DATA_FILE", "G0"]
 
 DATA_FILE = Path(__file__).resolve().parent / "data" / "upera_geometry.json"
-G0 = 9.80665  # standard gravity [m/s^2]
+G0 = G0_M_S2  # standard gravity [m/s^2]
 
 
 @dataclass(frozen=True)

@@ -22,7 +22,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 from scipy.optimize import root
 
-from .adapter import FT, LBF, PSF, Airframe
+from .adapter import Airframe
 from .aero import aero_model
 from .errors import OutOfEnvelopeError, TrimError
 from .geometry import G0
@@ -43,7 +43,7 @@ class TrimResult:
     alt_m : altitude MSL [m]; mach [-]; mass_kg [kg]; tas_m_s : true airspeed [m/s]
     alpha_rad : angle of attack = pitch angle [rad]
     elevator : normalised elevator command [-] (> 0 trailing edge down)
-    thrust_N : net thrust [N]
+    Fn_N : net thrust [N]
     lift_N, drag_N : aerodynamic lift and drag [N]
     CL, CD : lift and drag coefficients on the wing area [-]
     qbar_Pa : dynamic pressure [Pa]; re_mac : Reynolds number on the MAC [-]
@@ -56,7 +56,7 @@ class TrimResult:
     tas_m_s: float
     alpha_rad: float
     elevator: float
-    thrust_N: float
+    Fn_N: float
     lift_N: float
     drag_N: float
     CL: float
@@ -129,11 +129,10 @@ def trim_level(alt_m: float, mach: float, mass_kg: float | None = None, airframe
     weight = mass * G0
     gamma = _check_range("flight-path angle", flight_path_rad, (-0.2, 0.3), " rad")
     a = aero_model()
-    fdm = af.fdm
     # Speed of sound from JSBSim's own atmosphere at this altitude.
     af.start_air(alt, 100.0, heading_deg, lat_deg, lon_deg, fuel_kg=fuel, ground_elevation_m=min(0.0, alt - 1000.0))
-    tas = m * af.get_property("atmosphere/a-fps") * FT
-    q = 0.5 * af.state().rho_kg_m3 * tas ** 2
+    tas = m * af.speed_of_sound_m_s()
+    q = 0.5 * af.state().rho_amb_kg_m3 * tas ** 2
     s = g.wing.area_m2
     cl_req = weight * math.cos(gamma) / (q * s)
     where = f"at {alt:g} m, Mach {m:g}, {mass:g} kg"
@@ -153,11 +152,10 @@ def trim_level(alt_m: float, mach: float, mass_kg: float | None = None, airframe
         # second evaluation makes the residual a function of x alone (alpha-dot = 0 at the solution).
         for _ in range(2):
             af.start_air(alt, tas, heading_deg, lat_deg, lon_deg, alpha_rad=float(x[0]), elevator=float(x[1]),
-                         thrust_N=float(x[2]) * weight, flaps=flaps, gear_down=gear_down, fuel_kg=fuel,
+                         Fn_N=float(x[2]) * weight, flaps=flaps, gear_down=gear_down, fuel_kg=fuel,
                          ground_elevation_m=ground, flight_path_rad=gamma, airbrake=airbrake)
-        return np.array([fdm["accelerations/udot-ft_sec2"] * FT / G0,
-                         fdm["accelerations/wdot-ft_sec2"] * FT / G0,
-                         fdm["accelerations/qdot-rad_sec2"]])
+        udot, wdot, qdot = af.accelerations()
+        return np.array([udot / G0, wdot / G0, qdot])
 
     sol = root(residual, x0, method="hybr", options={"xtol": 1e-12})
     res = residual(sol.x)
@@ -171,9 +169,8 @@ def trim_level(alt_m: float, mach: float, mass_kg: float | None = None, airframe
     if alpha > a.alpha_stall(m):
         raise TrimError(f"trim {where} needs angle of attack {math.degrees(alpha):.1f} deg, past the stall "
                         f"({math.degrees(a.alpha_stall(m)):.1f} deg); fly faster or lower")
-    qbar = fdm["aero/qbar-psf"] * PSF
-    lift = fdm["forces/fwz-aero-lbs"] * LBF  # JSBSim: wind-axis lift and drag, positive as named
-    drag = fdm["forces/fwx-aero-lbs"] * LBF
+    forces = af.aero_forces()
+    qbar, lift, drag = forces.qbar_Pa, forces.lift_N, forces.drag_N
     return TrimResult(alt_m=alt, mach=m, mass_kg=mass, tas_m_s=tas, alpha_rad=alpha, elevator=elev,
-                      thrust_N=thrust, lift_N=lift, drag_N=drag, CL=lift / (qbar * s), CD=drag / (qbar * s),
-                      qbar_Pa=qbar, re_mac=fdm["aero/Re"], residual=worst)
+                      Fn_N=thrust, lift_N=lift, drag_N=drag, CL=lift / (qbar * s), CD=drag / (qbar * s),
+                      qbar_Pa=qbar, re_mac=forces.re_mac, residual=worst)

@@ -416,7 +416,7 @@ class EngineModel:
             self._buf = None                    # no compiled step after this
         self.t_s = self.t_s + dt_s
         v = self.values
-        v[EO.thrust_N] = v[EO.gross_thrust_N] = v[EO.ram_drag_N] = v[EO.fuel_flow_kg_s] = 0.0
+        v[EO.Fn_N] = v[EO.Fg_N] = v[EO.ram_drag_N] = v[EO.Wf_kg_s] = 0.0
         v[EO.dN1_dt_rpm_s] = v[EO.dN2_dt_rpm_s] = 0.0
         v[EO.SFC_kg_N_s] = math.inf
         self.flamed_out = self.message = (f"engine: flame-out at t = {self.t_s:.6g} s: {cause}; "
@@ -430,19 +430,19 @@ class EngineModel:
 
     def _kwargs(self, u: EngineInputs) -> tuple[float, dict[str, object]]:
         """Fuel flow [kg/s] and keyword arguments of :meth:`.transient.TurbofanTransient.state`."""
-        Wf = self._fuel_stops(u.Wf_kg_s)
+        Wf = self._fuel_stops(u.Wf_cmd_kg_s)
         dist: tuple[Distortion | None, Distortion | None] = (None, None)
         if u.distortion_on:
-            d = Distortion(self._clip("sector_deg", u.sector_deg, 1.0, 359.0) / 360.0,
-                           self._clip("dPt_frac", u.dPt_frac, 0.0, 0.45), self._clip("dTt_K", u.dTt_K, 0.0, 300.0),
-                           self.crit)
+            d = Distortion(self._clip("distortion_sector_deg", u.distortion_sector_deg, 1.0, 359.0) / 360.0,
+                           self._clip("distortion_dPt_frac", u.distortion_dPt_frac, 0.0, 0.45),
+                           self._clip("distortion_dTt_K", u.distortion_dTt_K, 0.0, 300.0), self.crit)
             dist = (d if self.target & 1 else None, d if self.target & 2 else None)
         lim = self.limits
         hp, hp_cut = self._port(u.offtake_hp_W, lim.assist_hp_max_W, lim.offtake_hp_max_W)
         lp, lp_cut = self._port(u.offtake_lp_W, lim.assist_lp_max_W, lim.offtake_lp_max_W)
         self.port_W, self.port_limited = (hp, lp), hp_cut or lp_cut
         kw: dict[str, object] = dict(
-            alt_m=u.alt_m, Mach=u.Mach, dT_isa_K=u.dT_isa_K, distortion=dist, tol=self.tol,
+            alt_m=u.alt_m, Mach=u.mach, dT_isa_K=u.dT_isa_K, distortion=dist, tol=self.tol,
             customer_bleed_frac=self._clip("customer_bleed_frac", u.customer_bleed_frac, 0.0, _CUSTOMER_BLEED_MAX),
             offtake_hp_W=hp, offtake_lp_W=lp)
         return Wf, kw
@@ -460,14 +460,14 @@ class EngineModel:
         dist = kw["distortion"]
         assert isinstance(dist, tuple)
         setting = {"N1_pct": N1_pct} if N1_pct is not None else {"Wf_kg_s": Wf}
-        pt: OffDesignPoint = self.od.solve(u.alt_m, u.Mach, u.dT_isa_K, customer_bleed_frac=kw["customer_bleed_frac"],
+        pt: OffDesignPoint = self.od.solve(u.alt_m, u.mach, u.dT_isa_K, customer_bleed_frac=kw["customer_bleed_frac"],
                                            offtake_hp_W=kw["offtake_hp_W"], offtake_lp_W=kw["offtake_lp_W"],
                                            distortion_fan=dist[0], distortion_hpc=dist[1], **setting)
         self.valve_open_cmd = pt.N1c_pct < self.valve.threshold_N1c_pct
         self.valve_pos = 1.0 if self.valve_open_cmd else 0.0
         hb = self.valve_pos * self.valve.open_frac
         if pt.handling_bleed_frac != hb:        # inside the steady schedule's ramp: steady with the on/off valve
-            pt = self.od.solve(u.alt_m, u.Mach, u.dT_isa_K, customer_bleed_frac=kw["customer_bleed_frac"],
+            pt = self.od.solve(u.alt_m, u.mach, u.dT_isa_K, customer_bleed_frac=kw["customer_bleed_frac"],
                                offtake_hp_W=kw["offtake_hp_W"], offtake_lp_W=kw["offtake_lp_W"],
                                distortion_fan=dist[0], distortion_hpc=dist[1], guess=pt, handling_bleed_frac=hb,
                                **setting)
@@ -480,14 +480,15 @@ class EngineModel:
                                    handling_bleed_frac=self.valve_pos * self.valve.open_frac, **kw)  # type: ignore[arg-type]
         self._key = self._make_key(pt.Wf_kg_s, u)
         # started at a speed: its input is the fuel it burns there (not a fuel cut)
-        self._publish(pt.Wf_kg_s, u.Wf_kg_s if N1_pct is None else pt.Wf_kg_s)
+        self._publish(pt.Wf_kg_s, u.Wf_cmd_kg_s if N1_pct is None else pt.Wf_kg_s)
         self._hold()
         return self.values
 
     # ------------------------------------------------------------------ step
     def _make_key(self, Wf: float, u: EngineInputs) -> tuple[float, ...]:
-        return (self.N1_rpm, self.N2_rpm, self.valve_pos, Wf, u.alt_m, u.Mach, u.dT_isa_K, u.offtake_hp_W,
-                u.offtake_lp_W, u.customer_bleed_frac, float(u.distortion_on), u.sector_deg, u.dPt_frac, u.dTt_K)
+        return (self.N1_rpm, self.N2_rpm, self.valve_pos, Wf, u.alt_m, u.mach, u.dT_isa_K, u.offtake_hp_W,
+                u.offtake_lp_W, u.customer_bleed_frac, float(u.distortion_on), u.distortion_sector_deg,
+                u.distortion_dPt_frac, u.distortion_dTt_K)
 
     def _evaluate(self, t_s: float, N1: float, N2: float, Wf: float, u: EngineInputs,
                   kw: dict[str, object]) -> TransientState | None:
@@ -503,7 +504,7 @@ class EngineModel:
             self.failures += 1
             self.tr._cache = None
             self.message = (f"engine: t={t_s:.6g} s: gas path not matched at N1={N1:.6g} rpm, N2={N2:.6g} rpm, "
-                            f"Wf={Wf:.6g} kg/s, alt={u.alt_m:.6g} m, Mach={u.Mach:.4g}; last good state held: "
+                            f"Wf={Wf:.6g} kg/s, alt={u.alt_m:.6g} m, Mach={u.mach:.4g}; last good state held: "
                             f"{exc}")
             return None
 
@@ -585,8 +586,9 @@ class EngineModel:
     def step(self, dt_s: float, u: EngineInputs) -> list[float]:
         """Advance by `dt_s` [s] with the inputs `u` held; returns :attr:`values` (flags in :attr:`flags`)."""
         if self._buf is not None:
-            self._uin[:] = (u.Wf_kg_s, u.alt_m, u.Mach, u.dT_isa_K, u.offtake_hp_W, u.offtake_lp_W,
-                            u.customer_bleed_frac, u.distortion_on, u.sector_deg, u.dPt_frac, u.dTt_K)
+            self._uin[:] = (u.Wf_cmd_kg_s, u.alt_m, u.mach, u.dT_isa_K, u.offtake_hp_W, u.offtake_lp_W,
+                            u.customer_bleed_frac, u.distortion_on, u.distortion_sector_deg, u.distortion_dPt_frac,
+                            u.distortion_dTt_K)
             return self.step_array(dt_s, self._uin, u)
         return self._step(dt_s, u)
 
@@ -708,7 +710,7 @@ class EngineModel:
         self._key = self._make_key(Wf, u) if not (failed or self.fuel_limited) else None
         if failed and not self.flags[3]:
             self.log(self.message)
-        self._publish(Wf_used, u.Wf_kg_s, failed)
+        self._publish(Wf_used, u.Wf_cmd_kg_s, failed)
         self._hold()
         return self.values
 
@@ -721,7 +723,7 @@ class EngineModel:
         Wf = float(Wf)
         p = self.p
         N1, N2, Fn, Pt3 = s.N1_rpm, s.N2_rpm, o[OX.Fn], o[OX.Pt3]
-        v[EO.thrust_N], v[EO.gross_thrust_N], v[EO.ram_drag_N], v[EO.fuel_flow_kg_s] = Fn, o[OX.Fg], o[OX.ram], Wf
+        v[EO.Fn_N], v[EO.Fg_N], v[EO.ram_drag_N], v[EO.Wf_kg_s] = Fn, o[OX.Fg], o[OX.ram], Wf
         v[EO.N1_rpm], v[EO.N2_rpm] = N1, N2
         v[EO.N1_pct], v[EO.N2_pct] = 100.0 * N1 / p.N1_rpm, 100.0 * N2 / p.N2_rpm
         v[EO.N1c_pct] = 100.0 * o[OX.N1c] / self._Nc1_d

@@ -22,6 +22,7 @@ import enum
 import math
 from dataclasses import dataclass, fields
 
+from ..common.atmosphere import P0_PA, T0_K
 from ..common.signals import Signal, check_table
 from .errors import OutOfRangeError
 from .health import HEALTH_LIMIT, health_parameter_names
@@ -62,8 +63,8 @@ def _par(name: str, unit: str, description: str, start: float | None = None, acc
 
 #: Real outputs, in the order of :attr:`EngineModel.values` (filled by name, :data:`EO`).
 _OUTPUT_ROWS: tuple[Signal, ...] = (
-    _out("thrust_N", "N", "Net thrust"), _out("gross_thrust_N", "N", "Gross thrust"),
-    _out("ram_drag_N", "N", "Ram drag"), _out("fuel_flow_kg_s", "kg/s", "Fuel flow burnt"),
+    _out("Fn_N", "N", "Net thrust"), _out("Fg_N", "N", "Gross thrust"),
+    _out("ram_drag_N", "N", "Ram drag"), _out("Wf_kg_s", "kg/s", "Fuel flow burnt"),
     _out("N1_rpm", "rpm", "LP spool speed N1"), _out("N2_rpm", "rpm", "HP spool speed N2"),
     _out("N1_pct", "%", "LP spool speed N1, percent of design"),
     _out("N2_pct", "%", "HP spool speed N2, percent of design"),
@@ -113,10 +114,11 @@ class EngineInputs:
 
     Attributes
     ----------
-    Wf_kg_s : float
-        Fuel flow [kg/s].
-    alt_m, Mach, dT_isa_K : float
-        Flight condition: geopotential altitude [m], Mach [-], ISA deviation [K].
+    Wf_cmd_kg_s : float
+        Fuel flow command [kg/s] (the fuel system's stops limit what burns, the output ``Wf_kg_s``).
+    alt_m, mach, dT_isa_K : float
+        Flight condition: altitude above mean sea level, flown as the ISA geopotential altitude [m], Mach [-],
+        ISA deviation [K].
     offtake_hp_W, offtake_lp_W : float
         Power at the HP and LP shaft ports [W], signed: positive is taken from the spool (accessories, a
         generator's load), negative is delivered to it (a motor's assist); clipped to the limits of
@@ -125,21 +127,21 @@ class EngineInputs:
         Customer bleed from the HPC exit, W/W25 [-].
     distortion_on : bool
         Inlet distortion switched on.
-    sector_deg, dPt_frac, dTt_K : float
+    distortion_sector_deg, distortion_dPt_frac, distortion_dTt_K : float
         Spoiled sector angle [deg], its total-pressure deficit [-] and temperature excess [K].
     """
 
-    Wf_kg_s: float
+    Wf_cmd_kg_s: float
     alt_m: float = 0.0
-    Mach: float = 0.0
+    mach: float = 0.0
     dT_isa_K: float = 0.0
     offtake_hp_W: float = 0.0
     offtake_lp_W: float = 0.0
     customer_bleed_frac: float = 0.0
     distortion_on: bool = False
-    sector_deg: float = 90.0
-    dPt_frac: float = 0.0
-    dTt_K: float = 0.0
+    distortion_sector_deg: float = 90.0
+    distortion_dPt_frac: float = 0.0
+    distortion_dTt_K: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -315,31 +317,30 @@ SIGNALS: tuple[Signal, ...] = check_table((
     *(row for section, (cls, prefix) in PARAMETER_SETS.items()
       for row in engine_set(cls, section).signals(prefix, variability=None)),
     *_HEALTH_ROWS,
-    # inputs: accessor = the field of EngineInputs they fill
-    _in("fuel_flow_cmd_kg_s", "kg/s", "Fuel flow command; <= 0 at the start: the start point's", 0.0, "Wf_kg_s"),
-    _in("alt_msl_m", "m", "Altitude above mean sea level, flown as the ISA geopotential altitude",
-        _IN["alt_m"], "alt_m"),
-    _in("mach", "1", "Flight Mach number", _IN["Mach"], "Mach"),
+    # inputs: each the field of EngineInputs of its name (the flight condition, the fuel flow command, ...)
+    _in("Wf_cmd_kg_s", "kg/s", "Fuel flow command; <= 0 at the start: the start point's", 0.0, None),
+    _in("alt_m", "m", "Altitude above mean sea level, flown as the ISA geopotential altitude",
+        _IN["alt_m"], None),
+    _in("mach", "1", "Flight Mach number", _IN["mach"], None),
     _in("dT_isa_K", "K", "ISA temperature deviation of the atmosphere flown (the airframe's dT_isa_K)",
         _IN["dT_isa_K"], None),
     _in("offtake_hp_W", "W", "HP shaft port power, + taken from the spool (offtake, generator), - delivered to "
-                             "it (motor assist)", _IN["offtake_hp_W"], "offtake_hp_W"),
+                             "it (motor assist)", _IN["offtake_hp_W"], None),
     _in("offtake_lp_W", "W", "LP shaft port power, + taken from the spool (offtake, generator), - delivered to "
-                             "it (motor assist)", _IN["offtake_lp_W"], "offtake_lp_W"),
+                             "it (motor assist)", _IN["offtake_lp_W"], None),
     _in("customer_bleed_frac", "1", "Customer bleed from the HPC exit over HPC inlet flow",
-        _IN["customer_bleed_frac"], "customer_bleed_frac"),
-    _in("distortion_sector_deg", "deg", "Spoiled inlet sector angle", _IN["sector_deg"], "sector_deg"),
+        _IN["customer_bleed_frac"], None),
+    _in("distortion_sector_deg", "deg", "Spoiled inlet sector angle", _IN["distortion_sector_deg"], None),
     _in("distortion_dPt_frac", "1", "Total-pressure deficit of the spoiled sector over the clean value",
-        _IN["dPt_frac"], "dPt_frac"),
-    _in("distortion_dTt_K", "K", "Total-temperature excess of the spoiled sector", _IN["dTt_K"], "dTt_K"),
+        _IN["distortion_dPt_frac"], None),
+    _in("distortion_dTt_K", "K", "Total-temperature excess of the spoiled sector", _IN["distortion_dTt_K"], None),
     # read by the FMU itself (use_ambient), not a field of EngineInputs
-    _in("p_amb_Pa", "Pa", "Ambient static pressure, used with use_ambient", 101325.0, None),
-    _in("T_amb_K", "K", "Ambient static temperature, used with use_ambient", 288.15, None),
+    _in("p_amb_Pa", "Pa", "Ambient static pressure, used with use_ambient", P0_PA, None),
+    _in("T_amb_K", "K", "Ambient static temperature, used with use_ambient", T0_K, None),
     _in("fuel_kg", "kg", "Fuel the tanks feeding the engine hold (the airframe's fuel_kg): the burner flames out "
                          "when they cannot deliver the metered flow over a step; the start value, no tank "
                          "connected, does not limit", FUEL_UNLIMITED_KG, None),
-    Signal("distortion_on", "input", "1", "Inlet distortion switched on", "Boolean", _IN["distortion_on"],
-           "distortion_on"),
+    Signal("distortion_on", "input", "1", "Inlet distortion switched on", "Boolean", _IN["distortion_on"]),
     *_OUTPUT_ROWS,
     *_FLAG_ROWS,
     Signal("events", "output", "1", "Rising edges of surge, flameout, overspeed, fuel limiting, shaft power "

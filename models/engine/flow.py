@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..common.atmosphere import P0_PA, T0_K
 from . import jit_kernels as K
 from .errors import OutOfRangeError
 from .gas import DEFAULT_GAS, GasModel
@@ -36,10 +37,10 @@ from .jit_kernels import jit
 __all__ = ["T_STD_K", "P_STD_PA", "FlowStation", "check_flow", "flow_TP", "flow_hP", "mix", "mix_state", "split",
            "StaticState", "static_at_mach", "static_at_pressure", "total_from_static"]
 
-#: Reference temperature of corrected quantities [K] (ISA sea level).
-T_STD_K: float = 288.15
-#: Reference pressure of corrected quantities [Pa] (ISA sea level).
-P_STD_PA: float = 101325.0
+#: Reference temperature of corrected quantities [K] (ISA sea level, the one atmosphere's).
+T_STD_K: float = T0_K
+#: Reference pressure of corrected quantities [Pa] (ISA sea level, the one atmosphere's).
+P_STD_PA: float = P0_PA
 
 
 @dataclass(frozen=True, slots=True)

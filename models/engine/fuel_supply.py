@@ -95,7 +95,7 @@ class FuelSupply:
         tank_kg : float
             The tanks' content as the engine reads it [kg].
         """
-        avail = self.available_kg(tank_kg, model.fuel_burned_kg, model.values[EO.fuel_flow_kg_s] * dt_s)
+        avail = self.available_kg(tank_kg, model.fuel_burned_kg, model.values[EO.Wf_kg_s] * dt_s)
         metered = model.metered_fuel_kg_s(Wf_cmd_kg_s, dt_s)
         if metered * dt_s <= avail:
             return False

@@ -270,7 +270,7 @@ def euler_step(dt_s: float, h: float, d: StepData, k_prev: int, tol: float) -> i
     Fn, Pt3, hb_o, FAR4, sm_f, sm_h = o[OX.Fn], o[OX.Pt3], o[OX.hb], o[OX.FAR4], o[OX.SM_fan], o[OX.SM_hpc]
     sm_fc, sm_hc = o[OX.SM_fan_clean], o[OX.SM_hpc_clean]
     N1_pct, N2_pct = 100.0 * N1_s / par[_N1D], 100.0 * N2_s / par[_N2D]
-    vals[EO.thrust_N], vals[EO.gross_thrust_N], vals[EO.ram_drag_N], vals[EO.fuel_flow_kg_s] = Fn, o[OX.Fg], \
+    vals[EO.Fn_N], vals[EO.Fg_N], vals[EO.ram_drag_N], vals[EO.Wf_kg_s] = Fn, o[OX.Fg], \
         o[OX.ram], Wf_s
     vals[EO.N1_rpm], vals[EO.N2_rpm], vals[EO.N1_pct], vals[EO.N2_pct] = N1_s, N2_s, N1_pct, N2_pct
     vals[EO.N1c_pct] = 100.0 * o[OX.N1c] / par[_NC1D]

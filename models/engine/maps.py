@@ -55,8 +55,10 @@ from typing import Any, Literal
 
 import numpy as np
 
+from ..common.atmosphere import G0_M_S2
 from . import jit_kernels as _K
 from .errors import ModelError, OutOfRangeError
+from .flow import P_STD_PA, T_STD_K
 from .map_interp import BicubicTable
 from .map_points import CompressorPoint, CompressorPointD, TurbinePoint, TurbinePointD
 
@@ -70,11 +72,11 @@ __all__ = [
 #: Folder of the map data files.
 MAP_DIR: Path = Path(__file__).resolve().parent / "maps"
 #: Reference state of corrected flow and speed [K], [Pa] (ISA sea level; NPSS uses 518.67 degR, 14.696 psia).
-T_REF_K: float = 288.15
-P_REF_PA: float = 101325.0
+T_REF_K: float = T_STD_K
+P_REF_PA: float = P_STD_PA
 #: Exact unit factors: pound-mass [kg], pound-force per square inch [Pa], degree Rankine per kelvin.
 LBM_TO_KG: float = 0.45359237
-PSI_TO_PA: float = LBM_TO_KG * 9.80665 / 0.0254**2
+PSI_TO_PA: float = LBM_TO_KG * G0_M_S2 / 0.0254**2  # the pound-force is a pound-mass at standard gravity
 RANKINE_PER_K: float = 1.8
 #: Factor from W*sqrt(Tt)/Pt in lbm sqrt(degR)/(s psia) to corrected flow [kg/s] at T_REF_K, P_REF_PA.
 WP_TO_WC: float = LBM_TO_KG * (P_REF_PA / PSI_TO_PA) / math.sqrt(T_REF_K * RANKINE_PER_K)

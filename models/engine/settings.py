@@ -83,7 +83,7 @@ class EngineStart:
     ----------
     start_N1_pct : float
         Initial steady N1 when no start fuel flow is given [% of design].
-    start_fuel_flow_kg_s : float
+    start_Wf_kg_s : float
         Initial steady fuel flow, used if > 0 [kg/s].
     accept_solver_failure : bool
         Fly on with the last good state held where the gas path cannot be matched.
@@ -92,7 +92,7 @@ class EngineStart:
     """
 
     start_N1_pct: float
-    start_fuel_flow_kg_s: float
+    start_Wf_kg_s: float
     accept_solver_failure: bool
     use_ambient: bool
 

@@ -63,7 +63,7 @@ def isa_values(alt_m: float, dT_isa_K: float) -> tuple[float, float, float, floa
     ok = ALT_MIN_M <= alt_m <= ALT_MAX_M
     T, p = isa_T_p(alt_m if ok else 0.0, dT_isa_K)
     if not (T_MIN_K <= T <= T_MAX_K):           # also a NaN deviation
-        ok, T = False, 288.15
+        ok, T = False, _atm.T0_K
     rho, a = rho_a(T, p)
     return T, p, rho, a, ok
 

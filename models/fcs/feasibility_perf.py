@@ -95,7 +95,7 @@ class Performance(Protocol):
     def thrust_max_N(self, alt_m: float, mach: float) -> float:
         """Maximum thrust [N] (also on the ground)."""
 
-    def cruise_fuel_kg_s(self, alt_m: float, mach: float, thrust_N: float) -> float:
+    def cruise_fuel_kg_s(self, alt_m: float, mach: float, Fn_N: float) -> float:
         """Fuel flow for a thrust [kg/s]."""
 
 

@@ -92,7 +92,7 @@ class PerformanceData:
         Airbrake rate limit [1/s] (fraction of full travel per second).
     n1c_pct : tuple of float
         Corrected fan speeds of the thrust table [%].
-    thrust_N : tuple of tuple of tuple of float
+    Fn_N : tuple of tuple of tuple of float
         Net thrust at [N1c][altitude][Mach] [N].
     thrust_max_N : tuple of tuple of float
         Maximum net thrust (lever 1: N1c 100 %, within the N1 and Tt41 limits) at [altitude][Mach] [N].
@@ -111,7 +111,7 @@ class PerformanceData:
     airbrake_blowback_qbar_Pa: float
     airbrake_rate_1_s: float
     n1c_pct: tuple[float, ...]
-    thrust_N: tuple[tuple[tuple[float, ...], ...], ...]
+    Fn_N: tuple[tuple[tuple[float, ...], ...], ...]
     thrust_max_N: tuple[tuple[float, ...], ...]
     source: str
 
@@ -138,19 +138,19 @@ def load_performance_data(text: str | None = None, where: str = DATA_FILE) -> Pe
         data = PerformanceData(
             float(doc["S_m2"]), alt, mach, _tuple2(doc["cd0"]), _tuple2(doc["k"]), float(doc["cd_gear"]),
             float(ab["cd_full"]), math.radians(float(ab["max_deg"])), float(ab["blowback_qbar_Pa"]),
-            1.0 / float(ab["full_travel_s"]), n1c, tuple(_tuple2(t) for t in doc["thrust_N"]),
+            1.0 / float(ab["full_travel_s"]), n1c, tuple(_tuple2(t) for t in doc["Fn_N"]),
             _tuple2(doc["thrust_max_N"]), str(doc.get("source", "")))
     except (KeyError, TypeError, ValueError) as e:
         raise FcsError(f"{where}: not a performance database ({type(e).__name__}: {e}); regenerate it with "
                        "python -m openemss.models.performance.generate") from None
     shapes = [("cd0", data.cd0, (len(alt), len(mach))), ("k", data.k, (len(alt), len(mach))),
               ("thrust_max_N", data.thrust_max_N, (len(alt), len(mach)))]
-    shapes += [(f"thrust_N[{i}]", t, (len(alt), len(mach))) for i, t in enumerate(data.thrust_N)]
+    shapes += [(f"Fn_N[{i}]", t, (len(alt), len(mach))) for i, t in enumerate(data.Fn_N)]
     for name, t, (na, nm) in shapes:
         if len(t) != na or any(len(r) != nm for r in t):
             raise FcsError(f"{where}: table {name} is not {na} x {nm} (altitude x Mach)")
-    if len(data.thrust_N) != len(n1c):
-        raise FcsError(f"{where}: thrust_N has {len(data.thrust_N)} N1c levels for {len(n1c)} in n1c_pct")
+    if len(data.Fn_N) != len(n1c):
+        raise FcsError(f"{where}: Fn_N has {len(data.Fn_N)} N1c levels for {len(n1c)} in n1c_pct")
     return data
 
 
@@ -233,19 +233,19 @@ class Performance(Tunable[PerformanceParams]):
         return q * self.data.S_m2 * cd + self.airbrake_drag_N(q, airbrake)
 
     # -- thrust --------------------------------------------------------------------------
-    def thrust_N(self, alt_m: float, mach: float, n1c_pct: float) -> float:
+    def Fn_N(self, alt_m: float, mach: float, n1c_pct: float) -> float:
         """Net thrust at a corrected fan speed [%] (held at the table's ends) [N]."""
         d = self.data
         ia, wa = _interp(d.alt_m, alt_m)
         im, wm = _interp(d.mach, mach)
         jn, wn = _interp(d.n1c_pct, n1c_pct)
-        t0 = _bilinear(d.thrust_N[jn], ia, wa, im, wm)
-        t1 = _bilinear(d.thrust_N[jn + 1], ia, wa, im, wm)
+        t0 = _bilinear(d.Fn_N[jn], ia, wa, im, wm)
+        t1 = _bilinear(d.Fn_N[jn + 1], ia, wa, im, wm)
         return t0 * (1 - wn) + t1 * wn
 
     def idle_thrust_N(self, alt_m: float, mach: float) -> float:
         """Net thrust at flight idle (``N1c_idle_pct``; at the table's lowest N1c when that is below it) [N]."""
-        return self.thrust_N(alt_m, mach, self._n1c_idle()) + self._params.idle_thrust_delta_N
+        return self.Fn_N(alt_m, mach, self._n1c_idle()) + self._params.idle_thrust_delta_N
 
     def max_thrust_N(self, alt_m: float, mach: float) -> float:
         """Maximum net thrust (lever 1, within the engine's N1 and Tt41 limits) [N]."""

@@ -15,6 +15,8 @@ from __future__ import annotations
 import bisect
 from dataclasses import dataclass
 
+from ..common.atmosphere import G0_M_S2
+
 __all__ = ["VerticalProfile"]
 
 
@@ -38,7 +40,7 @@ class VerticalProfile:
 
     @classmethod
     def rounded(cls, s_m: list[float], h_m: list[float], vg_m_s: list[float], nz_g: float,
-                g_m_s2: float = 9.80665) -> VerticalProfile:
+                g_m_s2: float = G0_M_S2) -> VerticalProfile:
         """The polyline through (s, h) with each inner corner rounded for a vertical acceleration of
         ``nz_g`` at ground speed ``vg_m_s`` [m/s] (one per node), two roundings shrunk in proportion where
         they would overlap on a segment."""

@@ -100,6 +100,8 @@ from .tunable import Tunable, field_index, load_params
 __all__ = ["TecsParams", "SpeedKind", "SpeedCommand", "TecsInput", "TecsOutput", "Tecs", "tecs_law",
            "specific_energy_rate_m_s", "RHO0_KG_M3", "PRIORITIES", "SPEED_KINDS"]
 
+#: Reference density of the available-thrust fit (thrust_sls_N (rho/rho0)^thrust_lapse_exp), the fit's own rounded
+#: sea-level value, kept so that the fitted gains hold (the ISA's is models/common/atmosphere.RHO0_KG_M3, 1.2250114)
 RHO0_KG_M3 = 1.225
 
 
@@ -262,9 +264,9 @@ class Tecs(Tunable[TecsParams]):
         self._params = params if params is not None else TecsParams.from_file()
         self._s = np.zeros(5)  # the state of tecs_law (_I_T, _I_L, _SIGMA, _A_C, _AB)
 
-    def reset(self, thrust_N: float, weight_N: float, theta_rad: float, gamma_rad: float = 0.0) -> None:
+    def reset(self, Fn_N: float, weight_N: float, theta_rad: float, gamma_rad: float = 0.0) -> None:
         """Bumpless engagement from the current thrust [N], weight [N], pitch and path angles [rad]."""
-        self._s[:] = (thrust_N / weight_N, theta_rad, 0.0, 0.0, 0.0)
+        self._s[:] = (Fn_N / weight_N, theta_rad, 0.0, 0.0, 0.0)
 
     def available_thrust_N(self, alt_m: float, dT_isa_K: float = 0.0) -> float:
         """Estimate of the maximum thrust at altitude, thrust_sls (rho/rho0)^n [N]."""

@@ -189,7 +189,7 @@ def generate(preset: str = "larzac04_sls") -> dict[str, Any]:
         "airbrake": {"cd_full": r(float(a.cd_airbrake(1.0))), "max_deg": ab["max_deg"],
                      "blowback_qbar_Pa": ab["blowback_qbar_Pa"], "full_travel_s": ab["full_travel_s"]},
         "n1c_pct": list(N1C_AXIS_PCT),
-        "thrust_N": [[[round(v, 3) for v in row] for row in t] for t in thrust],
+        "Fn_N": [[[round(v, 3) for v in row] for row in t] for t in thrust],
         "thrust_max_N": [[round(v, 3) for v in row] for row in tmax],
         "filled": filled,
     }

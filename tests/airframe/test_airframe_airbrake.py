@@ -61,7 +61,7 @@ def test_blow_back_holds_the_drag_force() -> None:
 def test_rate_limit_full_travel_in_one_and_a_half_seconds() -> None:
     af = Airframe()
     tr = trim_level(3000.0, 0.4, 1900.0, airframe=af)
-    af.start_air(3000.0, tr.tas_m_s, 0.0, alpha_rad=tr.alpha_rad, elevator=tr.elevator, thrust_N=tr.thrust_N,
+    af.start_air(3000.0, tr.tas_m_s, 0.0, alpha_rad=tr.alpha_rad, elevator=tr.elevator, Fn_N=tr.Fn_N,
                  fuel_kg=400.0)
     assert af.state().airbrake_pos_norm == 0.0
     af.set_airbrake(1.0)

@@ -49,8 +49,8 @@ def test_trim_converges_over_envelope(af: Airframe, alt_m: float) -> None:
         # L + T sin(alpha) = W, D = T cos(alpha)  (to the residual, plus 0.2 % for the Earth's
         # rotation and curvature terms JSBSim includes: centripetal V^2/R_E = 0.4 % of g at 250 m/s)
         w = r.mass_kg * G0
-        assert r.lift_N + r.thrust_N * math.sin(r.alpha_rad) == pytest.approx(w, rel=5e-3)
-        assert r.drag_N == pytest.approx(r.thrust_N * math.cos(r.alpha_rad), rel=1e-4, abs=1.0)
+        assert r.lift_N + r.Fn_N * math.sin(r.alpha_rad) == pytest.approx(w, rel=5e-3)
+        assert r.drag_N == pytest.approx(r.Fn_N * math.cos(r.alpha_rad), rel=1e-4, abs=1.0)
         assert -1.0 < r.elevator < 1.0
 
 
@@ -77,11 +77,11 @@ def test_open_loop_from_trim_holds_altitude(af: Airframe, alt_m: float, mach: fl
     """Flown for 30 s with the trim's elevator and thrust, the altitude stays within 5 m
     (a trim error of 0.001 g in w' would give 0.5 x 0.0098 x 30^2 = 4.4 m)."""
     r = trim_level(alt_m, mach, airframe=af)
-    h0 = af.state().alt_msl_m
+    h0 = af.state().alt_m
     worst = 0.0
     for _ in range(30):
         af.step(1.0)
-        worst = max(worst, abs(af.state().alt_msl_m - h0))
+        worst = max(worst, abs(af.state().alt_m - h0))
     assert worst < 5.0, f"altitude drifted {worst:.2f} m"
     assert af.state().tas_m_s == pytest.approx(r.tas_m_s, rel=0.01)
 
@@ -202,7 +202,7 @@ def test_takeoff_roll_munich_26r(af: Airframe) -> None:
     s0 = af.start_runway(lat, lon, hdg, elev, flaps=0.5)
     assert s0.on_ground and s0.gs_m_s < 0.01
     assert af.get_property("fcs/flap-pos-norm") == 0.5
-    rho, mass = s0.rho_kg_m3, af.mass_kg
+    rho, mass = s0.rho_amb_kg_m3, af.mass_kg
     w = mass * G0
     v_s = math.sqrt(2 * w / (rho * S * A.clmax(0.5)))
     thrust = 13000.0
@@ -307,12 +307,12 @@ def test_landing_on_munich_26r(af: Airframe) -> None:
     mass, fuel = 1700.0, 200.0
     alt = elev + 12.0
     af.start_air(alt, 100.0, hdg, lat, lon, fuel_kg=fuel, ground_elevation_m=elev)
-    rho = af.state().rho_kg_m3
+    rho = af.state().rho_amb_kg_m3
     v_s = math.sqrt(2 * mass * G0 / (rho * S * A.clmax(1.0)))
     mach = 1.3 * v_s / (af.get_property("atmosphere/a-fps") * FT)
     r = trim_level(alt, mach, mass, airframe=af, flaps=1.0, gear_down=True, heading_deg=hdg, lat_deg=lat,
                    lon_deg=lon)
-    af.start_air(alt, r.tas_m_s, hdg, lat, lon, alpha_rad=r.alpha_rad, elevator=r.elevator, thrust_N=0.0,
+    af.start_air(alt, r.tas_m_s, hdg, lat, lon, alpha_rad=r.alpha_rad, elevator=r.elevator, Fn_N=0.0,
                  flaps=1.0, gear_down=True, fuel_kg=fuel, ground_elevation_m=elev)
     h_gear = -G.section("gear")["contact_z_m"]
     dt = af.dt_s
@@ -360,7 +360,7 @@ def test_trim_in_steady_climb_and_descent(af: Airframe, gamma: float) -> None:
     (0.5 %: Earth-rotation terms), and the vertical speed is V sin(gamma)."""
     r = trim_level(4000.0, 0.5, airframe=af, flight_path_rad=gamma)
     w = r.mass_kg * G0
-    assert r.lift_N + r.thrust_N * math.sin(r.alpha_rad) == pytest.approx(w * math.cos(gamma), rel=5e-3)
-    assert r.drag_N == pytest.approx(r.thrust_N * math.cos(r.alpha_rad) - w * math.sin(gamma), rel=5e-3)
+    assert r.lift_N + r.Fn_N * math.sin(r.alpha_rad) == pytest.approx(w * math.cos(gamma), rel=5e-3)
+    assert r.drag_N == pytest.approx(r.Fn_N * math.cos(r.alpha_rad) - w * math.sin(gamma), rel=5e-3)
     assert af.state().vs_m_s == pytest.approx(r.tas_m_s * math.sin(gamma), rel=1e-3)
     assert af.state().theta_rad == pytest.approx(r.alpha_rad + gamma, abs=1e-9)

@@ -21,10 +21,9 @@ from openemss.models.airframe.trim import trim_level
 
 ROOT = Path(__file__).resolve().parents[2]
 H = 0.05  # communication step [s]: six JSBSim steps at 120 Hz
-OUT = ("lat_deg", "lon_deg", "alt_msl_m", "alt_agl_m", "tas_m_s", "cas_m_s", "gs_m_s", "mach", "alpha_rad",
+OUT = ("lat_deg", "lon_deg", "alt_m", "alt_agl_m", "tas_m_s", "cas_m_s", "gs_m_s", "mach", "alpha_rad",
        "beta_rad", "phi_rad", "theta_rad", "psi_rad", "p_rad_s", "q_rad_s", "r_rad_s", "load_factor", "vs_m_s",
        "p_amb_Pa", "T_amb_K", "rho_amb_kg_m3", "mass_kg", "fuel_kg")
-ADAPTER = {"p_amb_Pa": "p_Pa", "T_amb_K": "T_K", "rho_amb_kg_m3": "rho_kg_m3"}
 
 
 @pytest.fixture(scope="module")
@@ -37,7 +36,7 @@ def test_model_description(fmu: Path) -> None:
     names = {v.name: v for v in md.modelVariables}
     assert_house_style(md)
     for name in ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "gear_down", "brakes_norm",
-                 "steering_norm", "thrust_N", "fuel_flow_kg_s"):
+                 "steering_norm", "Fn_N", "Wf_kg_s"):
         assert names[name].causality == "input"
     for name in (*OUT, "on_ground", "dT_isa_K"):
         assert names[name].causality == "output"
@@ -52,8 +51,8 @@ def _inputs(k: int) -> dict[str, float]:
     return {"elevator_norm": -0.05 + (-0.1 if 1.0 <= t < 2.0 else 0.1 if 2.0 <= t < 3.0 else 0.0),
             "aileron_norm": 0.2 if 4.0 <= t < 5.0 else 0.0,
             "rudder_norm": 0.1 if t >= 6.0 else 0.0,
-            "thrust_N": 3000.0 + 200.0 * t,
-            "fuel_flow_kg_s": 0.12,
+            "Fn_N": 3000.0 + 200.0 * t,
+            "Wf_kg_s": 0.12,
             "flaps_norm": 0.0, "brakes_norm": 0.0, "steering_norm": 0.0}
 
 
@@ -61,17 +60,17 @@ def test_fmu_and_adapter_identical(fmu: Path, tmp_path: Path) -> None:
     n_steps = 160  # 8 s
     # --- the adapter
     af = Airframe()
-    af.start_air(3000.0, 160.0, 90.0, 48.3, 11.8, alpha_rad=0.03, elevator=-0.05, thrust_N=3000.0,
+    af.start_air(3000.0, 160.0, 90.0, 48.3, 11.8, alpha_rad=0.03, elevator=-0.05, Fn_N=3000.0,
                  fuel_kg=500.0, ground_elevation_m=453.0)
     ref = []
     for k in range(n_steps):
         u = _inputs(k)
         af.set_surfaces(u["aileron_norm"], u["elevator_norm"], u["rudder_norm"])
-        af.set_thrust(u["thrust_N"])
-        af.set_fuel_flow(u["fuel_flow_kg_s"])
+        af.set_thrust(u["Fn_N"])
+        af.set_fuel_flow(u["Wf_kg_s"])
         af.step(H)
         s = af.state()
-        ref.append([getattr(s, ADAPTER.get(n, n)) for n in OUT])
+        ref.append([getattr(s, n) for n in OUT])  # the FMU's outputs are the state's fields
     ref = np.array(ref)
     # --- the FMU, driven by fmpy's FMU2Slave
     slave, vr = open_slave(fmu, "airframe")
@@ -122,16 +121,16 @@ def test_trimmed_air_start_in_fmpy_simulate(fmu: Path) -> None:
     res = _simulate(fmu, start_time=0.0, stop_time=30.0, output_interval=H,
                     start_values={"start_on_runway": False, "trim_at_start": True, "alt0_m": 5000.0,
                                   "tas0_m_s": r.tas_m_s, "gear_down": False, "elevator_norm": r.elevator,
-                                  "thrust_N": r.thrust_N},
-                    outputs=["alt_msl_m", "tas_m_s", "trim_elevator_norm", "trim_thrust_N", "on_ground"])
-    assert res["trim_thrust_N"][-1] == pytest.approx(r.thrust_N, rel=1e-6)
-    assert np.max(np.abs(res["alt_msl_m"] - 5000.0)) < 5.0
+                                  "Fn_N": r.Fn_N},
+                    outputs=["alt_m", "tas_m_s", "trim_elevator_norm", "trim_Fn_N", "on_ground"])
+    assert res["trim_Fn_N"][-1] == pytest.approx(r.Fn_N, rel=1e-6)
+    assert np.max(np.abs(res["alt_m"] - 5000.0)) < 5.0
     assert not res["on_ground"].any()
 
 
 def test_runway_start_rolls(fmu: Path) -> None:
     res = _simulate(fmu, start_time=0.0, stop_time=10.0, output_interval=H,
-                    start_values={"thrust_N": 13000.0}, outputs=["gs_m_s", "on_ground", "alt_agl_m"])
+                    start_values={"Fn_N": 13000.0}, outputs=["gs_m_s", "on_ground", "alt_agl_m"])
     assert res["on_ground"].all()
     # 13 kN on 2100 kg less drag and rolling friction: about 6 m/s^2 -> 55 to 65 m/s after 10 s
     assert 50.0 < res["gs_m_s"][-1] < 65.0
@@ -147,7 +146,7 @@ def test_runs_in_our_orchestrator_and_libcosim(fmu: Path, tmp_path: Path) -> Non
     from openemss.orchestrator.ssp.system import bind_system
     from systems import Comp, write_system
 
-    outs = ["alt_msl_m", "tas_m_s", "theta_rad", "q_rad_s", "mass_kg"]
+    outs = ["alt_m", "tas_m_s", "theta_rad", "q_rad_s", "mass_kg"]
     params = {"start_on_runway": False, "trim_at_start": True, "alt0_m": 5000.0, "tas0_m_s": 180.0}
     comp = Comp("airframe", fmu.name, [(n, "output", "Real") for n in outs], params)
     folder = tmp_path / "system"
@@ -170,7 +169,7 @@ def test_runs_in_our_orchestrator_and_libcosim(fmu: Path, tmp_path: Path) -> Non
     mach = 180.0 / (af.get_property("atmosphere/a-fps") * 0.3048)
     r = trim_level(5000.0, mach, 2100.0, airframe=af, gear_down=True, heading_deg=hdg, lat_deg=lat, lon_deg=lon)
     # the FMU starts at the trim's elevator and thrust; its inputs (0) act from the first step
-    af.start_air(5000.0, 180.0, hdg, lat, lon, alpha_rad=r.alpha_rad, elevator=r.elevator, thrust_N=r.thrust_N,
+    af.start_air(5000.0, 180.0, hdg, lat, lon, alpha_rad=r.alpha_rad, elevator=r.elevator, Fn_N=r.Fn_N,
                  gear_down=True, fuel_kg=600.0, ground_elevation_m=elev)
     af.set_surfaces(elevator=0.0)
     af.set_thrust(0.0)
@@ -210,7 +209,7 @@ def test_fmu_is_self_contained(fmu: Path, tmp_path: Path) -> None:
             "for m in ('openemss', 'matplotlib'): sys.modules[m] = None  # lxml: fmpy's own\n"
             "from fmpy import simulate_fmu\n"
             f"r = simulate_fmu({str(fmu)!r}, stop_time=1.0, output_interval=0.05, "
-            "start_values={'thrust_N': 13000.0}, output=['gs_m_s'])\n"
+            "start_values={'Fn_N': 13000.0}, output=['gs_m_s'])\n"
             "print(r['gs_m_s'][-1])")
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr

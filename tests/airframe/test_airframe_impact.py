@@ -29,7 +29,7 @@ def fly_down(gamma_deg: float, gear_down: bool, bank_deg: float = 0.0,
     alt = GROUND_M + 40.0
     tr = trim_level(alt, 0.22, mass_kg=1900.0, gear_down=gear_down, flight_path_rad=gamma)
     af = Airframe()
-    af.start_air(alt, tr.tas_m_s, 263.0, alpha_rad=tr.alpha_rad, elevator=tr.elevator, thrust_N=tr.thrust_N,
+    af.start_air(alt, tr.tas_m_s, 263.0, alpha_rad=tr.alpha_rad, elevator=tr.elevator, Fn_N=tr.Fn_N,
                  gear_down=gear_down, ground_elevation_m=GROUND_M, flight_path_rad=gamma, fuel_kg=400.0)
     sinks: list[float] = []
     t = 0.0

@@ -145,7 +145,7 @@ def test_isa_deviation_and_wind(wind: tuple[float, float, float]) -> None:
     assert s0.tas_m_s == pytest.approx(150.0, abs=1e-6) and abs(s0.beta_rad) < 1e-9  # at time zero already
     af.step(af.dt_s)
     s = af.state()
-    assert s.T_K == pytest.approx(isa(5000.0)[0] + 15.0, abs=0.05)
+    assert s.T_amb_K == pytest.approx(isa(5000.0)[0] + 15.0, abs=0.05)
     assert s.tas_m_s == pytest.approx(150.0, abs=0.05)
     assert abs(s.beta_rad) < 1e-3 and s.alpha_rad == pytest.approx(0.05, abs=1e-3)
     v_n = af.get_property("velocities/v-north-fps") * FT
@@ -159,7 +159,7 @@ def test_turbulence_is_seeded() -> None:
     def run(seed: int) -> float:
         af = Airframe(turbulence_severity=4, turbulence_wind_20ft_m_s=10.0, seed=seed)
         r = trim_level(1000.0, 0.4, airframe=af)
-        af.start_air(1000.0, r.tas_m_s, 0.0, alpha_rad=r.alpha_rad, elevator=r.elevator, thrust_N=r.thrust_N,
+        af.start_air(1000.0, r.tas_m_s, 0.0, alpha_rad=r.alpha_rad, elevator=r.elevator, Fn_N=r.Fn_N,
                      ground_elevation_m=0.0)
         af.step(10.0)
         return af.state().phi_rad

@@ -35,7 +35,7 @@ def _level(af: Airframe, heading_deg: float, seconds: float, alt_m: float = ALT_
     with the trim's controls; the states at 10 Hz."""
     tr = trim_level(alt_m, 0.4, 1900.0)
     af.start_air(alt_m, tr.tas_m_s, heading_deg, alpha_rad=tr.alpha_rad, elevator=tr.elevator,
-                 thrust_N=tr.thrust_N, fuel_kg=400.0)
+                 Fn_N=tr.Fn_N, fuel_kg=400.0)
     states = []
     for _ in range(int(round(seconds * 10))):
         af.step(0.1)
@@ -56,13 +56,13 @@ def test_wind_triangle_in_steady_level_flight(heading_deg: float) -> None:
     states = _level(af, heading_deg, 20.0)
     window = states[99:]  # 10 s to 20 s
     a, b = window[0], window[-1]
-    h = float(np.mean([s.alt_msl_m for s in window]))
+    h = float(np.mean([s.alt_m for s in window]))
     n, e = local_ne_m(LatLon.from_deg(a.lat_deg, a.lon_deg), LatLon.from_deg(b.lat_deg, b.lon_deg), h)
     vg = np.array([n, e]) / (b.time_s - a.time_s)
     air = np.mean([[s.tas_m_s * math.cos(math.asin(s.vs_m_s / s.tas_m_s)) * math.cos(s.psi_rad),
                     s.tas_m_s * math.cos(math.asin(s.vs_m_s / s.tas_m_s)) * math.sin(s.psi_rad)] for s in window],
                   axis=0)
-    assert max(abs(s.alt_msl_m - ALT_M) for s in window) < 3.0
+    assert max(abs(s.alt_m - ALT_M) for s in window) < 3.0
     assert max(abs(s.beta_rad) + abs(s.phi_rad) for s in window) < 1e-3
     np.testing.assert_allclose(vg - air, WIND_2000_NE, atol=0.025)
     # and JSBSim's ground speed is the magnitude of the same vector sum
@@ -76,10 +76,10 @@ def test_wind_follows_the_altitude() -> None:
     af = Airframe(wind_profile=PROFILE.ned_m_s)
     tr = trim_level(1500.0, 0.4, 1900.0)
     af.start_air(1500.0, tr.tas_m_s, 0.0, alpha_rad=tr.alpha_rad + 0.03, elevator=tr.elevator - 0.05,
-                 thrust_N=2.0 * tr.thrust_N, fuel_kg=400.0)  # climbs through the profile
+                 Fn_N=2.0 * tr.Fn_N, fuel_kg=400.0)  # climbs through the profile
     heights = []
     for _ in range(100):
-        h = af.state().alt_msl_m
+        h = af.state().alt_m
         heights.append(h)
         af.step(0.05)
         n = af.get_property("atmosphere/wind-north-fps") * 0.3048
@@ -91,7 +91,7 @@ def test_wind_follows_the_altitude() -> None:
 def _turbulent(seed: int, severity: int = 3) -> np.ndarray:
     af = Airframe(turbulence_severity=severity, turbulence_wind_20ft_m_s=7.7, seed=seed)
     states = _level(af, 0.0, 10.0, alt_m=1500.0)
-    return np.array([[s.alt_msl_m, s.tas_m_s, s.alpha_rad, s.phi_rad, s.q_rad_s, s.lat_deg] for s in states])
+    return np.array([[s.alt_m, s.tas_m_s, s.alpha_rad, s.phi_rad, s.q_rad_s, s.lat_deg] for s in states])
 
 
 def test_turbulence_is_seeded_and_deterministic() -> None:
@@ -115,12 +115,12 @@ def test_fmu_weather_file_flies_as_the_adapter(project_fmus: dict[str, Path], tm
         slave.setReal([vr["alt0_m"], vr["tas0_m_s"], vr["fuel0_kg"], vr["heading0_deg"]], [ALT_M, 130.0, 400.0, 30.0])
         slave.enterInitializationMode()
         slave.exitInitializationMode()
-        thrust, elevator = slave.getReal([vr["trim_thrust_N"], vr["trim_elevator_norm"]])
-        slave.setReal([vr["thrust_N"], vr["elevator_norm"]], [thrust, elevator])
+        thrust, elevator = slave.getReal([vr["trim_Fn_N"], vr["trim_elevator_norm"]])
+        slave.setReal([vr["Fn_N"], vr["elevator_norm"]], [thrust, elevator])
         got = []
         for k in range(100):
             slave.doStep(k * 0.05, 0.05)
-            got.append(slave.getReal([vr["alt_msl_m"], vr["lat_deg"], vr["lon_deg"], vr["tas_m_s"]]))
+            got.append(slave.getReal([vr["alt_m"], vr["lat_deg"], vr["lon_deg"], vr["tas_m_s"]]))
     finally:
         slave.fmi2FreeInstance(slave.component)
     # the FMU's air start (fmus/airframe.py): trimmed in the wind at its altitude, gear down (its input's start)
@@ -136,12 +136,12 @@ def test_fmu_weather_file_flies_as_the_adapter(project_fmus: dict[str, Path], tm
     tr = trim_level(ALT_M, mach, af.geometry.oem_kg + 400.0, airframe=af, gear_down=True, heading_deg=30.0,
                     lat_deg=lat, lon_deg=lon)
     af.start_air(ALT_M, 130.0, 30.0, lat, lon, alpha_rad=tr.alpha_rad, elevator=tr.elevator,
-                 thrust_N=tr.thrust_N, gear_down=True, fuel_kg=400.0, ground_elevation_m=elev)
+                 Fn_N=tr.Fn_N, gear_down=True, fuel_kg=400.0, ground_elevation_m=elev)
     ref = []
     for _ in range(100):
         af.step(0.05)
         s = af.state()
-        ref.append((s.alt_msl_m, s.lat_deg, s.lon_deg, s.tas_m_s))
+        ref.append((s.alt_m, s.lat_deg, s.lon_deg, s.tas_m_s))
     np.testing.assert_allclose(np.array(got), np.array(ref), rtol=1e-9, atol=1e-9)
 
 

@@ -180,7 +180,7 @@ def test_engine_in_time_reports_the_clean_and_the_worst_sector_apart() -> None:
     the same match); without distortion they are the same number."""
     from openemss.models.engine.engine_model import EngineInputs, EngineModel
     m = EngineModel("larzac04_sls")
-    u = EngineInputs(0.2, 3000.0, 0.5, distortion_on=True, sector_deg=90.0, dPt_frac=0.1)
+    u = EngineInputs(0.2, 3000.0, 0.5, distortion_on=True, distortion_sector_deg=90.0, distortion_dPt_frac=0.1)
     m.start(EngineInputs(0.2, 3000.0, 0.5), N1_pct=85.0)
     assert m.value("SM_fan") == m.value("SM_fan_clean")
     for _ in range(10):

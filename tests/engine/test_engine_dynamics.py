@@ -39,7 +39,7 @@ def test_settles_to_the_steady_solution(model: EngineModel) -> None:
     u = EngineInputs(b.Wf_kg_s, 3000.0, 0.5)
     for _ in range(160):                                        # 8 s at 50 ms, > 10 time constants
         m.step(0.05, u)
-    for name, ref in (("N1_rpm", b.N1_rpm), ("N2_rpm", b.N2_rpm), ("thrust_N", b.Fn_N), ("Tt4_K", b.Tt4_K),
+    for name, ref in (("N1_rpm", b.N1_rpm), ("N2_rpm", b.N2_rpm), ("Fn_N", b.Fn_N), ("Tt4_K", b.Tt4_K),
                       ("SM_hpc", b.SM_hpc)):
         assert m.value(name) == pytest.approx(ref, rel=1e-3), name     # the 0.1 %
     assert m.value("N1_rpm") == pytest.approx(b.N1_rpm, rel=1e-6)      # what it actually reaches
@@ -143,7 +143,8 @@ def test_extreme_inputs_hold_the_last_state(model: EngineModel) -> None:
     assert m.flags[3] and m.values[4] == before[4] and logs
     m.step(0.05, EngineInputs(0.0, 0.0, 0.3))                    # fuel cut: flameout flag, no crash
     assert m.flags[1]
-    m.step(0.05, EngineInputs(0.15, 0.0, 0.3, distortion_on=True, sector_deg=400.0, dPt_frac=0.9))  # clipped
+    m.step(0.05, EngineInputs(0.15, 0.0, 0.3, distortion_on=True, distortion_sector_deg=400.0,
+                              distortion_dPt_frac=0.9))  # clipped
     m.step(0.05, EngineInputs(0.15, 0.0, 0.3))
     assert not m.flags[3]                                        # matched again
 
@@ -151,12 +152,12 @@ def test_extreme_inputs_hold_the_last_state(model: EngineModel) -> None:
 def test_zero_distortion_is_the_clean_engine(model: EngineModel) -> None:
     m1, m2 = EngineModel("larzac04_sls"), EngineModel("larzac04_sls")
     u1 = EngineInputs(0.2, 2000.0, 0.4)
-    u2 = EngineInputs(0.2, 2000.0, 0.4, distortion_on=True, sector_deg=90.0, dPt_frac=0.0)
+    u2 = EngineInputs(0.2, 2000.0, 0.4, distortion_on=True, distortion_sector_deg=90.0, distortion_dPt_frac=0.0)
     m1.start(u1)
     m2.start(u2)
     for _ in range(10):
         m1.step(0.05, EngineInputs(0.22, 2000.0, 0.4))
-        m2.step(0.05, EngineInputs(0.22, 2000.0, 0.4, distortion_on=True, sector_deg=90.0))
+        m2.step(0.05, EngineInputs(0.22, 2000.0, 0.4, distortion_on=True, distortion_sector_deg=90.0))
     # same engine to the matching tolerance (1e-8 on the residuals); the spool accelerations are
     # differences of powers of about 1 MW, so 1e-8 of that is about 1e-3 rpm/s
     acc = [23, 24]
@@ -260,7 +261,7 @@ def test_linearised_step_start_agrees_with_the_matched_one() -> None:
         u = EngineInputs(pt.Wf_kg_s * (1.0 + 0.02 * math.sin(2.0 * t)), 5000.0 + 2.0 * t, 0.6)
         fast.step(0.05, u)
         exact.step(0.05, u)
-        for name in ("N1_rpm", "N2_rpm", "thrust_N"):
+        for name in ("N1_rpm", "N2_rpm", "Fn_N"):
             assert fast.value(name) == pytest.approx(exact.value(name), rel=1e-5), (k, name)
 
 
@@ -315,10 +316,10 @@ def test_deep_chop_at_altitude_runs_down_on_the_fuel_system_stops() -> None:
     assert m.Wf_decel_max_kg_s2 == pytest.approx(0.1, rel=0.02)
     pt = m.od.solve(7500.0, 0.75, N1_pct=85.0)
     m.start(EngineInputs(pt.Wf_kg_s, 7500.0, 0.75))
-    wf_prev, pt3_prev, n1_prev = m.value("fuel_flow_kg_s"), m.value("Pt3_Pa"), m.value("N1_pct")
+    wf_prev, pt3_prev, n1_prev = m.value("Wf_kg_s"), m.value("Pt3_Pa"), m.value("N1_pct")
     for _ in range(1200):                                        # 60 s
         m.step(0.05, EngineInputs(0.012, 7500.0, 0.75))
-        wf, n1 = m.value("fuel_flow_kg_s"), m.value("N1_pct")
+        wf, n1 = m.value("Wf_kg_s"), m.value("N1_pct")
         assert wf >= wf_prev - m.Wf_decel_max_kg_s2 * 0.05 - 1e-12
         assert wf >= m.Wf_Pt3_min_kg_s_Pa * pt3_prev - 1e-12
         assert n1 <= n1_prev + 1e-9

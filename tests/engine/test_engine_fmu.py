@@ -33,14 +33,14 @@ def test_model_description(fmu: Path) -> None:
     md = read_model_description(str(fmu))
     names = {v.name: v for v in md.modelVariables}
     assert_house_style(md)
-    for name in ("fuel_flow_cmd_kg_s", "alt_msl_m", "mach", "dT_isa_K", "offtake_hp_W", "offtake_lp_W",
+    for name in ("Wf_cmd_kg_s", "alt_m", "mach", "dT_isa_K", "offtake_hp_W", "offtake_lp_W",
                  "customer_bleed_frac", "distortion_on", "distortion_sector_deg", "distortion_dPt_frac",
                  "distortion_dTt_K"):
         assert names[name].causality == "input", name
     for name in (*OUT, *(n for n, _ in FLAGS), "events"):
         assert names[name].causality == "output", name
     for name in ("preset", "design_override", "design_BPR", "design_PR_hpc", "design_Tt4_K", "I_lp_kg_m2",
-                 "I_hp_kg_m2", "dt_internal_s", "start_N1_pct", "start_fuel_flow_kg_s", "integrator",
+                 "I_hp_kg_m2", "dt_internal_s", "start_N1_pct", "start_Wf_kg_s", "integrator",
                  "offtake_hp_max_W", "offtake_lp_max_W", "assist_hp_max_W", "assist_lp_max_W"):
         assert names[name].causality == "parameter", name
 
@@ -55,12 +55,12 @@ def _inputs(k: int) -> EngineInputs:
                         0.02 if t > 1.5 else 0.0, 1.0 <= t < 2.5, 120.0, 0.08, 0.0)
 
 
-_FMU_IN = ("fuel_flow_cmd_kg_s", "alt_msl_m", "mach", "dT_isa_K", "offtake_hp_W", "offtake_lp_W", "customer_bleed_frac")
+_FMU_IN = ("Wf_cmd_kg_s", "alt_m", "mach", "dT_isa_K", "offtake_hp_W", "offtake_lp_W", "customer_bleed_frac")
 
 
 def _reals(u: EngineInputs) -> list[float]:
-    return [u.Wf_kg_s, u.alt_m, u.Mach, u.dT_isa_K, u.offtake_hp_W, u.offtake_lp_W, u.customer_bleed_frac,
-            u.sector_deg, u.dPt_frac, u.dTt_K]
+    return [u.Wf_cmd_kg_s, u.alt_m, u.mach, u.dT_isa_K, u.offtake_hp_W, u.offtake_lp_W, u.customer_bleed_frac,
+            u.distortion_sector_deg, u.distortion_dPt_frac, u.distortion_dTt_K]
 
 
 def test_fmu_and_model_identical(fmu: Path, tmp_path: Path) -> None:
@@ -100,7 +100,7 @@ def test_fmu_and_model_identical(fmu: Path, tmp_path: Path) -> None:
     assert got_flags == ref_flags
     # burned fuel is the integral of the fuel flow burnt (rectangle rule over the held inputs)
     assert ref_a[-1, OUT.index("fuel_burned_kg")] == pytest.approx(
-        sum(r[OUT.index("fuel_flow_kg_s")] for r in ref) * H, rel=1e-12)
+        sum(r[OUT.index("Wf_kg_s")] for r in ref) * H, rel=1e-12)
 
 
 def test_runs_in_our_orchestrator_and_libcosim(fmu: Path, tmp_path: Path) -> None:
@@ -113,9 +113,9 @@ def test_runs_in_our_orchestrator_and_libcosim(fmu: Path, tmp_path: Path) -> Non
     from systems import Comp, write_system
     from thirdparty import require_libcosim, run_isolated
 
-    outs = ["thrust_N", "N1_rpm", "N2_rpm", "Tt4_K", "SM_hpc", "fuel_burned_kg"]
-    params: dict[str, float | int | bool] = {"start_N1_pct": 70.0, "alt_msl_m": 3000.0, "mach": 0.5,
-                                             "fuel_flow_cmd_kg_s": 0.15, "integrator": 1}
+    outs = ["Fn_N", "N1_rpm", "N2_rpm", "Tt4_K", "SM_hpc", "fuel_burned_kg"]
+    params: dict[str, float | int | bool] = {"start_N1_pct": 70.0, "alt_m": 3000.0, "mach": 0.5,
+                                             "Wf_cmd_kg_s": 0.15, "integrator": 1}
     comp = Comp("engine", fmu.name, [(n, "output", "Real") for n in outs], params)
     folder = tmp_path / "system"
     (folder / "resources").mkdir(parents=True)
@@ -158,11 +158,11 @@ def test_fmpy_simulate_fmu(fmu: Path) -> None:
 
     m = EngineModel("larzac04_sls")
     pt = m.od.solve(5000.0, 0.6, N1_pct=90.0)
-    res = run_isolated("fmpy_simulate_fmu", fmu=str(fmu), outputs=["N1_pct", "thrust_N", "fuel_burned_kg"],
+    res = run_isolated("fmpy_simulate_fmu", fmu=str(fmu), outputs=["N1_pct", "Fn_N", "fuel_burned_kg"],
                        start_time=0.0, stop_time=1.0, output_interval=H,
-                       start_values={"alt_msl_m": 5000.0, "mach": 0.6, "start_fuel_flow_kg_s": pt.Wf_kg_s})
+                       start_values={"alt_m": 5000.0, "mach": 0.6, "start_Wf_kg_s": pt.Wf_kg_s})
     assert res["N1_pct"][-1] == pytest.approx(90.0, rel=1e-6)
-    assert res["thrust_N"][-1] == pytest.approx(pt.Fn_N, rel=1e-6)
+    assert res["Fn_N"][-1] == pytest.approx(pt.Fn_N, rel=1e-6)
     assert res["fuel_burned_kg"][-1] == pytest.approx(pt.Wf_kg_s * 1.0, rel=1e-6)
 
 
@@ -176,17 +176,17 @@ def test_design_override_selects_the_engine(fmu: Path, tmp_path: Path) -> None:
     slave.enterInitializationMode()
     slave.exitInitializationMode()
     slave.doStep(currentCommunicationPoint=0.0, communicationStepSize=H)
-    fn = slave.getReal([vr["thrust_N"]])[0]
+    fn = slave.getReal([vr["Fn_N"]])[0]
     slave.terminate()
     slave.fmi2FreeInstance(slave.component)
     p = replace(load_params(preset_path("larzac04_sls")), BPR=1.16, PR_hpc=5.528455284552847)
     m = EngineModel(p)
     m.start(EngineInputs(0.1), N1_pct=90.0)
     m.step(H, EngineInputs(m.state.point.Wf_kg_s))               # type: ignore[union-attr]
-    assert fn == pytest.approx(m.value("thrust_N"), rel=1e-9)
+    assert fn == pytest.approx(m.value("Fn_N"), rel=1e-9)
     base = EngineModel("larzac04_sls")
     base.start(EngineInputs(0.1), N1_pct=90.0)
-    assert abs(fn / base.value("thrust_N") - 1.0) > 1e-3          # a different engine
+    assert abs(fn / base.value("Fn_N") - 1.0) > 1e-3          # a different engine
 
 
 def test_fmu_is_self_contained(fmu: Path, tmp_path: Path) -> None:
@@ -231,10 +231,10 @@ def test_flight_condition_from_ambient_pressure_and_temperature(fmu: Path, tmp_p
     slave.enterInitializationMode()
     slave.exitInitializationMode()
     slave.doStep(currentCommunicationPoint=0.0, communicationStepSize=H)
-    fn = slave.getReal([vr["thrust_N"]])[0]
+    fn = slave.getReal([vr["Fn_N"]])[0]
     slave.terminate()
     slave.fmi2FreeInstance(slave.component)
     m = EngineModel("larzac04_sls")
     m.start(EngineInputs(0.1, 4000.0, 0.5, 10.0), N1_pct=88.0)
     m.step(H, EngineInputs(m.state.point.Wf_kg_s, 4000.0, 0.5, 10.0))          # type: ignore[union-attr]
-    assert fn == pytest.approx(m.value("thrust_N"), rel=1e-7)
+    assert fn == pytest.approx(m.value("Fn_N"), rel=1e-7)

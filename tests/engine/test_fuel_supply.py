@@ -37,28 +37,28 @@ def test_available_is_the_tank_less_what_it_still_owes() -> None:
 @pytest.fixture(scope="module")
 def started() -> EngineModel:
     m = EngineModel("larzac04_sls")
-    m.start(EngineInputs(Wf_kg_s=0.0, alt_m=500.0, Mach=0.2), N1_pct=80.0)
+    m.start(EngineInputs(Wf_cmd_kg_s=0.0, alt_m=500.0, mach=0.2), N1_pct=80.0)
     return m
 
 
 @pytest.mark.parametrize("master", ["jacobi", "gauss-seidel"])
 def test_tank_running_dry_flames_out_and_conserves_fuel(master: str) -> None:
     m = EngineModel("larzac04_sls")
-    m.start(EngineInputs(Wf_kg_s=0.0, alt_m=500.0, Mach=0.2), N1_pct=80.0)
-    wf0 = m.values[EO.fuel_flow_kg_s]
+    m.start(EngineInputs(Wf_cmd_kg_s=0.0, alt_m=500.0, mach=0.2), N1_pct=80.0)
+    wf0 = m.values[EO.Wf_kg_s]
     uin = np.array([wf0, 500.0, 0.2, 0.0, 0.0, 0.0, 0.0, 0.0, 90.0, 0.0, 0.0])
     fuel0 = tank = 0.5                          # [kg]: about 4 s at 80 % N1
     supply, steps = FuelSupply(), 0
     while steps < 1000:
-        published = m.values[EO.fuel_flow_kg_s]
+        published = m.values[EO.Wf_kg_s]
         if supply.starves(m, tank, wf0, H):
-            tank -= m.values[EO.fuel_flow_kg_s] * H if master == "gauss-seidel" else published * H
+            tank -= m.values[EO.Wf_kg_s] * H if master == "gauss-seidel" else published * H
             break
         m.step_array(H, uin)
-        tank -= published * H if master == "jacobi" else m.values[EO.fuel_flow_kg_s] * H
+        tank -= published * H if master == "jacobi" else m.values[EO.Wf_kg_s] * H
         assert tank >= 0.0, steps
         steps += 1
-    assert m.flamed_out and m.flags[1] and m.values[EO.thrust_N] == 0.0 and m.values[EO.fuel_flow_kg_s] == 0.0
+    assert m.flamed_out and m.flags[1] and m.values[EO.Fn_N] == 0.0 and m.values[EO.Wf_kg_s] == 0.0
     assert "fuel tank empty" in m.flamed_out and f"t = {m.t_s:.6g} s" in m.flamed_out
     assert 0.0 <= tank < 2 * wf0 * H                                    # empty, to within the step(s) held back
     lag = wf0 * H if master == "jacobi" else 0.0                        # the first step's flow (Jacobi)
@@ -70,7 +70,7 @@ def test_tank_running_dry_flames_out_and_conserves_fuel(master: str) -> None:
 def test_enough_fuel_changes_nothing(started: EngineModel) -> None:
     """A tank that can give the step leaves the step alone (the metered flow is what the step burns)."""
     m = started
-    wf = m.values[EO.fuel_flow_kg_s]
+    wf = m.values[EO.Wf_kg_s]
     metered = m.metered_fuel_kg_s(wf, H)
     assert metered == pytest.approx(wf, rel=1e-12)
     assert not FuelSupply().starves(m, 100.0, wf, H)

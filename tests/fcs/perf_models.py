@@ -18,12 +18,12 @@ MACH = tuple(round(0.1 + 0.05 * i, 2) for i in range(16))
 N1C = (0.0, 100.0)
 
 
-def synthetic(cd0: float, k: float, thrust_N: Callable[[float, float, float], float],
+def synthetic(cd0: float, k: float, Fn_N: Callable[[float, float, float], float],
               thrust_max_N: Callable[[float, float], float], S_m2: float = 11.2, cd_airbrake: float = 0.0,
               cd_gear: float = 0.0, blowback_qbar_Pa: float = 1e9,
               base: PerformanceData | None = None) -> PerformanceData:
     """A database with a constant polar (or ``base``'s polar, when given) and the thrust functions
-    ``thrust_N(h, M, N1c)`` and ``thrust_max_N(h, M)`` [N]."""
+    ``Fn_N(h, M, N1c)`` and ``thrust_max_N(h, M)`` [N]."""
     def grid(f: Callable[[float, float], float]) -> tuple[tuple[float, ...], ...]:
         return tuple(tuple(float(f(h, m)) for m in MACH) for h in ALT)
 
@@ -38,7 +38,7 @@ def synthetic(cd0: float, k: float, thrust_N: Callable[[float, float, float], fl
     else:
         cd0_t, k_t = grid(lambda h, m: cd0), grid(lambda h, m: k)
     return PerformanceData(S_m2, ALT, MACH, cd0_t, k_t, cd_gear, cd_airbrake, 1.0471975511965976, blowback_qbar_Pa,
-                           1.0 / 1.5, N1C, tuple(grid(lambda h, m, n=n: thrust_N(h, m, n)) for n in N1C),
+                           1.0 / 1.5, N1C, tuple(grid(lambda h, m, n=n: Fn_N(h, m, n)) for n in N1C),
                            grid(thrust_max_N), "tests/fcs/perf_models.py")
 
 

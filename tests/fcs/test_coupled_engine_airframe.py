@@ -41,10 +41,10 @@ def test_fcs_engine_airframe_coupled() -> None:
     od = TurbofanOffDesign(dp, scaled_maps(dp))
     tr = transient.TurbofanTransient(od)
     trm = trim_level(5000.0, 0.5)
-    pt = od.solve(5000.0, 0.5, Fn_N=trm.thrust_N)
+    pt = od.solve(5000.0, 0.5, Fn_N=trm.Fn_N)
     af = adapter.Airframe()
     s = af.start_air(5000.0, trm.tas_m_s, 0.0, alpha_rad=trm.alpha_rad, elevator=trm.elevator,
-                     thrust_N=trm.thrust_N)
+                     Fn_N=trm.Fn_N)
     fcs = FlightControlSystem(parse_mission(MISSION), Wf0_kg_s=pt.Wf_kg_s, elevator0=trm.elevator)
     fcs.set_parameter("fuel_control.Wf_min_kg_s", 0.03)  # idle within the engine maps at altitude
     N1, N2 = pt.N1_rpm, pt.N2_rpm
@@ -60,24 +60,24 @@ def test_fcs_engine_airframe_coupled() -> None:
             n, e = local_ne_m(prev, pos)
             vn, ve = n / DT, e / DT
         prev = pos
-        x = AircraftState(pos, s.alt_msl_m, s.tas_m_s, math.nan, math.asin(s.vs_m_s / s.tas_m_s), vn, ve,
+        x = AircraftState(pos, s.alt_m, s.tas_m_s, math.nan, math.asin(s.vs_m_s / s.tas_m_s), vn, ve,
                           s.psi_rad, s.phi_rad, s.theta_rad, s.p_rad_s, s.q_rad_s, s.r_rad_s, s.beta_rad,
-                          0.5 * s.rho_kg_m3 * s.tas_m_s**2, s.mass_kg, s.on_ground)
+                          0.5 * s.rho_amb_kg_m3 * s.tas_m_s**2, s.mass_kg, s.on_ground)
         P = es.point
         out = fcs.step(k * DT, DT, x, EngineState(P.N1_pct, P.N1c_pct, P.T41_K))
         wf = out.Wf_cmd_kg_s
-        s0 = tr.state(k * DT, N1, N2, wf, s.alt_msl_m, s.mach, guess=es)
-        p = tr.state((k + 1) * DT, N1 + DT * s0.dN1_dt_rpm_s, N2 + DT * s0.dN2_dt_rpm_s, wf, s.alt_msl_m, s.mach,
+        s0 = tr.state(k * DT, N1, N2, wf, s.alt_m, s.mach, guess=es)
+        p = tr.state((k + 1) * DT, N1 + DT * s0.dN1_dt_rpm_s, N2 + DT * s0.dN2_dt_rpm_s, wf, s.alt_m, s.mach,
                      guess=s0)
         N1 += 0.5 * DT * (s0.dN1_dt_rpm_s + p.dN1_dt_rpm_s)
         N2 += 0.5 * DT * (s0.dN2_dt_rpm_s + p.dN2_dt_rpm_s)
-        es = tr.state((k + 1) * DT, N1, N2, wf, s.alt_msl_m, s.mach, guess=p)
+        es = tr.state((k + 1) * DT, N1, N2, wf, s.alt_m, s.mach, guess=p)
         af.set_surfaces(aileron=out.aileron, elevator=out.elevator, rudder=out.rudder)
         af.set_thrust(es.point.Fn_N)
         af.set_fuel_flow(wf)
         af.step(DT)
         s = af.state()
-        log.append((out.targets.section_index, s.alt_msl_m, s.mach, es.point.T41_K))
+        log.append((out.targets.section_index, s.alt_m, s.mach, es.point.T41_K))
         k += 1
     assert fcs.finished
     first = [r for r in log if r[0] == 0]

@@ -47,7 +47,7 @@ class Analytic:
     def thrust_max_N(self, alt_m: float, mach: float) -> float:
         return self.t_max
 
-    def cruise_fuel_kg_s(self, alt_m: float, mach: float, thrust_N: float) -> float:
+    def cruise_fuel_kg_s(self, alt_m: float, mach: float, Fn_N: float) -> float:
         return 0.0
 
 

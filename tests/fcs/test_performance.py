@@ -50,16 +50,16 @@ def test_database_is_what_the_models_give(od) -> None:  # noqa: ANN001
         col = gen.thrust_column(od, h, m)
         for jn, t in enumerate(col):
             if t is not None:
-                assert doc["thrust_N"][jn][i][j] == pytest.approx(t, abs=1e-3), (h, m, gen.N1C_AXIS_PCT[jn])
+                assert doc["Fn_N"][jn][i][j] == pytest.approx(t, abs=1e-3), (h, m, gen.N1C_AXIS_PCT[jn])
         assert doc["thrust_max_N"][i][j] == pytest.approx(gen.max_thrust(od, h, m), abs=1e-3), (h, m)
 
 
-def _trimmed_idle_descent(alt_m: float, mach: float, mass_kg: float, thrust_N: float, airbrake: float) -> float:
-    """Flight-path angle [rad] of the steady descent whose trimmed thrust is ``thrust_N``, by secant."""
+def _trimmed_idle_descent(alt_m: float, mach: float, mass_kg: float, Fn_N: float, airbrake: float) -> float:
+    """Flight-path angle [rad] of the steady descent whose trimmed thrust is ``Fn_N``, by secant."""
     from openemss.models.airframe.trim import trim_level
 
     def f(g: float) -> float:
-        return trim_level(alt_m, mach, mass_kg, flight_path_rad=g, airbrake=airbrake).thrust_N - thrust_N
+        return trim_level(alt_m, mach, mass_kg, flight_path_rad=g, airbrake=airbrake).Fn_N - Fn_N
 
     g0, g1 = -0.05, -0.10
     f0, f1 = f(g0), f(g1)

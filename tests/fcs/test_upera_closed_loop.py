@@ -190,10 +190,10 @@ def test_gturn_and_levelling_on_upera() -> None:
 
     tr = trim_level(3000.0, 0.5)
     af = adapter.Airframe()
-    s = af.start_air(3000.0, tr.tas_m_s, 0.0, alpha_rad=tr.alpha_rad, elevator=tr.elevator, thrust_N=tr.thrust_N)
-    N1c0 = 100.0 * math.sqrt(tr.thrust_N / (13000.0 * (s.rho_kg_m3 / 1.225) ** 0.7))
-    fcs = FlightControlSystem(parse_mission(GTURN), Wf0_kg_s=N1c0 / 400.0 * (s.p_Pa / 101325.0)
-                              * math.sqrt(s.T_K / 288.15), elevator0=tr.elevator)
+    s = af.start_air(3000.0, tr.tas_m_s, 0.0, alpha_rad=tr.alpha_rad, elevator=tr.elevator, Fn_N=tr.Fn_N)
+    N1c0 = 100.0 * math.sqrt(tr.Fn_N / (13000.0 * (s.rho_amb_kg_m3 / 1.225) ** 0.7))
+    fcs = FlightControlSystem(parse_mission(GTURN), Wf0_kg_s=N1c0 / 400.0 * (s.p_amb_Pa / 101325.0)
+                              * math.sqrt(s.T_amb_K / 288.15), elevator0=tr.elevator)
     run = fly_upera(af, s, fcs, 900.0, N1c0=N1c0)
     assert fcs.finished
     sec, t, nz, alt = np.array(run.sec), np.array(run.t), np.array(run.nz), np.array(run.alt)
@@ -235,10 +235,10 @@ sections:
     tr = trim_level(alt0, 0.23, heading_deg=math.degrees(rwy.heading_rad) - 20.0)
     p0 = rwy.point(-18520.0, 1000.0)
     s = af.start_air(alt0, tr.tas_m_s, math.degrees(rwy.heading_rad) - 20.0, p0.lat_deg, p0.lon_deg,
-                     alpha_rad=tr.alpha_rad, elevator=tr.elevator, thrust_N=tr.thrust_N,
+                     alpha_rad=tr.alpha_rad, elevator=tr.elevator, Fn_N=tr.Fn_N,
                      ground_elevation_m=rwy.elevation_m)
-    N1c0 = 100.0 * math.sqrt(tr.thrust_N / (13000.0 * (s.rho_kg_m3 / 1.225) ** 0.7))
-    fcs = FlightControlSystem(m, Wf0_kg_s=N1c0 / 400.0 * (s.p_Pa / 101325.0) * math.sqrt(s.T_K / 288.15),
+    N1c0 = 100.0 * math.sqrt(tr.Fn_N / (13000.0 * (s.rho_amb_kg_m3 / 1.225) ** 0.7))
+    fcs = FlightControlSystem(m, Wf0_kg_s=N1c0 / 400.0 * (s.p_amb_Pa / 101325.0) * math.sqrt(s.T_amb_K / 288.15),
                               performance=Performance(upera_standin()))
     run = fly_upera(af, s, fcs, 1200.0, N1c0=N1c0)
     assert fcs.finished

@@ -44,7 +44,7 @@ def fly_upera(af, s, fcs: FlightControlSystem, t_end: float, N1c0: float, dt: fl
     from openemss.models.fcs.vertical import VNAV_MODES
 
     N1c = N1c0
-    th_engine = s.T_K / 288.15  # the temperature the engine last stepped in: its N1 output's correction
+    th_engine = s.T_amb_K / 288.15  # the temperature the engine last stepped in: its N1 output's correction
     prev_pos = None
     run = Run()
     k = 0
@@ -63,15 +63,15 @@ def fly_upera(af, s, fcs: FlightControlSystem, t_end: float, N1c0: float, dt: fl
         gamma = math.asin(max(-1.0, min(1.0, s.vs_m_s / max(s.tas_m_s, 1.0))))
         Vdot = math.nan  # as the FCS FMU gets it: the FCS derives it from successive airspeeds (filtered)
         prev_pos = pos
-        qbar = 0.5 * s.rho_kg_m3 * s.tas_m_s * s.tas_m_s
-        x = AircraftState(pos, s.alt_msl_m, s.tas_m_s, Vdot, gamma, vn, ve, s.psi_rad, s.phi_rad, s.theta_rad,
+        qbar = 0.5 * s.rho_amb_kg_m3 * s.tas_m_s * s.tas_m_s
+        x = AircraftState(pos, s.alt_m, s.tas_m_s, Vdot, gamma, vn, ve, s.psi_rad, s.phi_rad, s.theta_rad,
                           s.p_rad_s, s.q_rad_s, s.r_rad_s, s.beta_rad, qbar, s.mass_kg, s.on_ground)
-        th = s.T_K / 288.15
+        th = s.T_amb_K / 288.15
         out = fcs.step(t, h, x, EngineState(N1c * math.sqrt(th_engine), N1c, 700.0 + 7.0 * N1c))
         th_engine = th
-        delta = s.p_Pa / 101325.0
+        delta = s.p_amb_Pa / 101325.0
         N1c += (min(400.0 * out.Wf_cmd_kg_s / (delta * math.sqrt(th)), 115.0) - N1c) * h
-        thrust = 13000.0 * (s.rho_kg_m3 / 1.225) ** 0.7 * (N1c / 100.0) ** 2
+        thrust = 13000.0 * (s.rho_amb_kg_m3 / 1.225) ** 0.7 * (N1c / 100.0) ** 2
         af.set_surfaces(aileron=out.aileron, elevator=out.elevator, rudder=out.rudder)
         af.set_thrust(thrust)
         af.set_fuel_flow(out.Wf_cmd_kg_s)
@@ -86,7 +86,7 @@ def fly_upera(af, s, fcs: FlightControlSystem, t_end: float, N1c0: float, dt: fl
         run.t.append(t + dt)
         run.sec.append(tg.section_index)
         run.phase.append(tg.phase)
-        run.alt.append(s.alt_msl_m)
+        run.alt.append(s.alt_m)
         run.alt_cmd.append(tg.alt_cmd_m if tg.alt_cmd_m is not None else math.nan)
         run.mach.append(s.mach)
         run.mach_cmd.append(sp.value if sp is not None and sp.kind is SpeedKind.MACH else math.nan)

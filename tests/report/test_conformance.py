@@ -41,7 +41,7 @@ def _altitude() -> np.ndarray:
 
 
 def test_section_targets_against_the_flown_altitude_and_speed(tmp_path: Path) -> None:
-    s = _summary(Runs(tmp_path).make(columns={"airframe.alt_msl_m": _altitude()}))
+    s = _summary(Runs(tmp_path).make(columns={"airframe.alt_m": _altitude()}))
     assert s["sections"][0]["conformance"] is None and s["sections"][1]["conformance"] is None
     c = s["sections"][2]["conformance"]
     a, v = c["altitude"], c["speed"]
@@ -80,7 +80,7 @@ def test_ils_capture_altitude_and_overshoots(tmp_path: Path) -> None:
     alt = np.where(T < 45.0, 1000.0, h_gp + np.interp(T, [45.0, 55.0], [1000.0 - h_gp[i45], 4.0]))
     phase = np.where(T < 40.0, 2.0, np.where(T < 45.0, 3.0, 4.0))
     s = _summary(Runs(tmp_path).make(columns={"fcs.ils_phase": phase, "airframe.lat_deg": lat,
-                                              "airframe.lon_deg": lon, "airframe.alt_msl_m": alt}))
+                                              "airframe.lon_deg": lon, "airframe.alt_m": alt}))
     ils = s["ils"]
     assert ils["runway"] == "RWY_09" and ils["approach_altitude_m"] == 1000.0
     assert ils["loc_capture_time_s"] == pytest.approx(40.0)

@@ -139,13 +139,13 @@ def test_conformance_follows_the_kind_the_type_carries(tmp_path: Path) -> None:
     assert WAYPOINTS in MISSION and LANDING in MISSION
     cruise = MISSION.replace(WAYPOINTS, "  - {type: Cruise, name: cruise, altitude_m: 1000.0, speed: {mach: 0.4}}\n")
     runs = Runs(tmp_path)
-    c = _summary(runs.make("cruise", columns={"airframe.alt_msl_m": _altitude()}, mission=cruise))
+    c = _summary(runs.make("cruise", columns={"airframe.alt_m": _altitude()}, mission=cruise))
     a = c["sections"][2]["conformance"]["altitude"]
     assert c["sections"][2]["type"] == "Cruise" and a["target_m"] == 1000.0
     assert a["time_to_capture_s"] == pytest.approx(14.5, abs=1e-9)
     assert a["worst_after_capture_m"] == pytest.approx(-25.0) and a["error_at_end_m"] == pytest.approx(5.0)
     drift = MISSION.replace(WAYPOINTS, "  - {type: Drift, name: drift, duration_s: 60.0, altitude_m: 1000.0}\n")
-    d = _summary(runs.make("drift", columns={"airframe.alt_msl_m": _altitude()}, mission=drift))
+    d = _summary(runs.make("drift", columns={"airframe.alt_m": _altitude()}, mission=drift))
     assert d["sections"][2]["type"] == "Drift" and d["sections"][2]["conformance"] is None
 
     phase = np.where(T < 40.0, 2.0, np.where(T < 45.0, 3.0, 4.0))  # LOC from 40 s, GS from 45 s

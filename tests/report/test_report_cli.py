@@ -49,7 +49,7 @@ def test_plot_one_run_writes_every_figure(tmp_path: Path, capsys: pytest.Capture
 def test_plot_two_runs_on_one_figure(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     runs = Runs(tmp_path)
     a = runs.make("engine_a")
-    b = runs.make("engine_b", columns={"engine.fuel_flow_kg_s": np.full(N, 0.8 * WF_KG_S),
+    b = runs.make("engine_b", columns={"engine.Wf_kg_s": np.full(N, 0.8 * WF_KG_S),
                                        "engine.fuel_burned_kg": 0.8 * WF_KG_S * np.arange(N) * 0.05})
     out = tmp_path / "compare"
     assert main(["plot", str(a), str(b), "--out", str(out), "--window", "5", "20", "--json"]) == 0

@@ -59,7 +59,7 @@ def test_constant_fuel_flow_gives_flow_times_duration_per_section(tmp_path: Path
 
 def test_linear_fuel_ramp_against_the_analytic_integral(tmp_path: Path) -> None:
     a, b = 0.05, 0.002  # [kg/s], [kg/s^2]
-    ramp = {"engine.fuel_flow_kg_s": a + b * T, "engine.fuel_burned_kg": a * T + b * T**2 / 2}
+    ramp = {"engine.Wf_kg_s": a + b * T, "engine.fuel_burned_kg": a * T + b * T**2 / 2}
     s = _summary(Runs(tmp_path).make(columns=ramp))
     t0, t1 = T[BOUNDS[0]], T[BOUNDS[1]]
     exact = a * (t1 - t0) + b * (t1**2 - t0**2) / 2

@@ -62,7 +62,7 @@ def test_take_off_one_waypoint_and_landing_through_the_real_fmus(tmp_path: Path,
     assert 0.0 < along < rwy.length_m and abs(cross) < rwy.width_m / 2
     assert s["landing"]["runway"] in ("EDDM_08L", "EDDM_26R")  # one strip, named from either end
     # fuel: the engine's counter against the integral of the recorded fuel flow (held over each step)
-    t, wf, burned = data["time_s"], data["engine.fuel_flow_kg_s"], data["engine.fuel_burned_kg"]
+    t, wf, burned = data["time_s"], data["engine.Wf_kg_s"], data["engine.fuel_burned_kg"]
     integral = float(np.sum(wf[1:] * np.diff(t)))
     assert burned[-1] - burned[0] == pytest.approx(integral, rel=1e-9)
     assert s["fuel_burned_kg"] == pytest.approx(integral, rel=1e-9) and integral > 10.0

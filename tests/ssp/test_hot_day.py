@@ -51,7 +51,7 @@ def hot_day(project_system: Path, tmp_path_factory: pytest.TempPathFactory):  # 
 def test_one_setting_reaches_every_model(hot_day) -> None:  # noqa: ANN001
     df = hot_day
     assert np.all(df["airframe.dT_isa_K"] == DT_K)
-    h = df["airframe.alt_msl_m"].to_numpy()
+    h = df["airframe.alt_m"].to_numpy()
     T, p = isa_troposphere(R_EARTH_M * h / (R_EARTH_M + h), DT_K)  # JSBSim: geometric -> geopotential altitude
     # airframe (JSBSim's atmosphere): temperature, pressure and density of the +20 K day
     assert np.allclose(df["airframe.T_amb_K"], T, rtol=0, atol=1e-6)
@@ -63,19 +63,19 @@ def test_one_setting_reaches_every_model(hot_day) -> None:  # noqa: ANN001
 
 def test_engine_inlet_temperature(hot_day) -> None:  # noqa: ANN001
     df = hot_day
-    T, _ = isa_troposphere(df["airframe.alt_msl_m"].to_numpy(), DT_K)
+    T, _ = isa_troposphere(df["airframe.alt_m"].to_numpy(), DT_K)
     Tt2 = T * (1.0 + 0.5 * (GAMMA - 1.0) * df["airframe.mach"].to_numpy() ** 2)  # adiabatic intake
     Tt2_engine = 288.15 * (df["engine.N1_pct"] / df["engine.N1c_pct"]).to_numpy() ** 2
     # the engine flies the Mach of the previous exchange (one 0.05 s step late on the take-off roll) and real gas
     # (gamma(T) of air at 300 K: 1.4 within 0.1 %): 0.02 K found
     assert np.allclose(Tt2_engine, Tt2, rtol=0, atol=0.05), float(np.max(np.abs(Tt2_engine - Tt2)))
-    assert float(Tt2_engine[0]) == pytest.approx(T0_K - LAPSE_K_M * float(df["airframe.alt_msl_m"].iloc[0]) + DT_K,
+    assert float(Tt2_engine[0]) == pytest.approx(T0_K - LAPSE_K_M * float(df["airframe.alt_m"].iloc[0]) + DT_K,
                                                  abs=0.05)
 
 
 def test_flight_control_airspeed_conversion(hot_day) -> None:  # noqa: ANN001
     df = hot_day
-    h = df["airframe.alt_msl_m"].to_numpy()
+    h = df["airframe.alt_m"].to_numpy()
     # the FCS's outputs at t_k+1 come from its step at t_k, on the airframe's altitude at t_k (a row before)
     T, _ = isa_troposphere(np.concatenate([h[:1], h[:-1]]), DT_K)
     a = np.sqrt(GAMMA * R_J_KG_K * T)

@@ -27,7 +27,7 @@ def engine_system(tmp_path_factory: pytest.TempPathFactory) -> Path:
     build = tmp_path_factory.mktemp("engine_fmu")
     ensure_built(ROOT / "fmus", build, names=["engine"], force=True)
     folder = tmp_path_factory.mktemp("engine_system") / "engine_only"
-    write_system(folder, build, [Comp("engine", "Engine.fmu", [("thrust_N", "output", "Real")])], [],
+    write_system(folder, build, [Comp("engine", "Engine.fmu", [("Fn_N", "output", "Real")])], [],
                  name="EngineOnly", stop_time=1.0)
     return folder
 
@@ -73,7 +73,7 @@ def _series(path: Path, rate_kg_s: float, t_end_s: float, section_from_s: float)
     path.parent.mkdir(parents=True, exist_ok=True)
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["time_s", "engine.fuel_burned_kg", "engine.fuel_flow_kg_s", "engine.Tt4_K", "fcs.section_index"])
+        w.writerow(["time_s", "engine.fuel_burned_kg", "engine.Wf_kg_s", "engine.Tt4_K", "fcs.section_index"])
         for k in range(int(t_end_s * 10) + 1):
             t = k / 10
             w.writerow([t, rate_kg_s * t, rate_kg_s, 1200.0, int(t >= section_from_s)])

@@ -37,7 +37,7 @@ def test_fmu_health_matches_the_model(project_fmus: dict[str, Path]) -> None:
     names = list(health_parameters(START))
     slave.setReal([vr["start_N1_pct"]], [80.0])
     slave.setReal([vr[x] for x in names], list(health_parameters(START).values()))
-    slave.setReal([vr[x] for x in ("fuel_flow_cmd_kg_s", "alt_msl_m", "mach")], [U.Wf_kg_s, U.alt_m, U.Mach])
+    slave.setReal([vr[x] for x in ("Wf_cmd_kg_s", "alt_m", "mach")], [U.Wf_cmd_kg_s, U.alt_m, U.mach])
     slave.enterInitializationMode()
     slave.exitInitializationMode()
     got = []

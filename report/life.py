@@ -21,6 +21,8 @@ import numpy as np
 
 from openemss.models.life.usage import BladeLife, DiscLife, blade_creep, disc_lcf, load_life_spec, time_above
 
+from .agg import Figure
+from .drawing import _label, _save, _style, shade_sections
 from .rundata import RunData
 
 __all__ = ["life_summary", "life_figure", "life_html", "compute_life"]
@@ -115,9 +117,6 @@ def _cumulative(t: np.ndarray, d: DiscLife) -> np.ndarray:
 
 def life_figure(runs: Sequence[Any], path: Path) -> Path | None:
     """``life.png``: disc stresses, the blade's temperatures with the thresholds, cumulative damage (log)."""
-    from .agg import Figure
-    from .plots import _label, _save, _style, shade_sections
-
     got = [(r, compute_life(r.data)) for r in runs]
     got = [(r, g) for r, g in got if g is not None]
     if not got:

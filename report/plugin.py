@@ -18,6 +18,7 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path, PurePosixPath
 
+from openemss.models.life.errors import LifeDataError
 from openemss.orchestrator.cli.argtypes import finite_number, folder_name
 from openemss.orchestrator.results import ResultsFolder, atomic_write
 
@@ -331,4 +332,4 @@ def register(sub: argparse._SubParsersAction) -> tuple[type[Exception], ...]:  #
     s.add_argument("run_dir", type=Path, metavar="RUN_DIR", help="results folder of emss run")
     s.add_argument("--json", action="store_true", help="print summary.json")
     s.set_defaults(handler=cmd_summary)
-    return (ReportError, *mission_check.register(sub))
+    return (ReportError, LifeDataError, *mission_check.register(sub))

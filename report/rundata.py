@@ -22,7 +22,13 @@ import numpy as np
 from openemss.models.common import safe_yaml
 from openemss.models.fcs.errors import FcsError
 from openemss.models.fcs.mission import Mission, parse_mission
-from openemss.orchestrator.scenarios.timeseries import Column, TimeSeriesError, find_timeseries, read_columns, read_timeseries
+from openemss.orchestrator.scenarios.timeseries import (
+    Column,
+    TimeSeriesError,
+    find_timeseries,
+    read_columns,
+    read_timeseries,
+)
 
 from .errors import ReportError
 

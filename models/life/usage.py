@@ -47,7 +47,7 @@ from pathlib import Path
 import numpy as np
 
 from ..common import safe_yaml
-from ..engine.errors import ModelError
+from .errors import LifeDataError
 
 __all__ = ["StrainLife", "LarsonMiller", "DiscSpec", "BladeSpec", "LifeSpec", "load_life_spec", "rainflow_cycles",
            "disc_lcf", "blade_creep", "time_above", "LIFE_DATA", "DiscLife", "BladeLife"]
@@ -104,8 +104,8 @@ class LarsonMiller:
 
     def __post_init__(self) -> None:
         if not len(self.T_K) == len(self.t_h) == len(self.stress_Pa) or len(set(self.stress_Pa)) < 2:
-            raise ModelError(f"Larson-Miller curve {self.name!r}: needs points of (temperature, time, stress) at two "
-                             "stresses at least")
+            raise LifeDataError(f"Larson-Miller curve {self.name!r}: needs points of (temperature, time, stress) at "
+                                "two stresses at least")
 
     @property
     def lmp(self) -> np.ndarray:
@@ -174,13 +174,13 @@ class LifeSpec:
 def _num(d: dict, key: str, where: str, lo: float = -math.inf, hi: float = math.inf) -> float:
     v = d.get(key)
     if isinstance(v, bool) or not isinstance(v, int | float) or not (lo <= float(v) <= hi) or not math.isfinite(v):
-        raise ModelError(f"{where}: '{key}' must be a finite number in [{lo:g}, {hi:g}], got {v!r}")
+        raise LifeDataError(f"{where}: '{key}' must be a finite number in [{lo:g}, {hi:g}], got {v!r}")
     return float(v)
 
 
 @lru_cache(maxsize=8)
 def load_life_spec(path: str | Path = LIFE_DATA) -> LifeSpec:
-    """Read a life data file (the shipped :data:`LIFE_DATA` by default); raises :class:`ModelError` naming the
+    """Read a life data file (the shipped :data:`LIFE_DATA` by default); raises :class:`LifeDataError` naming the
     file and the entry for a missing or bad value."""
     path = Path(path)
     src = str(path)
@@ -209,10 +209,10 @@ def load_life_spec(path: str | Path = LIFE_DATA) -> LifeSpec:
         th = {k: tuple(_num({"v": v}, "v", f"{src}: thresholds_K.{k}", 0, 5000) for v in vals)
               for k, vals in data["thresholds_K"].items()}
     except (KeyError, TypeError, AttributeError) as exc:
-        raise ModelError(f"{src}: missing or malformed entry {exc}") from None
+        raise LifeDataError(f"{src}: missing or malformed entry {exc}") from None
     for d in discs:
         if d.spool not in ("N1", "N2"):
-            raise ModelError(f"{src}: disc {d.name!r}: spool must be N1 or N2, got {d.spool!r}")
+            raise LifeDataError(f"{src}: disc {d.name!r}: spool must be N1 or N2, got {d.spool!r}")
     shipped = path.resolve() == LIFE_DATA
     return LifeSpec(discs, blade, th, "models/life/data/life_materials.json" if shipped else src)
 

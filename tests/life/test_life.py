@@ -16,7 +16,7 @@ import math
 import numpy as np
 import pytest
 
-from openemss.models.engine.errors import ModelError
+from openemss.models.life.errors import LifeDataError
 from openemss.models.life.usage import LarsonMiller, blade_creep, disc_lcf, load_life_spec, rainflow_cycles, time_above
 
 #: ASTM E1049-85 (2017), Fig. 6 (rainflow counting example) and its table of counts: range -> cycles.
@@ -135,7 +135,7 @@ def test_time_above() -> None:
 def test_bad_life_data_is_one_line(tmp_path) -> None:  # type: ignore[no-untyped-def]
     p = tmp_path / "life.json"
     p.write_text('{"strain_life": {}, "larson_miller": {}, "discs": [], "blade": {}, "thresholds_K": {}}')
-    with pytest.raises(ModelError, match="life.json"):
+    with pytest.raises(LifeDataError, match="life.json"):
         load_life_spec(p)
-    with pytest.raises(ModelError, match="two stresses"):
+    with pytest.raises(LifeDataError, match="two stresses"):
         LarsonMiller("x", 20.0, (1000.0,), (1.0,), (1e8,)).parameter(np.array([1e8]))

@@ -340,7 +340,7 @@ def _flown(compiled_step: bool, steps: int = 700, dt_s: float = 0.05, **model: A
         u = EngineInputs(0.0 if 30.0 < t < 30.2 else wf, min(6000.0, 400.0 * t), min(0.7, 0.05 * t),
                          offtake_hp_W=3e5 if 8.0 < t < 9.0 else 2e4, offtake_lp_W=-3e5 if 10.0 < t < 11.0 else 0.0,
                          customer_bleed_frac=0.4 if 12.0 < t < 12.5 else 0.02,
-                         distortion_on=26.0 < t < 27.0, dPt_frac=0.05)
+                         distortion_on=26.0 < t < 27.0, distortion_dPt_frac=0.05)
         m.step(dt_s, u)
         s = m.state
         assert s is not None

@@ -6,9 +6,14 @@ is tested against independently written files.
 from __future__ import annotations
 
 import shutil
+import subprocess
+import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from xml.sax.saxutils import quoteattr
+
+import pytest
 
 HEADER = ('<?xml version="1.0" encoding="UTF-8"?>\n'
           '<ssd:SystemStructureDescription xmlns:ssc="http://ssp-standard.org/SSP1/SystemStructureCommon" '
@@ -96,3 +101,16 @@ def write_gain_pair(folder: Path, fmu_dir: Path) -> Path:
     write_system(folder, fmu_dir, [Comp("a", "Gain.fmu", GAIN_CONNECTORS), Comp("b", "Gain.fmu", GAIN_CONNECTORS)],
                  [("a.y_real", "b.u_real"), ("b.y_int", "a.u_int")], stop_time=1.0)
     return folder
+
+
+def wait_for(done: Callable[[], bool], proc: subprocess.Popen[bytes], what: str, hang_bound_s: float = 300.0) -> None:
+    """Poll until ``done()`` while ``proc`` runs; fail if the child ends first or hangs (``hang_bound_s``: a guard
+    against a hung child that would block the suite, generous for a loaded machine, never a measurement)."""
+    stop = time.monotonic() + hang_bound_s
+    while not done():
+        if proc.poll() is not None:
+            pytest.fail(f"the child ended before {what}: {proc.communicate()}")
+        if time.monotonic() > stop:
+            proc.kill()
+            pytest.fail(f"the child hung before {what}")
+        time.sleep(0.05)

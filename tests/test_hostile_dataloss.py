@@ -15,7 +15,6 @@ import shutil
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import pytest
@@ -23,7 +22,7 @@ import pytest
 from openemss.orchestrator.cli.main import main
 from openemss.orchestrator.errors import ConfigurationError
 from openemss.orchestrator.results import LOCK_NAME, MANIFEST_NAME, ResultsError, ResultsFolder, atomic_write
-from systems import write_gain_pair
+from systems import wait_for, write_gain_pair
 
 
 @pytest.fixture()
@@ -180,10 +179,8 @@ def test_a_run_killed_hard_is_cleared_by_the_next(system: Path, tmp_path: Path,
     proc = subprocess.Popen([sys.executable, "-m", "openemss.orchestrator.cli", "run", str(system), "--out", str(out),
                              "--stop-time", "120", "--realtime", "1", "--rate", "100", "--format", "csv"],
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    deadline = time.monotonic() + 120
-    while not ((out / "timeseries.csv").is_file() and (out / "timeseries.csv").read_bytes().count(b"\n") > 5):
-        assert proc.poll() is None and time.monotonic() < deadline
-        time.sleep(0.05)
+    csv = out / "timeseries.csv"
+    wait_for(lambda: csv.is_file() and csv.read_bytes().count(b"\n") > 5, proc, "rows are written")
     proc.send_signal(signal.SIGKILL)
     proc.wait(timeout=30)
     run_ok(capsys, system, out, "--format", "parquet")

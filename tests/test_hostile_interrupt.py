@@ -18,14 +18,13 @@ import signal
 import subprocess
 import sys
 import textwrap
-import time
 from pathlib import Path
 
 import pytest
 
 from openemss.orchestrator.cli.main import main
 from openemss.study.lock import STUDY_LOCK, study_lock
-from systems import Comp, write_gain_pair, write_system
+from systems import Comp, wait_for, write_gain_pair, write_system
 
 ROOT = Path(__file__).resolve().parent.parent
 FSIZE_LIMIT = 100_000  # bytes per file: above every staged source file of Gain, below the FMU (0.2 MB)
@@ -53,15 +52,7 @@ def held(argv: list[str], phase: str, tmp_path: Path, **popen: object) -> subpro
     marker = tmp_path / f"held-{phase}"
     proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             env=_env(tmp_path, phase, marker), **popen)  # type: ignore[call-overload]
-    t0 = time.monotonic()
-    while not marker.exists():
-        if proc.poll() is not None:
-            out, err = proc.communicate()
-            raise AssertionError(f"ended before {phase}: {proc.returncode} {err.decode()[-2000:]}")
-        if time.monotonic() - t0 > HOLD_TIMEOUT_S:
-            proc.kill()
-            raise AssertionError(f"never reached {phase}")
-        time.sleep(0.05)
+    wait_for(marker.exists, proc, f"phase {phase}", HOLD_TIMEOUT_S)
     assert int(marker.read_text()) == proc.pid
     return proc
 
@@ -306,11 +297,8 @@ def test_a_study_interrupted_stops_its_cases_cleanly(system: Path, tmp_path: Pat
     out = tmp_path / "study"
     proc = subprocess.Popen([*EMSS, "study", "run", str(_study(tmp_path, system, 1e6)), "--out", str(out),
                              "--workers", "2"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=_env(tmp_path))
-    t0 = time.monotonic()
-    while not all((out / "cases" / n / "timeseries.parquet").exists() for n in "ab"):  # both cases are running
-        assert proc.poll() is None, proc.communicate()
-        assert time.monotonic() - t0 < HOLD_TIMEOUT_S
-        time.sleep(0.1)
+    wait_for(lambda: all((out / "cases" / n / "timeseries.parquet").exists() for n in "ab"), proc,
+             "both cases run", HOLD_TIMEOUT_S)
     assert (out / STUDY_LOCK).exists()
     proc.send_signal(signal.SIGINT)
     _, err = proc.communicate(timeout=HOLD_TIMEOUT_S)
@@ -368,11 +356,7 @@ def test_a_signal_inside_an_fmu_call_stops_the_run_after_it(tmp_path: Path) -> N
     out, marker, release = tmp_path / "out", tmp_path / "in-the-fmu", tmp_path / "release"
     proc = subprocess.Popen(_run_argv(system, out), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             env=dict(_env(tmp_path), SLOW_START_MARKER=str(marker), SLOW_START_RELEASE=str(release)))
-    t0 = time.monotonic()
-    while not marker.exists():
-        assert proc.poll() is None, proc.communicate()
-        assert time.monotonic() - t0 < HOLD_TIMEOUT_S
-        time.sleep(0.05)
+    wait_for(marker.exists, proc, "the FMU's constructor runs", HOLD_TIMEOUT_S)
     proc.send_signal(signal.SIGTERM)
     with pytest.raises(subprocess.TimeoutExpired):
         proc.wait(timeout=1)  # still in the FMU's call (the bound of a negative, not a measurement)

@@ -21,12 +21,13 @@ from __future__ import annotations
 import enum
 import math
 from dataclasses import dataclass, fields
+from typing import ClassVar
 
 from ..common.atmosphere import P0_PA, T0_K
 from ..common.signals import Signal, check_table
 from .errors import OutOfRangeError
 from .health import HEALTH_LIMIT, health_parameter_names
-from .settings import EngineNumerics, EngineStart, engine_set
+from .settings import EngineNumerics, EngineStart, FromEngineFile, engine_set
 
 __all__ = ["EngineInputs", "EngineLimits", "BleedValve", "OUTPUTS", "FLAGS", "SIGNALS", "DESIGN_FIELDS",
            "PARAMETER_SETS", "condition_from_ambient", "FUEL_UNLIMITED_KG", "FLAMEOUT_CAUSES", "FLAMEOUT_STARVED"]
@@ -145,7 +146,7 @@ class EngineInputs:
 
 
 @dataclass(frozen=True)
-class EngineLimits:
+class EngineLimits(FromEngineFile):
     """Limits that raise flags.
 
     Attributes
@@ -191,6 +192,8 @@ class EngineLimits:
     schedules, deceleration and minimum-flow limits).
     """
 
+    SECTION: ClassVar[str] = "limits"
+
     N1_max_pct: float
     N2_max_pct: float
     FAR_lean: float
@@ -202,11 +205,6 @@ class EngineLimits:
     assist_hp_max_W: float
     assist_lp_max_W: float
 
-    @classmethod
-    def from_file(cls, **overrides: float) -> EngineLimits:
-        """The limits of ``data/engine.json`` (section ``limits``), with ``overrides`` (checked against its ranges)."""
-        return engine_set(cls, "limits").make(**overrides)
-
     def __post_init__(self) -> None:
         for name in ("offtake_hp_max_W", "offtake_lp_max_W", "assist_hp_max_W", "assist_lp_max_W"):
             v = getattr(self, name)
@@ -215,7 +213,7 @@ class EngineLimits:
 
 
 @dataclass(frozen=True)
-class BleedValve:
+class BleedValve(FromEngineFile):
     """Handling bleed valve with hysteresis, scheduled on the corrected fan speed.
 
     The valve is commanded open when N1c = N1 / sqrt(Tt2 / 288.15 K) falls below
@@ -239,15 +237,13 @@ class BleedValve:
     The values, units and ranges are those of ``data/engine.json``, section ``bleed_valve`` (:meth:`from_file`).
     """
 
+    SECTION: ClassVar[str] = "bleed_valve"
+
     threshold_N1c_pct: float
     band_pct: float
     stroke_s: float
     open_frac: float
 
-    @classmethod
-    def from_file(cls, **overrides: float) -> BleedValve:
-        """The valve of ``data/engine.json`` (section ``bleed_valve``), with ``overrides`` (checked)."""
-        return engine_set(cls, "bleed_valve").make(**overrides)
 
 
 def condition_from_ambient(p_Pa: float, T_K: float) -> tuple[float, float]:

@@ -11,12 +11,12 @@ its dataclass only.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, TypeVar
+from typing import Any, ClassVar, Self, TypeVar
 
 from ..common.params import ParamSet, parameter_set
 from .errors import OutOfRangeError
 
-__all__ = ["ENGINE_FILE", "EngineNumerics", "EngineStart", "engine_set", "METHODS"]
+__all__ = ["ENGINE_FILE", "EngineNumerics", "EngineStart", "FromEngineFile", "engine_set", "METHODS"]
 
 #: The engine's parameter file, in this package's ``data/``.
 ENGINE_FILE = "engine.json"
@@ -31,8 +31,20 @@ def engine_set(cls: type[P], section: str) -> ParamSet[P]:
     return parameter_set(cls, __package__ or __name__.rpartition(".")[0], ENGINE_FILE, section, OutOfRangeError)
 
 
+class FromEngineFile:
+    """A parameter set of ``data/engine.json``: the section it reads (:attr:`SECTION`) and :meth:`from_file`."""
+
+    SECTION: ClassVar[str]
+
+    @classmethod
+    def from_file(cls, **overrides: Any) -> Self:
+        """The set of ``data/engine.json``, section :attr:`SECTION`, with ``overrides`` (checked against its
+        ranges)."""
+        return engine_set(cls, cls.SECTION).make(**overrides)
+
+
 @dataclass(frozen=True)
-class EngineNumerics:
+class EngineNumerics(FromEngineFile):
     """How the engine model integrates, matches and models distortion (see :class:`.engine_model.EngineModel`).
 
     Attributes
@@ -53,6 +65,8 @@ class EngineNumerics:
         Largest relative fuel change taken linearly at a step start [-]; 0: always matched.
     """
 
+    SECTION: ClassVar[str] = "numerics"
+
     I_lp_kg_m2: float
     I_hp_kg_m2: float
     dt_internal_s: float
@@ -61,11 +75,6 @@ class EngineNumerics:
     distortion_target: int
     critical_angle_deg: float
     linear_input_frac: float
-
-    @classmethod
-    def from_file(cls, **overrides: Any) -> EngineNumerics:
-        """The set of ``data/engine.json``, section ``numerics``, with ``overrides`` (checked)."""
-        return engine_set(cls, "numerics").make(**overrides)
 
     def model_options(self) -> dict[str, Any]:
         """The keyword arguments of :class:`.engine_model.EngineModel` these settings give."""
@@ -76,7 +85,7 @@ class EngineNumerics:
 
 
 @dataclass(frozen=True)
-class EngineStart:
+class EngineStart(FromEngineFile):
     """How the engine starts and how it meets a point it cannot match.
 
     Attributes
@@ -91,12 +100,10 @@ class EngineStart:
         Flight condition from the ambient static pressure and temperature instead of altitude and ISA deviation.
     """
 
+    SECTION: ClassVar[str] = "start"
+
     start_N1_pct: float
     start_Wf_kg_s: float
     accept_solver_failure: bool
     use_ambient: bool
 
-    @classmethod
-    def from_file(cls, **overrides: Any) -> EngineStart:
-        """The set of ``data/engine.json``, section ``start``, with ``overrides`` (checked)."""
-        return engine_set(cls, "start").make(**overrides)

@@ -27,9 +27,10 @@ point, a balance that cannot be formed) is checked by :mod:`.engine_graph` with 
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from types import MappingProxyType
 from typing import Any
@@ -49,7 +50,7 @@ from .element_kinds import (
 from .errors import ModelError
 
 __all__ = ["EngineFileError", "ElementDef", "FlowLink", "BleedDef", "ShaftDef", "EngineDef", "read_engine_file",
-           "engine_path", "ENGINES_DIR"]
+           "engine_path", "ENGINES_DIR", "scale_engine"]
 
 #: Folder of the shipped engine files.
 ENGINES_DIR: Path = Path(__file__).resolve().parent / "engines"
@@ -402,3 +403,42 @@ def _check_topology(eng: EngineDef) -> tuple[str, ...]:
             raise EngineFileError(f"{f}:{s.line}: shaft {s.name!r}: no turbine drives it (on it: "
                                   f"{', '.join(e.name for e in on) or 'nothing'})")
     return tuple(order)
+
+
+def scale_engine(eng: EngineDef, thrust_scale: float) -> EngineDef:
+    """The engine scaled at constant cycle by geometric similarity: airflow, thrust, fuel flow, powers and every
+    area by `thrust_scale` (the design's ``W_kg_s`` or ``Fn_N``, each shaft's ``load_W`` and ``offtake_W``; the
+    areas follow, sized by the design), lengths by its square root, so that at the same tip speeds each shaft's
+    ``N_rpm`` goes with ``thrust_scale**-0.5`` and its ``I_kg_m2`` (mass times length squared) with
+    ``thrust_scale**2.5``. Temperatures, pressures, pressure ratios, SFC and relative speeds are unchanged; a
+    spool's time constant I omega^2 / P goes with ``thrust_scale**0.5``.
+
+    References
+    ----------
+    P. P. Walsh, P. Fletcher, "Gas Turbine Performance", 2nd ed., 2004, ch. 4 (scaling an engine at constant
+    cycle: flow and thrust with the square of the linear scale, speeds with its inverse).
+
+    Raises
+    ------
+    EngineFileError
+        `thrust_scale` not a finite number > 0.
+    """
+    s = float(thrust_scale)
+    if not (s > 0.0 and s < math.inf):
+        raise EngineFileError(f"{eng.file}: thrust_scale={thrust_scale!r} must be a finite number > 0")
+    if s == 1.0:
+        return eng
+    design = dict(eng.design)
+    for k in ("W_kg_s", "Fn_N"):
+        if design[k] is not None:
+            design[k] = design[k] * s
+    shafts = {}
+    for name, sh in eng.shafts.items():
+        a = dict(sh.attrs)
+        a["N_rpm"] = a["N_rpm"] / math.sqrt(s)
+        a["I_kg_m2"] = a["I_kg_m2"] * s ** 2.5
+        a["offtake_W"] = a["offtake_W"] * s
+        if a["load_W"] is not None:
+            a["load_W"] = a["load_W"] * s
+        shafts[name] = ShaftDef(name, MappingProxyType(a), sh.line)
+    return replace(eng, design=MappingProxyType(design), shafts=MappingProxyType(shafts))

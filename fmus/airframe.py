@@ -2,7 +2,8 @@
 
 A thin pythonfmu slave over :class:`openemss.models.airframe.adapter.Airframe`. Each
 ``doStep`` applies the inputs, advances JSBSim by the step (a whole number of internal
-steps at ``rate_hz``) and caches the outputs in one list, read by index.
+steps at ``rate_hz``, fitted at the first step to a step that is not a multiple of it) and caches
+the outputs in one list, read by index.
 
 Start: on a runway at rest (``start_on_runway``) or in the air at ``alt0_m`` and
 ``tas0_m_s``; with ``trim_at_start`` the air start is trimmed in level flight (angle of
@@ -31,6 +32,7 @@ from openemss.fmus.fmu_state import FmuState, SlaveState, StateError, attrs_from
 from openemss.fmus.initial_outputs import InitialOutputs
 from openemss.fmus.signal_io import SignalIO
 from openemss.models.airframe.adapter import Airframe as AirframeModel
+from openemss.models.airframe.adapter import whole_frames
 from openemss.models.airframe.airframe_signals import SIGNALS, STATE_FIELDS
 from openemss.models.airframe.loading import check_air_start, check_loading
 from openemss.models.airframe.settings import PARAMETER_SETS, airframe_set
@@ -77,6 +79,8 @@ class Airframe(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
         #: the start (every parameter and input, by name) and (step, Real inputs, gear_down) of every step since
         self._start: dict[str, Any] = {}
         self._log: list[tuple[float, tuple[float, ...], bool]] = []
+        #: the communication step the internal frames are fitted to (None: frames of 1/rate_hz), see do_step
+        self._fit_step_s: float | None = None
 
     def _publish(self) -> None:
         v = self._model.values()  # type: ignore[union-attr]
@@ -100,7 +104,7 @@ class Airframe(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
         return {v.name: getattr(self, v.name) for v in self.vars.values() if v.causality != Fmi2Causality.output}
 
     def compute_start(self) -> None:
-        self._start, self._log = self._settings(), []
+        self._start, self._log = {**self._settings(), "_fit_step_s": self._fit_step_s}, []
         # the parameter sets of data/airframe.yaml, from the parameters of their names, checked against its ranges
         sets = {section: airframe_set(cls, section).collect(lambda name: getattr(self, name), "", "airframe")
                 for section, cls in PARAMETER_SETS.items()}
@@ -116,7 +120,8 @@ class Airframe(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
         m = AirframeModel(rate_hz=sets["simulation"].rate_hz, dT_isa_K=env.weather_dT_isa_K,
                           wind_ned_m_s=(env.wind_north_m_s, env.wind_east_m_s, env.wind_down_m_s),
                           turbulence_severity=sev, turbulence_wind_20ft_m_s=w20, seed=seed,
-                          wind_profile=w.wind.ned_m_s if w is not None and w.wind is not None else None)
+                          wind_profile=w.wind.ned_m_s if w is not None and w.wind is not None else None,
+                          fit_step_s=self._fit_step_s)
         m.set_added_mass(self.added_mass_kg)
         self._trim = [0.0, 0.0]
         if st.start_on_runway:
@@ -140,10 +145,21 @@ class Airframe(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
         self._publish()
 
     def do_step(self, current_time: float, step_size: float) -> bool:
+        if not self._log and whole_frames(step_size, self._model.rate_hz) is None:  # type: ignore[union-attr]
+            self._fit_frames(step_size)
         self._advance(step_size)
         self._log.append((step_size, tuple(self._u), self.gear_down))
         self._publish()
         return True
+
+    def _fit_frames(self, step_size: float) -> None:
+        """Build the aircraft again from its start with frames that divide ``step_size`` [s] (the host's first
+        step, not a whole number of frames of ``1/rate_hz``: e.g. 100 Hz, or FMPy's default of a 500th of the
+        stop time): JSBSim's actuators and kinematics take the frame length when the aircraft is built, so
+        only then do they move at their rates in every step of that size. A later step of another size
+        that is not whole frames ends with a shorter frame (the adapter's ``step``)."""
+        self._fit_step_s = step_size
+        self._restore_extra(({**self._start, "_fit_step_s": step_size}, [], 0))
 
     def _advance(self, step_size: float) -> None:
         """Fly one step of ``step_size`` [s] on the inputs held."""

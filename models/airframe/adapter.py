@@ -166,6 +166,28 @@ def _check(name: str, value: float, lo: float, hi: float, unit: str = "") -> flo
     return v
 
 
+def whole_frames(step_s: float, rate_hz: float) -> int | None:
+    """The number of frames of ``1/rate_hz`` [Hz] in ``step_s`` [s] when it is a whole number of them (to 1e-9
+    relative, the rounding of a decimal step), else None."""
+    n = round(step_s * rate_hz)
+    return n if n >= 1 and abs(n / rate_hz - step_s) <= 1e-9 * max(1.0, step_s) else None
+
+
+def frame_for_step(rate_hz: float, step_s: float) -> float:
+    """The internal frame [s] for communication steps of ``step_s`` [s]: ``1/rate_hz`` when the step is a whole
+    number of them, else the longest frame that divides the step and is no longer than ``1/rate_hz``
+    (``step_s / ceil(step_s * rate_hz)``: 0.005 s for 100 Hz at 120 Hz).
+
+    >>> frame_for_step(120.0, 0.05) == 1 / 120, frame_for_step(120.0, 0.01), frame_for_step(120.0, 0.002)
+    (True, 0.005, 0.002)
+    """
+    if not step_s > 0.0 or math.isinf(step_s):
+        raise AirframeError(f"a communication step of {step_s} s: it must be positive and finite")
+    if whole_frames(step_s, rate_hz) is not None:
+        return 1.0 / rate_hz
+    return step_s / math.ceil(step_s * rate_hz)
+
+
 class Airframe:
     """UPERA in JSBSim with SI inputs and outputs.
 
@@ -183,6 +205,11 @@ class Airframe:
         Wind speed at 20 ft for low-altitude turbulence [m/s].
     seed : int
         Random seed of the turbulence model.
+    fit_step_s : float, optional
+        A communication step [s] the frames must divide: when it is not a whole number of frames of
+        ``1/rate_hz``, the frame is the longest that divides it and is no longer than ``1/rate_hz``
+        (:func:`frame_for_step`), so that every step of that size is whole frames (JSBSim's flight-control
+        components take the frame length when the aircraft is built; see :meth:`step`).
 
     Examples
     --------
@@ -194,9 +221,10 @@ class Airframe:
     def __init__(self, rate_hz: float = DEFAULT_RATE_HZ, dT_isa_K: float = 0.0,
                  wind_ned_m_s: tuple[float, float, float] = (0.0, 0.0, 0.0), turbulence_severity: int = 0,
                  turbulence_wind_20ft_m_s: float = 0.0, seed: int = 0,
-                 wind_profile: WindProfile | None = None) -> None:
-        self.rate_hz = _check("rate_hz", rate_hz, *_bounds(AirframeSimulation, "simulation", "rate_hz"), " Hz")
-        self.dt_s = 1.0 / self.rate_hz
+                 wind_profile: WindProfile | None = None, fit_step_s: float | None = None) -> None:
+        rate_hz = _check("rate_hz", rate_hz, *_bounds(AirframeSimulation, "simulation", "rate_hz"), " Hz")
+        self.dt_s = frame_for_step(rate_hz, fit_step_s) if fit_step_s is not None else 1.0 / rate_hz
+        self.rate_hz = rate_hz if self.dt_s == 1.0 / rate_hz else 1.0 / self.dt_s
         os.environ.setdefault("JSBSIM_DEBUG", "0")
         import jsbsim  # imported here so the model package loads without JSBSim for table work
 
@@ -204,14 +232,17 @@ class Airframe:
         fdm.set_debug_level(0)
         fdm.set_aircraft_path("aircraft")
         fdm["simulation/randomseed"] = int(seed)
+        # the frame length before loading: JSBSim's flight-control components (actuators' rate limits, kinematics,
+        # filters) take it once, when the aircraft is built (set after, they moved at 120 Hz's rate per frame)
+        fdm.set_dt(self.dt_s)
         if not fdm.load_model("UPERA"):
             raise AirframeError(f"JSBSim could not load the UPERA aircraft from {JSBSIM_ROOT}")
-        fdm.set_dt(self.dt_s)
         self._fdm = fdm
         self.geometry = load_geometry()
         self._fuel_kg = self.geometry.fuel_capacity_kg
         self._wf_kg_s = 0.0
-        self._steps = 0  # JSBSim steps since time zero
+        self._steps = 0  # JSBSim steps of dt_s since time zero
+        self._short_s = 0.0  # the shorter last frames of steps that were not whole multiples of dt_s, summed
         self._t0_s = 0.0
         pm = fdm.get_property_manager()
         self._nodes = tuple((pm.get_node(p), k) for p, k in _STATE_PROPS)
@@ -386,6 +417,7 @@ class Airframe:
     def _zero_time(self) -> AirframeState:
         self._fdm.set_sim_time(0.0)
         self._steps = 0
+        self._short_s = 0.0
         self._started = True
         return self.state()
 
@@ -449,11 +481,21 @@ class Airframe:
 
     # -- stepping -----------------------------------------------------------
     def step(self, dt_s: float) -> None:
-        """Advance by ``dt_s`` [s], a whole number of internal steps (1/rate_hz)."""
-        n = round(dt_s * self.rate_hz)
-        if n < 1 or abs(n * self.dt_s - dt_s) > 1e-9 * max(1.0, dt_s):
-            raise AirframeError(f"step of {dt_s} s is not a positive multiple of the internal step "
-                                f"{self.dt_s:.6g} s (rate {self.rate_hz:g} Hz)")
+        """Advance by ``dt_s`` [s]: whole internal frames of ``1/rate_hz`` and, when ``dt_s`` is not a multiple of
+        it, the remainder as one shorter last frame.
+
+        JSBSim's flight-control components take the frame length when the aircraft is built, so in a shorter
+        frame an actuator or kinematic moving at its rate limit moves a whole frame's worth (the integration of
+        the motion itself takes the shorter frame). A host that steps at a size other than a multiple should give
+        the airframe the internal rate that divides it (the FMU does so at its first step: ``fmus/airframe.py``).
+        """
+        if not dt_s > 0.0:
+            raise AirframeError(f"step of {dt_s} s: a step must be positive")
+        n = whole_frames(dt_s, self.rate_hz)
+        short_s = 0.0
+        if n is None:  # not a whole number of frames: the remainder as a shorter last frame
+            n = math.floor(dt_s * self.rate_hz)
+            short_s = dt_s - n * self.dt_s
         if not self._started:
             raise AirframeError("start the aircraft first (start_runway or start_air)")
         if self._wind_profile is not None:
@@ -462,11 +504,12 @@ class Airframe:
         tank = self._tank.set_double_value
         burn = self._wf_kg_s * self.dt_s
         fuel = self._fuel_kg
-        if burn * n > fuel + FUEL_ROUNDOFF_KG:
+        if burn * n + self._wf_kg_s * short_s > fuel + FUEL_ROUNDOFF_KG:
             raise FuelExhaustedError(
                 f"tank empty at t = {self.time_s:.6g} s: the fuel flow input, {self._wf_kg_s:.6g} kg/s, burns "
-                f"{burn * n:.6g} kg over the step of {dt_s:g} s, the tank holds {fuel:.6g} kg (an engine burning "
-                "from it must flame out: give it the tank's content, the airframe's fuel_kg)")
+                f"{burn * n + self._wf_kg_s * short_s:.6g} kg over the step of {dt_s:g} s, the tank holds "
+                f"{fuel:.6g} kg (an engine burning from it must flame out: give it the tank's content, the "
+                "airframe's fuel_kg)")
         airborne = self._wow.get_double_value() < 0.5
         sink_m_s = -self._hdot.get_double_value() * FT
         for _ in range(n):
@@ -474,6 +517,17 @@ class Airframe:
                 fuel = fuel - burn if fuel > burn else 0.0
                 tank(fuel / LBM)
             run()
+        if short_s > 0.0:
+            short_burn = self._wf_kg_s * short_s
+            if short_burn > 0.0:
+                fuel = fuel - short_burn if fuel > short_burn else 0.0
+                tank(fuel / LBM)
+            self._fdm.set_dt(short_s)
+            try:
+                run()
+            finally:
+                self._fdm.set_dt(self.dt_s)
+            self._short_s += short_s
         self._fuel_kg = fuel
         self._steps += n
         agl_m = self._agl.get_double_value() * FT
@@ -506,8 +560,9 @@ class Airframe:
     # -- outputs ------------------------------------------------------------
     @property
     def time_s(self) -> float:
-        """Simulation time since the start [s] (steps x internal step, no accumulated rounding)."""
-        return self._steps * self.dt_s
+        """Simulation time since the start [s] (whole frames x internal step, no accumulated rounding, plus the
+        shorter frames of steps that were not multiples of it)."""
+        return self._steps * self.dt_s + self._short_s
 
     @property
     def fuel_kg(self) -> float:

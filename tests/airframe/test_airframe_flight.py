@@ -287,12 +287,16 @@ def test_fuel_runs_out_at_zero_then_is_refused(af: Airframe) -> None:
         af.set_fuel_flow(-1.0)
 
 
-def test_step_must_be_multiple_of_internal_step(af: Airframe) -> None:
+def test_a_step_that_is_not_whole_frames_ends_with_a_shorter_one(af: Airframe) -> None:
+    """0.013 s at 120 Hz: one frame and a last one of 0.013 - 1/120 s; JSBSim's own clock and ours agree."""
     af.start_air(3000.0, 150.0, 0.0, alpha_rad=0.05)
-    with pytest.raises(AirframeError, match="multiple"):
-        af.step(0.013)
+    af.step(0.013)
     af.step(0.05)
-    assert af.time_s == pytest.approx(0.05, abs=1e-12)
+    assert af.time_s == pytest.approx(0.063, abs=1e-12)
+    assert af._node("simulation/sim-time-sec") == pytest.approx(0.063, abs=1e-12)
+    for bad in (0.0, -0.05, float("nan")):
+        with pytest.raises(AirframeError, match="must be positive"):
+            af.step(bad)
 
 
 def test_landing_on_munich_26r(af: Airframe) -> None:

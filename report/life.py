@@ -69,6 +69,8 @@ def life_summary(run: RunData) -> dict[str, Any] | None:
                   "include the spools' start from rest before the record and their stop after it",
         "sampling_note": _sampling_note(run),
         "data": spec.source,
+        "data_checked": {m.name: m.checked or "not said" for m in (*(d.spec.material for d in discs),
+                                                                   spec.blade.material)},
         "discs": [{"name": d.spec.name, "spool": d.spec.spool, "material": d.spec.material.name,
                    "stress_at_design_speed_Pa": d.spec.stress_at_design_speed_Pa,
                    "cycles_counted": float(d.cycles[:, 2].sum()),

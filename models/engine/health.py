@@ -13,8 +13,9 @@ applies them between steps.
 
 References
 ----------
-P. P. Walsh, P. Fletcher, "Gas Turbine Performance", 2nd ed., Blackwell, 2004, ch. 16 (engine
-deterioration, component fouling and erosion as changes of flow capacity and efficiency) and ch. 7.
+P. P. Walsh, P. Fletcher, "Gas Turbine Performance", 2nd ed., Blackwell, 2004 (engine deterioration,
+component fouling and erosion as changes of flow capacity and efficiency; cited from memory, chapters not
+checked against a copy).
 A. J. Volponi, "Gas turbine engine health management: past, present, and future trends", J. Eng. Gas
 Turbines Power 136(5), 051201, 2014 (health parameters of gas path analysis).
 H. I. H. Saravanamuttoo, B. D. MacIsaac, "Thermodynamic models for pipeline gas turbine diagnostics",
@@ -33,7 +34,7 @@ __all__ = ["HealthDeltas", "COMPONENTS", "HEALTH_LIMIT", "health_parameter_names
 #: The components with health parameters, in the order of the gas path's maps (fan, HPC, HPT, LPT).
 COMPONENTS: tuple[str, ...] = ("fan", "hpc", "hpt", "lpt")
 #: Largest magnitude of a health delta [-]: beyond 20 % a map scaled this way is no longer a deteriorated
-#: engine of the same design (Walsh & Fletcher ch. 16 report a few per cent over an engine's life).
+#: engine of the same design (deterioration over an engine's life is a few per cent; a bound, not a measurement).
 HEALTH_LIMIT = 0.2
 
 
@@ -75,8 +76,8 @@ def health_parameter_names() -> tuple[str, ...]:
 
 #: A mid-life deterioration for studies (``ssp/engine_degraded.ssv``): compressors fouled and eroded (flow
 #: capacity and efficiency down), turbines eroded with opened tip clearances (efficiency down, flow capacity
-#: up), of the size Walsh & Fletcher (2004, ch. 16) describe over an engine's time between overhauls (a few
-#: per cent at most). Illustrative, not a measured engine.
+#: up), a few per cent at most, the size of deterioration over an engine's time between overhauls.
+#: Illustrative, not a measured engine, and not checked against a published deterioration table.
 MID_LIFE = HealthDeltas(fan_eta_frac=-0.01, fan_Wc_frac=-0.01, hpc_eta_frac=-0.02, hpc_Wc_frac=-0.02,
                         hpt_eta_frac=-0.015, hpt_Wc_frac=0.01, lpt_eta_frac=-0.01, lpt_Wc_frac=0.005)
 

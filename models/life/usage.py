@@ -34,7 +34,8 @@ F. R. Larson, J. Miller, "A time-temperature relationship for rupture and creep 
 765-775, 1952.
 E. L. Robinson, "Effect of temperature variation on the long-time rupture strength of steels", Trans. ASME
 74, 777-781, 1952.
-P. P. Walsh, P. Fletcher, "Gas Turbine Performance", 2nd ed., Blackwell, 2004, ch. 5 (turbine cooling).
+P. P. Walsh, P. Fletcher, "Gas Turbine Performance", 2nd ed., Blackwell, 2004 (turbine cooling; cited from memory,
+not checked against a copy: the cooling effectiveness used is an assumption, models/life/data/README.md).
 """
 from __future__ import annotations
 
@@ -68,6 +69,7 @@ class StrainLife:
     eps_f: float
     c: float
     source: str = ""
+    checked: str = ""             #: which constants were checked against which readable source ("" not said)
 
     def swt(self, two_Nf: np.ndarray) -> np.ndarray:
         """The Smith-Watson-Topper parameter sigma_max eps_a [Pa] at 2 N_f reversals."""
@@ -101,6 +103,7 @@ class LarsonMiller:
     t_h: tuple[float, ...]
     stress_Pa: tuple[float, ...]
     source: str = ""
+    checked: str = ""             #: whether the points were checked against a readable source ("" not said)
 
     def __post_init__(self) -> None:
         if not len(self.T_K) == len(self.t_h) == len(self.stress_Pa) or len(set(self.stress_Pa)) < 2:
@@ -189,7 +192,8 @@ def load_life_spec(path: str | Path = LIFE_DATA) -> LifeSpec:
         sl = {name: StrainLife(name, _num(d, "E_Pa", f"{src}: {name}", 1e9, 1e12),
                                _num(d, "sigma_f_Pa", f"{src}: {name}", 1e6, 1e11),
                                _num(d, "b", f"{src}: {name}", -1, 0), _num(d, "eps_f", f"{src}: {name}", 0, 100),
-                               _num(d, "c", f"{src}: {name}", -2, 0), str(d.get("source", "")))
+                               _num(d, "c", f"{src}: {name}", -2, 0), str(d.get("source", "")),
+                               str(d.get("checked", "")))
               for name, d in data["strain_life"].items()}
         lm = {}
         for name, d in data["larson_miller"].items():
@@ -198,7 +202,7 @@ def load_life_spec(path: str | Path = LIFE_DATA) -> LifeSpec:
                                     tuple(_num(p, "T_C", f"{src}: {name}", -273.15, 3000) + 273.15 for p in pts),
                                     tuple(_num(p, "t_h", f"{src}: {name}", 1e-6, 1e9) for p in pts),
                                     tuple(_num(p, "stress_Pa", f"{src}: {name}", 1e3, 1e11) for p in pts),
-                                    str(d.get("source", "")))
+                                    str(d.get("source", "")), str(d.get("checked", "")))
         discs = tuple(DiscSpec(str(d["name"]), str(d["spool"]), sl[d["material"]],
                                _num(d, "stress_at_design_speed_Pa", f"{src}: {d['name']}", 1e6, 1e10),
                                str(d.get("note", ""))) for d in data["discs"])

@@ -1,12 +1,13 @@
-"""Health parameters (models/engine/health.py, EngineModel.set_health) against a published engine performance
-reference.
+"""Health parameters (models/engine/health.py, EngineModel.set_health): exchange rates in a plausibility band,
+reversibility, checks.
 
-Exchange rates: P. P. Walsh, P. Fletcher, "Gas Turbine Performance", 2nd ed., Blackwell, 2004, ch. 16
-(engine deterioration; the component exchange rates of its performance examples) give, for a turbofan at
-constant thrust, of the order of +0.5 to +1.0 % SFC and +5 to +15 K of turbine entry temperature per 1 % loss
-of HP compressor efficiency. The band is the tolerance: the Larzac 04 model must fall inside it at sea level
-static and at cruise. The health deltas must also be reversible (the clean engine back to round-off) and
-checked (one line naming the parameter and its range).
+Exchange rates: the band of +0.5 to +1.0 % SFC and +5 to +15 K of turbine entry temperature per 1 % loss of HP
+compressor efficiency at constant thrust was entered from memory of P. P. Walsh, P. Fletcher, "Gas Turbine
+Performance", 2nd ed., Blackwell, 2004 (its engine deterioration chapter). It was NOT checked against the book or
+another readable published table of exchange rates (none was found in session 12): it is a plausibility band
+(a sign error, a factor of two or a delta not applied would take the model out of it), not a published reference. The Larzac 04
+model must fall inside it at sea level static and at cruise. The health deltas must also be reversible (the
+clean engine back to round-off) and checked (one line naming the parameter and its range).
 """
 from __future__ import annotations
 
@@ -18,8 +19,8 @@ from openemss.models.engine.health import HealthDeltas
 
 #: (altitude [m], Mach [-], N1 [%]) of the clean reference point; the degraded engine gives its thrust.
 POINTS = ((0.0, 0.0, 95.0), (7500.0, 0.7, 90.0))
-SFC_PCT_PER_PCT_HPC_ETA = (0.5, 1.0)       # Walsh & Fletcher 2004, ch. 16: the band, +SFC [%] per -1 % HPC eta
-TT4_K_PER_PCT_HPC_ETA = (5.0, 15.0)        # the same reference: + turbine entry temperature [K] per -1 % HPC eta
+SFC_PCT_PER_PCT_HPC_ETA = (0.5, 1.0)       # +SFC [%] per -1 % HPC eta (plausibility band, unchecked: see above)
+TT4_K_PER_PCT_HPC_ETA = (5.0, 15.0)        # + turbine entry temperature [K] per -1 % HPC eta (the same)
 
 
 @pytest.fixture(scope="module")

@@ -203,6 +203,9 @@ def cmd_run(args: argparse.Namespace) -> int:
             print(f"{name}: mission fuel change {'n/a' if mf is None else f'{mf:+.1f} %'}; fuel change at "
                   f"t = {rep.get('common_time_s', float('nan')):.0f} s {'n/a' if ct is None else f'{ct:+.1f} %'}"
                   + (f" ({rep['note']})" if rep.get("note") else ""))
+            if rep.get("life_change_pct"):
+                print("  life change: " + ", ".join(f"{k.replace('_', ' ')} {'n/a' if v is None else f'{v:+.1f} %'}"
+                                                   for k, v in rep["life_change_pct"].items()))
             if rep.get("files"):
                 print(f"  plots: {', '.join(rep['files'].values())}")
     return ExitCode.FAILED if res["failed"] else ExitCode.OK

@@ -1,4 +1,4 @@
-"""Two engines through the same mission, side by side: fuel, fuel flow and Tt4 on the same axes.
+"""Two engines through the same mission, side by side: fuel and life used, fuel flow and Tt4 on the same axes.
 
 Reads each case's time series (and ``summary.json`` where there is one),
 and writes into ``out/report/``: ``report.json``, ``report.md``,
@@ -6,7 +6,10 @@ and writes into ``out/report/``: ``report.json``, ``report.md``,
 Tt4 over one mission section, against the time since the section began).
 
 Missions that were not flown to the end by both engines are compared at the
-last time both reached (stated in the report), never as whole-mission fuel.
+last time both reached (stated in the report), never as whole-mission fuel or life.
+The life used (``summary.json``'s ``life.mission``, report/life.py: the limiting disc's
+low-cycle fatigue in equivalent 0-100-0 % cycles, the HP turbine blade's creep damage, the
+missions to the first life) is compared for engines that completed the mission.
 """
 from __future__ import annotations
 
@@ -21,7 +24,11 @@ from openemss.orchestrator.results import atomic_write
 
 from .case import CaseResult, case_dir
 
-__all__ = ["read_series", "compare_engines"]
+__all__ = ["read_series", "compare_engines", "LIFE_KEYS"]
+
+#: The life figures of a mission compared between the engines (keys of ``summary.json``'s ``life.mission``).
+LIFE_KEYS: tuple[str, ...] = ("lcf_limiting_disc", "lcf_equivalent_cycles", "lcf_damage", "creep_damage",
+                              "missions_to_life")
 
 
 def read_series(path: Path, columns: list[str]) -> dict[str, np.ndarray]:
@@ -52,7 +59,8 @@ def compare_engines(out: Path, cases: dict[str, str], results: dict[str, CaseRes
     -------
     dict
         ``design_point_SFC_change_pct``, per engine the burned fuel at the common time and in the
-        mission (where both completed), the change in fuel [%], and the report's file paths.
+        mission and its life used (where both completed), the changes in fuel and life [%], and the
+        report's file paths.
     """
     import matplotlib
 
@@ -85,12 +93,15 @@ def compare_engines(out: Path, cases: dict[str, str], results: dict[str, CaseRes
             "fuel_at_common_time_kg": float(np.interp(t_common, s["time_s"], s[cols[0]])),
             "mission_completed": summ.get("mission_completed"),
             "mission_fuel_kg": summ.get("fuel_burned_kg") if summ.get("mission_completed") else None,
+            "life": _life(summ) if summ.get("mission_completed") else None,
         }
     labels = list(series)
     a, b = (res["engines"][k] for k in labels[:2])
     res["common_time_s"] = t_common
     res["fuel_change_at_common_time_pct"] = 100.0 * (b["fuel_at_common_time_kg"] / a["fuel_at_common_time_kg"] - 1.0) \
         if a["fuel_at_common_time_kg"] > 0 else None
+    res["life_change_pct"] = {k: _change_pct(a["life"][k], b["life"][k])
+                              for k in LIFE_KEYS[1:] if a["life"] and b["life"]}
     if a["mission_fuel_kg"] and b["mission_fuel_kg"]:
         res["mission_fuel_change_pct"] = 100.0 * (b["mission_fuel_kg"] / a["mission_fuel_kg"] - 1.0)
     else:
@@ -139,6 +150,21 @@ def compare_engines(out: Path, cases: dict[str, str], results: dict[str, CaseRes
     return res
 
 
+def _life(summary: dict[str, Any]) -> dict[str, Any] | None:
+    """The mission's life figures of a case's summary (None without them)."""
+    mission = (summary.get("life") or {}).get("mission")
+    return {k: mission.get(k) for k in LIFE_KEYS} if mission else None
+
+
+def _change_pct(a: Any, b: Any) -> float | None:
+    """The change from `a` to `b` [%], None where either is missing or `a` is not positive."""
+    return 100.0 * (b / a - 1.0) if isinstance(a, int | float) and isinstance(b, int | float) and a > 0 else None
+
+
+def _g(v: Any) -> str:
+    return "" if v is None else f"{v:.4g}" if isinstance(v, float) else str(v)
+
+
 def _pct(v: Any) -> str:
     return "n/a" if v is None else f"{v:+.2f} %"
 
@@ -152,11 +178,16 @@ def markdown(res: dict[str, Any]) -> str:
              f"{_pct(res.get('fuel_change_at_common_time_pct'))}", ""]
     if res.get("note"):
         lines += [f"Note: {res['note']}.", ""]
-    lines += ["| engine | case | status | simulated [s] | fuel at common time [kg] | mission fuel [kg] |",
-              "|---|---|---|---|---|---|"]
+    for key, v in (res.get("life_change_pct") or {}).items():
+        lines.insert(-1, f"- {key.replace('_', ' ')} change: {_pct(v)}")
+    lines += ["| engine | case | status | simulated [s] | fuel at common time [kg] | mission fuel [kg] | "
+              "LCF-limiting disc | its equivalent 0-100-0 % cycles | blade creep damage | missions to first life |",
+              "|---|---|---|---|---|---|---|---|---|---|"]
     for label, e in res.get("engines", {}).items():
-        mf = e.get("mission_fuel_kg")
+        mf, life = e.get("mission_fuel_kg"), e.get("life") or {}
         lines.append(f"| {label} | {e['case']} | {e['status']} | {e['sim_time_s']:.1f} | "
-                     f"{e['fuel_at_common_time_kg']:.2f} | {'' if mf is None else f'{mf:.2f}'} |")
+                     f"{e['fuel_at_common_time_kg']:.2f} | {'' if mf is None else f'{mf:.2f}'} | "
+                     + " | ".join(_g(life.get(k)) for k in ("lcf_limiting_disc", "lcf_equivalent_cycles",
+                                                             "creep_damage", "missions_to_life")) + " |")
     lines += ["", "![burned fuel](fuel_burned.png)", "", "![fuel flow and Tt4](section.png)", ""]
     return "\n".join(lines)

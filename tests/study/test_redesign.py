@@ -95,10 +95,23 @@ def test_engines_compared_at_the_last_common_time_unless_both_completed(tmp_path
         assert (tmp_path / "report" / name).stat().st_size > 0
     assert json.loads((tmp_path / "report" / "report.json").read_text())["design_point_SFC_change_pct"] == -21.0
 
-    results = {"b": CaseResult("b", "completed", summary={"mission_completed": True, "fuel_burned_kg": 100.0}),
-               "r": CaseResult("r", "completed", summary={"mission_completed": True, "fuel_burned_kg": 90.0})}
+    assert res["engines"]["baseline"]["life"] is None and res["life_change_pct"] == {}   # the failed one: no life
+
+    life_b = {"lcf_limiting_disc": "HP disc", "lcf_equivalent_cycles": 1.2, "lcf_damage": 4e-5, "creep_damage": 5e-7,
+              "missions_to_life": 25000.0}
+    life_r = {**life_b, "lcf_equivalent_cycles": 0.9, "creep_damage": 2e-6, "missions_to_life": 20000.0}
+    results = {"b": CaseResult("b", "completed", summary={"mission_completed": True, "fuel_burned_kg": 100.0,
+                                                          "life": {"mission": life_b}}),
+               "r": CaseResult("r", "completed", summary={"mission_completed": True, "fuel_burned_kg": 90.0,
+                                                          "life": {"mission": life_r}})}
     res = compare_engines(tmp_path, {"baseline": "b", "redesigned": "r"}, results, {}, "engine", 7,
                           "fcs.section_index")
     assert res["mission_fuel_change_pct"] == pytest.approx(-10.0)
+    assert res["engines"]["redesigned"]["life"] == life_r
+    assert res["life_change_pct"]["lcf_equivalent_cycles"] == pytest.approx(-25.0)
+    assert res["life_change_pct"]["creep_damage"] == pytest.approx(300.0)
+    assert res["life_change_pct"]["missions_to_life"] == pytest.approx(-20.0)
+    md = (tmp_path / "report" / "report.md").read_text()
+    assert "| HP disc | 0.9 | 2e-06 | 2e+04 |" in md and "creep damage change: +300.00 %" in md
     assert math.isclose(res["fuel_change_at_common_time_pct"], -25.0)
     assert len(res["section"]["notes"]) == 2  # section 7 never reached: the whole runs are shown

@@ -130,13 +130,17 @@ class Execution:
         self.transfer_to = self.exchange.transfer_to
         self.log = FmuLog.shared()
         self.slaves = [Slave(c, self.log, m) for c, m in zip(system.components, self.multiples, strict=True)]
+        #: Why an FMU ended the simulation itself (fmi2Discard with fmi2Terminated; :meth:`.Slave._step_refused`)
+        self._ended: list[str] = []
+        for s in self.slaves:
+            s.on_end = self._ended.append
         self._states: list[object | None] = [None] * len(self.slaves)
         self.k = 0
         self.observers: list[Observer] = []
         self._initialized = False
         self.manipulators: list[Manipulator] = []
         self._stop: StopCondition | None = None
-        self.stopped_by = ""  # the stop condition that ended the run early, if one did
+        self.stopped_by = ""  # the stop condition, or the FMU that ended the simulation, that ended the run early
         self._signal = 0  # a signal that asked the run to stop (see request_stop)
 
     # -- set-up -----------------------------------------------------------------------------
@@ -307,6 +311,7 @@ class Execution:
             observers = [o.sample for o in self.observers]
             manipulate = self._manipulate if self.manipulators else None
             until = self._stop.holds if self._stop is not None else None
+            ended = self._ended
             for k in range(self.k, n_steps):
                 if self._signal:
                     raise RunInterrupted(self._signal, self.time_s)
@@ -317,6 +322,9 @@ class Execution:
                     manipulate(t)
                 for sample in observers:
                     sample(k + 1, t)
+                if ended:  # an FMU ended the simulation in this step: the run is complete (FMI 2.0, 4.2.3)
+                    self.stopped_by = "; ".join(ended)
+                    break
                 if until is not None and until():
                     self.stopped_by = str(self._stop)
                     break

@@ -16,6 +16,7 @@ import shutil
 import tempfile
 import time
 import zipfile
+from collections.abc import Callable
 from ctypes import Array, byref, c_double, c_int, c_size_t, c_uint, c_void_p
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -36,6 +37,7 @@ from ..results import check_archive
 from ..ssp.system_model import ComponentModel, VariableInfo
 
 _STATUS = ("ok", "warning", "discard", "error", "fatal", "pending")
+_FMI2_LAST_SUCCESSFUL_TIME, _FMI2_TERMINATED = 2, 3  #: fmi2StatusKind values (FMI 2.0, section 4.2.3)
 _EXTRACTED: dict[tuple[str, int, int], str] = {}
 #: The record build-fmus writes into an FMU's resources folder (fmu/build.py) and its key saying that the FMU's
 #: instances may be freed after any failure, fmi2Fatal included (fmu/lifecycle.py: pythonfmu reports every
@@ -190,6 +192,9 @@ class Slave:
         self.free_after_fatal = False
         #: Input modifiers (see :mod:`.exchange`): (input vector, index, value) written before every set.
         self.modifiers: list[tuple[np.ndarray, int, float]] = []
+        #: Told, with its reason, when the FMU ends the simulation itself (:meth:`_step_refused`); the
+        #: execution gives its own list's append. None: such an end fails the step
+        self.on_end: Callable[[str], None] | None = None
 
     # -- life cycle -------------------------------------------------------------------------
     def instantiate(self) -> None:
@@ -375,7 +380,7 @@ class Slave:
         self.stats.do_step_s += time.perf_counter() - t0
         self.stats.steps += 1
         if status > 1:
-            self._failed("fmi2DoStep", status)
+            self._step_refused(status)
 
     def advance(self, time_s: float, step_s: float) -> None:
         """set_inputs, do_step and get_outputs in one call (what Gauss-Seidel does per component)."""
@@ -392,12 +397,38 @@ class Slave:
         if status > 1:
             stats.set_s += t1 - t0
             stats.do_step_s += t2 - t1
-            self._failed("fmi2DoStep", status)
+            self._step_refused(status)
         self._batch(self._outputs)
         t3 = time.perf_counter()
         stats.set_s += t1 - t0
         stats.do_step_s += t2 - t1
         stats.get_s += t3 - t2
+
+    def _step_refused(self, status: int) -> None:
+        """fmi2DoStep did not return OK: the FMU's own end of the simulation, or a failure.
+
+        FMI 2.0 (section 4.2.3): a step that returns ``fmi2Discard`` with ``fmi2GetBooleanStatus(fmi2Terminated)``
+        true is the FMU asking to end the simulation (the Modelica Reference FMUs' Stair does so at its last
+        count): the slave stays readable at ``fmi2LastSuccessfulTime`` and :attr:`on_end` is told, with the time
+        and what the FMU logged, so that the run ends as completed. Any other status fails the step.
+        """
+        if (status == 2 and self.on_end is not None
+                and self._status(self.fmu.dll.fmi2GetBooleanStatus, c_int, _FMI2_TERMINATED)):
+            end_s = self._status(self.fmu.dll.fmi2GetRealStatus, c_double, _FMI2_LAST_SUCCESSFUL_TIME)
+            said = self._said(self.log.last(self.name))
+            at = f" at t = {end_s:.6g} s" if isinstance(end_s, float) else ""
+            self.on_end(f"{self.name} ended the simulation{at} (fmi2Terminated)" + (f": {said}" if said else ""))
+            return
+        self._failed("fmi2DoStep", status)
+
+    def _status(self, fn: object, ctype: type, kind: int) -> object | None:
+        """An fmi2Get<Type>Status value, or None when the FMU does not give it."""
+        value = ctype()
+        try:
+            ok = fn(c_void_p(self._component), c_int(kind), byref(value)) == 0  # type: ignore[operator]
+        except (AttributeError, OSError):
+            return None
+        return value.value if ok else None
 
     def _failed(self, call: str, status: int | None = None) -> None:
         self.fatal = self.fatal or status == 4

@@ -297,6 +297,7 @@ class RunRecord:
         self.info.update({
             "status": run_status(error),
             "error": None if error is None else str(error) or type(error).__name__,
+            "stopped_by": execution.stopped_by if error is None and execution.stopped_by else None,
             "stop_time_s": execution.time_s,
             "steps": execution.k,
             "wall_time_s": wall,

@@ -138,3 +138,15 @@ def columns(folder: Path) -> list[str]:
     from openemss.orchestrator.scenarios.timeseries import read_timeseries
 
     return read_timeseries(folder).names
+
+
+@pytest.fixture(scope="session")
+def munich_run(project_system: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The whole Munich mission (the shipped system, its defaults) flown once per session with its summary:
+    its results folder. Shared by the tests that compare the shipped run's figures (tests/test_docs_figures.py)
+    and its fuel flow (tests/fcs/test_smooth_targets.py)."""
+    import openemss
+
+    out = tmp_path_factory.mktemp("munich") / "run"
+    openemss.run(project_system, out=out, pre_run=False, warn=lambda line: None)
+    return out

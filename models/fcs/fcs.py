@@ -34,6 +34,7 @@ from .mission import Mission
 from .performance import Performance
 from .pitch import PitchController
 from .sections import APPROACH, REGISTRY
+from .smoothing import TargetRamp
 from .state import AircraftState, EngineState, Targets
 from .state_machine import MissionRunner
 from .tecs import Tecs, priority_code, speed_kind_code
@@ -190,6 +191,7 @@ class FlightControlSystem:
         self._tecs_engaged = False
         self._lever: float | None = None
         self._estimator = AirspeedRateEstimator()
+        self._ramp = TargetRamp()
         self.controllers["estimation"] = self._estimator
         self._perf_t = -math.inf  # time of the last look-up of the performance tables [s]
         # the inner loops' buffers (inner_loops.STATE_BLOCKS, PARAM_BLOCKS): each controller keeps its state in a
@@ -251,7 +253,9 @@ class FlightControlSystem:
         runner = self.runner
         tg = runner.step(t_s, dt_s, x)
         tecs_on = tg.theta_cmd_rad is None
-        alt_cmd, gamma_cmd = tg.alt_cmd_m, tg.gamma_cmd_rad
+        # the outer loops' held targets ramped from one update to the next (smoothing.py)
+        rt = self._ramp.step(t_s, tg, runner.targets_time_s, runner.held_for_s)
+        alt_cmd, gamma_cmd = rt.alt_cmd_m, rt.gamma_cmd_rad
         if not tecs_on:
             self._tecs_engaged = False
         else:
@@ -267,8 +271,6 @@ class FlightControlSystem:
             if gamma_cmd is None:
                 if alt_cmd is None:
                     raise FcsError("tecs.step: give alt_cmd_m (altitude mode) or gamma_cmd_rad (path mode)")
-                if tg.hdot_ff_m_s != 0.0:  # held targets: the path's altitude moves on
-                    alt_cmd += tg.hdot_ff_m_s * (t_s - runner.targets_time_s)
             else:
                 alt_cmd = None
             if not (x.on_ground or x.tas_m_s < 30.0) and (t_s - self._perf_t >= PERF_REFRESH_S or t_s < self._perf_t):
@@ -281,15 +283,16 @@ class FlightControlSystem:
                  self.fuel._params)
         if tuned != self._params_of:  # a parameter set was replaced (set_parameter)
             self._load_params(tuned)
-        speed, lever_cmd, phi_cmd, heading_cmd = tg.speed, tg.lever, tg.phi_cmd_rad, tg.heading_cmd_rad
+        speed, lever_cmd, phi_cmd, heading_cmd = tg.speed, tg.lever, rt.phi_cmd_rad, rt.heading_cmd_rad
         o = self._inner(self._state, self._params, dt_s, x.alt_m, x.tas_m_s, x.Vdot_m_s2,
                        x.gamma_rad, x.vn_m_s, x.ve_m_s, x.psi_rad, x.phi_rad, x.theta_rad, x.p_rad_s, x.q_rad_s,
                        x.r_rad_s, x.beta_rad, x.qbar_Pa, x.mass_kg, x.dT_isa_K, x.on_ground, eng.N1c_pct, eng.N1_pct,
                        eng.Tt41_K, tecs_on, math.nan if tecs_on else tg.theta_cmd_rad,
                        math.nan if lever_cmd is None else lever_cmd, lever_cmd is not None,
-                       math.nan if speed is None else speed.value, 2 if speed is None else speed_kind_code(speed.kind),
+                       math.nan if speed is None else rt.speed_value,
+                       2 if speed is None else speed_kind_code(speed.kind),
                        math.nan if alt_cmd is None else alt_cmd, alt_cmd is not None,
-                       math.nan if gamma_cmd is None else gamma_cmd, tg.hdot_ff_m_s, priority_code(tg.priority),
+                       math.nan if gamma_cmd is None else gamma_cmd, rt.hdot_ff_m_s, priority_code(tg.priority),
                        tg.gear_down, tg.airbrake, x.on_ground or tg.phase in _GROUND_PITCH_PHASES,
                        math.nan if phi_cmd is None else phi_cmd, phi_cmd is not None,
                        math.nan if heading_cmd is None else heading_cmd, heading_cmd is not None)

@@ -70,6 +70,8 @@ class MissionRunner:
         self.targets_time_s = 0.0
         self._held: Targets | None = None  # targets of an outer-rate section, held until _next_s
         self._next_s = 0.0
+        #: how long the targets last returned are held [s]: the outer period for an outer-rate section, else 0
+        self.held_for_s = 0.0
 
     @property
     def finished(self) -> bool:
@@ -107,6 +109,7 @@ class MissionRunner:
             return held
         self._held = None
         self.targets_time_s = t_s
+        self.held_for_s = 0.0
         while not self.finished:
             sec = self.mission.sections[self.active_index]
             if self._exec is None:
@@ -121,6 +124,7 @@ class MissionRunner:
                     if period > dt_s:
                         # half a step early, so that t0 + k h meets it whatever the rounding of the sums
                         self._held, self._next_s = tg, t_s + period - 0.5 * dt_s
+                        self.held_for_s = period
                 return tg
             self.flown_by = self._exec.flown_by()
             field = self._exec.speed_field

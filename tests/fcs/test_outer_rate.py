@@ -86,7 +86,8 @@ def test_landing_and_take_off_sections_run_every_step() -> None:
 
 
 def test_a_managed_path_altitude_moves_on_between_outer_steps(monkeypatch: pytest.MonkeyPatch) -> None:
-    """Held targets of a descent path: TECS is given the path's altitude moved on at its vertical speed."""
+    """Held targets of a descent path: TECS is given the path's altitude moved on at its vertical speed, an
+    update's jump ramped over the period."""
     import inspect
 
     from openemss.models.fcs import fcs as fcs_module
@@ -115,8 +116,10 @@ def test_a_managed_path_altitude_moves_on_between_outer_steps(monkeypatch: pytes
     x = _state()
     for k in range(8):
         fcs.step(k * DT, DT, x, EngineState(80.0, 80.0, 1000.0))
-    # computed at k = 0 and 4 (1000 m), moved on by -10 m/s x 0.05 s per held step
-    assert seen == pytest.approx([1000.0, 999.5, 999.0, 998.5, 1000.0, 999.5, 999.0, 998.5], abs=1e-12)
+    # computed at k = 0 and 4 (1000 m), moved on by -10 m/s x 0.05 s per held step; at k = 4 the jump back to
+    # 1000 m (+2 m from the 998 m it had reached) is ramped over the period (smoothing.py): + 2 m x (k - 4) / 4
+    # against the path's -0.5 m a step, so the command stays at 998 m instead of jumping
+    assert seen == pytest.approx([1000.0, 999.5, 999.0, 998.5, 998.0, 998.0, 998.0, 998.0], abs=1e-12)
 
 
 def _capture(period: float) -> np.ndarray:

@@ -11,7 +11,9 @@ input is not set (<= 0) at that moment it takes the start point's fuel flow.
 
 The engine is a preset (String parameter ``preset``: ``larzac04_sls``,
 ``reference_study``) or, with ``design_override``, the preset with every
-``design_*`` parameter replacing its value, so a ``.ssv`` selects the engine.
+``design_*`` parameter replacing its value, so a ``.ssv`` selects the engine; or any engine file (String
+parameter ``engine_file``: a path or a shipped name, scaled by ``thrust_scale``), flown on its graph by
+:class:`openemss.models.engine.graph_engine.GraphEngineModel` with the same inputs and outputs.
 Surge, flameout, overspeed, fuel limiting and a failed match are Boolean outputs;
 their rising edges go to the FMU logger. ``do_step`` never fails for valid but
 extreme inputs: it holds the last good state and says so.
@@ -42,6 +44,7 @@ from openemss.models.engine.engine_model import (
 from openemss.models.engine.engine_signals import DESIGN_FIELDS, FLAMEOUT_STARVED, PARAMETER_SETS, SIGNALS
 from openemss.models.engine.errors import OutOfRangeError
 from openemss.models.engine.fuel_supply import FuelSupply
+from openemss.models.engine.graph_engine import GraphEngineModel
 from openemss.models.engine.health import HealthDeltas, health_parameter_names
 from openemss.models.engine.settings import engine_set
 
@@ -76,7 +79,7 @@ class Engine(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
         base = load_params(preset_path("larzac04_sls"))
         for f, _, _ in DESIGN_FIELDS:  # the design parameters start at the preset's values
             setattr(self, f"design_{f}", float(getattr(base, f)))
-        self._model: EngineModel | None = None
+        self._model: EngineModel | GraphEngineModel | None = None
         self._filled_Wf_kg_s = math.nan  # the fuel flow input's value as compute_start filled it in [kg/s]
         self._hvals = [0.0] * len(_HEALTH)     # the health parameters' values, in the order of _HEALTH
         self._health_changed = False
@@ -120,8 +123,18 @@ class Engine(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
 
     def compute_start(self) -> None:
         sets = self._sets()
-        m = EngineModel.from_sets(self._params(), sets["numerics"], sets["limits"], sets["bleed_valve"],
-                                  logger=lambda msg: self.log(msg, Fmi2Status.warning, "logStatusWarning"))
+        log = lambda msg: self.log(msg, Fmi2Status.warning, "logStatusWarning")  # noqa: E731
+        m: EngineModel | GraphEngineModel
+        if self.engine_file:        # an engine file, in time on its graph (models/engine/graph_engine.py)
+            num = sets["numerics"]
+            m = GraphEngineModel(self.engine_file, self.thrust_scale, limits=sets["limits"],
+                                 dt_internal_s=num.dt_internal_s, tol=num.tol, logger=log)
+        else:
+            if self.thrust_scale != 1.0:
+                raise OutOfRangeError(f"engine: thrust_scale={self.thrust_scale!r} applies to an engine_file; the "
+                                      "preset's size is its design_W2_kg_s (with design_override)")
+            m = EngineModel.from_sets(self._params(), sets["numerics"], sets["limits"], sets["bleed_valve"],
+                                      logger=log)
         m.set_health(HealthDeltas(*self._hvals))        # the degraded engine's steady start
         self._health_changed = False
         u, start = self._inputs(), sets["start"]
@@ -133,7 +146,8 @@ class Engine(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
         # the fuel flow input takes the start point's unless a master set it (a start computed again keeps
         # no fill-in of an earlier one: that was at the flight condition of then)
         if self.Wf_cmd_kg_s <= 0.0 or self.Wf_cmd_kg_s == self._filled_Wf_kg_s:
-            self.Wf_cmd_kg_s = self._filled_Wf_kg_s = m.state.point.Wf_kg_s if m.state is not None else 0.0
+            self.Wf_cmd_kg_s = self._filled_Wf_kg_s = (m.match.Wf_kg_s if isinstance(m, GraphEngineModel) else
+                                                       m.state.point.Wf_kg_s if m.state is not None else 0.0)
         self._model = m
         self._supply = FuelSupply()
         self._y, self._yb, self._yi = m.values, m.flags, [m.events, int(m.flags[FLAMEOUT])]

@@ -153,12 +153,29 @@ def redesigned_engine() -> dict[str, bool | float | str]:
             **{f"engine.design_{n}": float(getattr(chosen, n)) for n, _ in DESIGN}}
 
 
+#: pyCycle's high-bypass turbofan (models/engine/engines/pycycle_hbtf.yaml) scaled to the UPERA's thrust: 94.0 kN at
+#: sea level static at its T4_MAX (1587 K) times 0.14 = 13.2 kN, the Larzac 04's 13.0 kN.
+HBTF_THRUST_SCALE = 0.14
+
+
+def engine_file_set(engine_file: str, thrust_scale: float) -> dict[str, bool | float | str]:
+    """An engine file flown by the engine FMU, with the fuel controller's limits that engine's
+    (:meth:`openemss.models.engine.graph_engine.GraphEngineModel.fcs_limits`) and the flight idle."""
+    from openemss.models.engine.graph_engine import GraphEngineModel
+
+    limits = GraphEngineModel(engine_file, thrust_scale).fcs_limits()
+    return {"engine.engine_file": engine_file, "engine.thrust_scale": thrust_scale,
+            **{f"fcs.fuel_control.{k}": v for k, v in limits.items()}, **IDLE}
+
+
 def parameter_sets() -> dict[str, ParameterSet]:
     """System-level parameter sets: the engines (with their flight idle), the aircraft's loading."""
     return {"engine_larzac04.ssv": ParameterSet("engine_larzac04", {"engine.preset": "larzac04_sls", **IDLE}),
             "engine_reference_study.ssv": ParameterSet("engine_reference_study",
                                                        {"engine.preset": "reference_study", **IDLE}),
             "engine_redesigned.ssv": ParameterSet("engine_redesigned", {**redesigned_engine(), **IDLE}),
+            "engine_pycycle_hbtf.ssv": ParameterSet("engine_pycycle_hbtf",
+                                                    engine_file_set("pycycle_hbtf", HBTF_THRUST_SCALE)),
             # a mid-life deteriorated engine (models/engine/health.py MID_LIFE): combine with any engine's set
             "engine_degraded.ssv": ParameterSet("engine_degraded", {
                 f"engine.{k}": v for k, v in health_parameters(MID_LIFE).items()}),

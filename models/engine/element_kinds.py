@@ -18,7 +18,7 @@ from typing import Any
 from ..common import values
 from .maps import DEFAULT_EXTRAPOLATION
 
-__all__ = ["Attr", "Kind", "KINDS", "SHAFT_ATTRS", "BLEED_ATTRS", "SCHEDULE_ATTRS", "DESIGN_ATTRS", "FUEL_ATTRS",
+__all__ = ["Attr", "Kind", "KINDS", "SHAFT_ATTRS", "BLEED_ATTRS", "SCHEDULE_ATTRS", "DESIGN_ATTRS", "FUEL_ATTRS", "LIMIT_ATTRS",
            "check_attr"]
 
 
@@ -166,6 +166,12 @@ DESIGN_ATTRS: dict[str, Attr] = {
     "dT_isa_K": Attr("number", 0.0, "ISA deviation", "K", -100.0, 100.0),
     "W_kg_s": Attr("number", None, "inlet mass flow (sizes the engine)", "kg/s", 1e-6, 1e4),
     "Fn_N": Attr("number", None, "net thrust the design meets by its mass flow", "N", 1e-3, 1e7),
+}
+
+#: The engine's limits for its fuel controller (top-level ``limits:``); the N1 limit is the N1 shaft's ``N_max_pct``.
+LIMIT_ATTRS: dict[str, Attr] = {
+    "Tt41_max_K": Attr("number", None, "HP turbine rotor inlet temperature limit for the fuel controller (default: "
+                       "the design point's)", "K", 300.0, 3000.0),
 }
 
 FUEL_ATTRS: dict[str, Attr] = {

@@ -30,7 +30,7 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Mapping
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from types import MappingProxyType
 from typing import Any
@@ -41,6 +41,7 @@ from .element_kinds import (
     DESIGN_ATTRS,
     FUEL_ATTRS,
     KINDS,
+    LIMIT_ATTRS,
     REQUIRED,
     SCHEDULE_ATTRS,
     SHAFT_ATTRS,
@@ -54,7 +55,7 @@ __all__ = ["EngineFileError", "ElementDef", "FlowLink", "BleedDef", "ShaftDef", 
 
 #: Folder of the shipped engine files.
 ENGINES_DIR: Path = Path(__file__).resolve().parent / "engines"
-TOP_KEYS = ("name", "sources", "notes", "design", "fuel", "elements", "shafts", "flow", "bleeds")
+TOP_KEYS = ("name", "sources", "notes", "design", "fuel", "elements", "shafts", "flow", "bleeds", "limits")
 _LINK = re.compile(r"^\s*([A-Za-z_][\w]*)(?:\.([A-Za-z_]\w*))?\s*->\s*([A-Za-z_][\w]*)(?:\.([A-Za-z_]\w*))?\s*$")
 _NAME = re.compile(r"^[A-Za-z_][\w]*$")
 
@@ -125,6 +126,7 @@ class EngineDef:
     fuel: Mapping[str, Any]
     order: tuple[str, ...]          #: elements in flow order (sources before sinks, bleeds included)
     lines: Mapping[str, int]        #: line of each top-level key
+    limits: Mapping[str, Any] = field(default_factory=lambda: MappingProxyType({}))  #: the FCS's limits (LIMIT_ATTRS)
 
     def where(self, element: str | None = None, attr: str | None = None, line: int | None = None) -> str:
         """``file:line: element 'name':`` for messages (the attribute's line where known)."""
@@ -199,6 +201,7 @@ def read_engine_file(name_or_path: str | Path) -> EngineDef:
         raise EngineFileError(f"{f}:{ln.get('design', 1)}: design: give one of W_kg_s and Fn_N (or size the engine "
                               "by a nozzle's PR_design and a shaft's load_W)")
     fuel = _attrs(data.get("fuel", {}), FUEL_ATTRS, f, ln.get("fuel", 1), "fuel")
+    limits = _attrs(data.get("limits", {}), LIMIT_ATTRS, f, ln.get("limits", 1), "limits")
     shafts = {}
     raw_sh = data.get("shafts", {}) or {}
     if not isinstance(raw_sh, dict):
@@ -218,7 +221,7 @@ def read_engine_file(name_or_path: str | Path) -> EngineDef:
                     MappingProxyType(design), MappingProxyType(fuel), (), MappingProxyType(ln))
     order = _check_topology(eng)
     return EngineDef(eng.name, f, eng.elements, eng.links, eng.bleeds, eng.shafts, eng.design, eng.fuel, order,
-                     eng.lines)
+                     eng.lines, MappingProxyType(limits))
 
 
 def _sized_otherwise(data: Any) -> bool:

@@ -306,6 +306,10 @@ _HEALTH_ROWS: tuple[Signal, ...] = tuple(
 #: those of :data:`PARAMETER_SETS` come from ``data/engine.json`` with their ranges.
 SIGNALS: tuple[Signal, ...] = check_table((
     _par("preset", "1", "Engine preset: larzac04_sls or reference_study", "larzac04_sls", type_="String"),
+    _par("engine_file", "1", "Engine file (a path, or a shipped name: larzac04, pycycle_hbtf, ...) flown instead of "
+         "the preset; empty: the preset", "", type_="String"),
+    _par("thrust_scale", "1", "With engine_file: airflow, thrust, fuel flow and areas scaled at constant cycle, > 0",
+         1.0),
     _par("design_override", "1", "Use the design_* parameters instead of the preset's values", False,
          type_="Boolean"),
     *(_par(f"design_{f}", u, d, None, f) for f, u, d in DESIGN_FIELDS),  # start: the preset's value

@@ -39,13 +39,12 @@ SOURCES = {
     "airframe": {"fcs": ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "airbrake_norm",
                          "brakes_norm", "steering_norm", "gear_down"),
                  "engine": ("Fn_N", "Wf_kg_s")},
-    # (fuel_kg before mach: FMPy's SSP runner, fmpy 0.3, wires an unconnected input to the source of the input
-    # before it, so the unconnected distortion inputs after mach get the Mach number, as they always did, and not
-    # the 600 kg of the tank)
     "engine": {"fcs": ("Wf_cmd_kg_s",), "airframe": ("fuel_kg", "alt_m", "dT_isa_K", "mach")},
 }
-# Inputs that are connectors without a connection, so that a scenario that sets them is recorded.
-UNCONNECTED_INPUTS = {"engine": ("distortion_on", "distortion_sector_deg", "distortion_dPt_frac")}
+# No input is declared as a connector without a connection: FMPy's SSP runner (fmpy 0.3) feeds such an input
+# the value of the connector before it (ssp/hybrid failed there at t = 0.1 s: the engine's distortion inputs got
+# the LP offtake's 403 W). An input a scenario sets (the engine's distortion, the electric pulse load) is
+# recorded all the same: emss run records every input its scenario names.
 ENGINE_OUT = ("Fn_N", "Fg_N", "Wf_kg_s", "N1_rpm", "N2_rpm", "N1_pct", "N2_pct", "N1c_pct",
               "Tt4_K", "Tt41_K", "Tt21_K", "Tt17_K", "Tt7_K", "Tt3_K", "Pt3_Pa", "OPR", "BPR", "SM_fan", "SM_hpc",
               "SFC_kg_N_s", "fuel_burned_kg", "surge", "flameout", "overspeed", "solver_failed", "flameout_cause")
@@ -58,13 +57,12 @@ FCS_OUT = ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "airbra
            "track_cmd_rad", "section_index", "mission_completed", "fuel_limiter", "vnav_mode", "ils_phase")
 # The electrical power system of ssp/hybrid/ (fmus/electric.py): spool speeds, lever, vertical speed and
 # on-ground in; the signed shaft powers to the engine's port inputs (> 0 taken from the spool, < 0
-# delivered: boost) and its mass to the airframe. pulse_load_W stays unconnected, for scenarios to set.
+# delivered: boost) and its mass to the airframe. pulse_load_W is not connected: a scenario sets it.
 HYBRID_SOURCES = {
     "electric": {"engine": ("N1_rpm", "N2_rpm"), "fcs": ("lever_norm",), "airframe": ("vs_m_s", "on_ground")},
     "engine": {"electric": ("offtake_hp_W", "offtake_lp_W")},
     "airframe": {"electric": ("added_mass_kg",)},
 }
-HYBRID_UNCONNECTED = {"electric": ("pulse_load_W",)}
 ELECTRIC_OUT = ("offtake_hp_W", "offtake_lp_W", "hp_elec_W", "lp_elec_W", "hp_loss_W", "lp_loss_W", "battery_W",
                 "battery_V", "battery_A", "soc", "load_W", "pulse_W", "load_shed_W", "E_shaft_hp_J", "E_shaft_lp_J",
                 "E_elec_hp_J", "E_elec_lp_J", "E_loss_J", "E_batt_J", "E_loads_J", "E_shed_J", "added_mass_kg",
@@ -79,10 +77,10 @@ IDLE = {f"fcs.{k}": v for k, v in GAIN_DEFAULTS.items()}
 
 
 def _add(sys_: SystemBuilder, name: str, sources: dict[str, dict[str, tuple[str, ...]]],
-         unconnected: dict[str, tuple[str, ...]], outputs: tuple[str, ...]) -> None:
+         outputs: tuple[str, ...]) -> None:
     fmu = RESOURCES / FMUS[name]
     comp = sys_.component(name, f"resources/{FMUS[name]}")
-    inputs = [n for names in sources.get(name, {}).values() for n in names] + list(unconnected.get(name, ()))
+    inputs = [n for names in sources.get(name, {}).values() for n in names]
     for n, kind, type_name, unit in connectors_from_fmu(fmu, inputs + list(outputs)):
         comp.connector(n, kind, type_name, unit if type_name == "Real" else None)
 
@@ -123,10 +121,9 @@ def build_system(hybrid: bool = False) -> SystemBuilder:
     # the Munich mission takes about 4040 s; emss run ends when the FCS reports it completed
     sys_ = SystemBuilder("openEMSS_hybrid" if hybrid else "openEMSS").experiment(0.0, 5000.0, STEP_S)
     sources = _merged(SOURCES, HYBRID_SOURCES) if hybrid else SOURCES
-    unconnected = {**UNCONNECTED_INPUTS, **HYBRID_UNCONNECTED} if hybrid else UNCONNECTED_INPUTS
     outputs = {**OUTPUTS, "engine": ENGINE_OUT + ENGINE_PORTS_OUT} if hybrid else OUTPUTS
     for name in ("fcs", "engine", "airframe", *(("electric",) if hybrid else ())):
-        _add(sys_, name, sources, unconnected, outputs[name])
+        _add(sys_, name, sources, outputs[name])
     for end, by_start in sources.items():
         for start, names in by_start.items():
             for n in names:

@@ -20,6 +20,7 @@ import numpy as np
 from openemss.orchestrator.results import atomic_write
 
 from .panels import (
+    COLORS,
     LIMITS,
     TIME_PANELS,
     Panel,
@@ -28,6 +29,7 @@ from .panels import (
     limit_value,
     runway_lines,
     section_spans,
+    signal_colors,
     values,
     waypoints_deg,
 )
@@ -35,12 +37,7 @@ from .plots import PlotRun
 
 MAX_POINTS = 4000  #: points per line in the page at most
 DASHES = ("solid", "dash", "dot", "dashdot")
-#: Run colours of the ground track, and the signals' colours over time, one per signal of the report (none
-#: shared): tab10 without its red (the limits' colour, LIMIT_COLOR) and darker or lighter shades of tab20b/c,
-#: ordered so that the two or three signals of a panel, which take consecutive entries, differ in hue.
-COLORS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#17becf", "#393b79", "#bcbd22", "#e377c2",
-          "#637939", "#3182bd", "#8c6d31", "#7b4173", "#31a354", "#843c39", "#636363", "#fd8d3c", "#756bb1",
-          "#6baed6", "#7f7f7f", "#e6550d", "#000000")
+#: The limits' colour (none of :data:`.panels.COLORS`).
 LIMIT_COLOR = "#FB0D0D"
 REPORT = "report.html"
 #: Least distance between two section numbers over the time axis, as a fraction of it (two digits at 9 px on
@@ -122,9 +119,9 @@ def ground_track_figure(runs: Sequence[PlotRun]) -> object | None:
 
 
 def _signal_colors(panels: Sequence[Panel]) -> dict[tuple[str, str], str]:
-    """One colour per signal (none shared between panels), the same in every report."""
-    keys = list(dict.fromkeys((s.role, s.variable) for p in (*TIME_PANELS, *panels) for s in p.series))
-    return {k: COLORS[i % len(COLORS)] for i, k in enumerate(keys)}
+    """One colour per signal (none shared between panels), the same in every report and in the PNG figures
+    (:func:`.panels.signal_colors`)."""
+    return signal_colors([(s.role, s.variable) for p in panels for s in p.series])
 
 
 def _legend_key(row: int) -> str:

@@ -6,7 +6,7 @@ the same quantities under the same names.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -91,6 +91,21 @@ TIME_PANELS = (
                                          Series("airframe", "theta_rad", "pitch theta", _deg))),
     Panel("heading", "heading [deg]", (Series("airframe", "psi_rad", "heading psi", heading_deg),)),
 )
+
+#: Run colours of the ground track, and the signals' colours over time, one per signal of the reports (none
+#: shared, the HTML report's and the PNG figures' the same): tab10 without its red (the limits' colour) and
+#: darker or lighter shades of tab20b/c, ordered so that the two or three signals of a panel, which take
+#: consecutive entries, differ in hue.
+COLORS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#17becf", "#393b79", "#bcbd22", "#e377c2",
+          "#637939", "#3182bd", "#8c6d31", "#7b4173", "#31a354", "#843c39", "#636363", "#fd8d3c", "#756bb1",
+          "#6baed6", "#7f7f7f", "#e6550d", "#000000", "#5254a3", "#b5cf6b", "#e7ba52")
+
+
+def signal_colors(extra: Sequence[tuple[str, str]] = ()) -> dict[tuple[str, str], str]:
+    """One colour per signal ``(role, variable)``: those of :data:`TIME_PANELS` in their order, then ``extra``
+    (signals only some figures draw), each its own entry of :data:`COLORS` while they last."""
+    keys = list(dict.fromkeys([*((s.role, s.variable) for p in TIME_PANELS for s in p.series), *extra]))
+    return {k: COLORS[i % len(COLORS)] for i, k in enumerate(keys)}
 
 
 def values(run: RunData, s: Series) -> np.ndarray | None:

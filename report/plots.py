@@ -25,7 +25,7 @@ from .agg import Axes, Figure  # matplotlib imported whatever MPLBACKEND says, f
 from .drawing import DPI, PlotRun, _label, _save, _sections, _style, shade_sections
 from .errors import ReportError
 from .life import life_figure
-from .panels import SFC_LABEL, runway_lines, waypoints_deg
+from .panels import SFC_LABEL, runway_lines, signal_colors, waypoints_deg
 
 
 def section_legend(fig: Figure, r: PlotRun | None) -> None:
@@ -141,6 +141,7 @@ def _lines(runs: Sequence[PlotRun], path: Path, title: str,
     "command" is drawn wide, light and under the flown lines, so that both stay visible where they agree."""
     if not any(r.data.get(role, var) is not None for r in runs for _, series in panels for role, var, _, _ in series):
         return None
+    colors = signal_colors([(role, var) for _, series in panels for role, var, _, _ in series])  # as the HTML's
     shaded = _sections(runs) if shade else None
     legend_in = 0.0 if shaded is None or shaded.mission is None else \
         0.13 * math.ceil(len(shaded.mission.sections) / 3) + 0.15  # the sections' names below [in]
@@ -153,12 +154,12 @@ def _lines(runs: Sequence[PlotRun], path: Path, title: str,
         for i, r in enumerate(runs):
             t = r.data.time_s
             keep = slice(None) if window is None else (t >= window[0]) & (t <= window[1])
-            for c, (role, var, what, fn) in enumerate(series):
+            for role, var, what, fn in series:
                 y = r.data.get(role, var)
                 if y is None:
                     continue
                 command = "command" in what  # "commanded" too
-                ax.plot(t[keep], fn(y)[keep], ls=_style(i), color=f"C{c}", lw=3.0 if command else 1.1,
+                ax.plot(t[keep], fn(y)[keep], ls=_style(i), color=colors[(role, var)], lw=3.0 if command else 1.1,
                         alpha=0.45 if command else 1.0, zorder=2.5 if command else 3, label=_label(runs, r, what))
         for name in (limits[p] if p < len(limits) else ()):
             _limit_line(ax, runs, name, window)

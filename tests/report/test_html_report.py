@@ -160,3 +160,52 @@ def test_the_run_folder_stays_small(runs: tuple[Path, Path]) -> None:
     series = sum(f.stat().st_size for f in (runs[0] / "timeseries.parquet").rglob("*") if f.is_file())
     whole = size - series + series * 3302.0 / float(STOP_S)
     assert whole < 30e6, (size, series)
+
+
+def test_png_figures_colour_each_signal_as_the_html_report(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Every line of the PNG figures over time has its signal's colour of the HTML report (panels.signal_colors):
+    no two signals of a figure share one, none is the limits' red, and a signal of both reports has the same
+    colour in both (the PNGs drew each panel's lines from matplotlib's C0, C1, ..., so Tt4 was the fuel flow's
+    blue, and a fourth line the limits' red)."""
+    from matplotlib.colors import to_hex
+
+    from openemss.report import plots
+    from openemss.report.html import LIMIT_COLOR, _signal_colors
+    from openemss.report.panels import TIME_PANELS
+    from openemss.report.rundata import load_mission, load_run
+    from synthetic_runs import N, Runs
+
+    cols = {"engine.Tt41_K": np.full(N, 1100.0), "engine.Fn_N": np.full(N, 5e3), "engine.Fg_N": np.full(N, 6e3),
+            "engine.SM_fan": np.full(N, 0.2), "engine.SM_hpc": np.full(N, 0.3), "engine.SFC_kg_N_s": np.full(N, 2e-5),
+            "fcs.Wf_cmd_kg_s": np.full(N, 0.12), "engine.N1c_pct": np.full(N, 88.0), "fcs.lever_norm": np.full(N, 0.8),
+            "airframe.airbrake_pos_norm": np.zeros(N)}
+    run = load_run(Runs(tmp_path).make(columns=cols))
+    drawn: dict[str, list[tuple[str, str]]] = {}
+    real = plots.Figure
+
+    class Spy(real):  # type: ignore[misc, valid-type]
+        def savefig(self, fname, *a, **kw):  # noqa: ANN001, ANN002, ANN003, ANN202
+            if self.axes and self.axes[-1].get_xlabel() == "time [s]":  # the figures over time
+                drawn[Path(str(fname)).name if isinstance(fname, (str, Path)) else str(len(drawn))] = [
+                    (ln.get_label(), to_hex(ln.get_color())) for ax in self.axes for ln in ax.get_lines()
+                    if not ln.get_label().startswith("_") and ln.get_linestyle() != "None"]
+            return super().savefig(fname, *a, **kw)
+
+    monkeypatch.setattr(plots, "Figure", Spy)
+    plots.plot_runs([plots.PlotRun(run, load_mission(run)[0], "run")], tmp_path / "png")
+    html = {s.legend: c for p in TIME_PANELS for s in p.series
+            for (role, var), c in _signal_colors(TIME_PANELS).items() if (s.role, s.variable) == (role, var)}
+    assert len(drawn) >= 6
+    seen = 0
+    for lines in drawn.values():
+        signal_lines = [(label, c) for label, c in lines if "limit" not in label]
+        colours = [c for _, c in signal_lines]
+        assert len(set(colours)) == len(colours), lines
+        assert to_hex(LIMIT_COLOR) not in colours and "#d62728" not in colours, lines  # the limits' reds
+        seen += len(signal_lines)
+    assert seen >= 15
+    # the same signal, the same colour: Tt4 and the fuel flow as in the HTML report
+    png = {label: c for lines in drawn.values() for label, c in lines}
+    assert png["Tt4 burner exit"] == html["Tt4 burner exit"]
+    assert png["fuel flow"] == html["fuel flow (engine)"]
+    assert png["fuel flow"] != png["Tt4 burner exit"]

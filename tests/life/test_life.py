@@ -22,7 +22,10 @@ import pytest
 from openemss.models.life.errors import LifeDataError
 from openemss.models.life.usage import LarsonMiller, blade_creep, disc_lcf, load_life_spec, rainflow_cycles, time_above
 
-#: ASTM E1049-85 (2017), Fig. 6 (rainflow counting example) and its table of counts: range -> cycles.
+#: ASTM E1049-85 (2017), Fig. 6 (rainflow counting example) and its table of counts: range -> cycles. The standard
+#: itself was not at hand in session 12; the same series and counts stand in the rainflow package's own tests
+#: (github.com/iamlikeme/rainflow, tests/test_rainflow.py, "series and corresponding cycle counts from ASTM
+#: E1049-85"), a transcription made independently of this one.
 ASTM_SERIES = [-2.0, 1.0, -3.0, 5.0, -1.0, 3.0, -4.0, 4.0, -2.0]
 ASTM_COUNTS = {3.0: 0.5, 4.0: 1.5, 6.0: 0.5, 8.0: 1.0, 9.0: 0.5}
 

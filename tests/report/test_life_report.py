@@ -64,6 +64,9 @@ def test_life_of_known_cycles(tmp_path: Path) -> None:
     assert life["time_above_s"]["Tt41_K"]["1400"] == 0.0
     assert life["mission"]["missions_to_life"] == pytest.approx(
         1.0 / max(life["mission"]["lcf_damage"], life["blade"]["creep_damage"]))
+    # every material used says with the run whether its constants were checked against a source (data README)
+    assert set(life["data_checked"]) == {d.material.name for d in spec.discs} | {spec.blade.material.name}
+    assert all(v.strip() and v != "not said" for v in life["data_checked"].values())
 
 
 def test_without_tt3_no_blade_but_a_note_and_the_figure(tmp_path: Path) -> None:

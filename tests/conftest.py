@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import shutil
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -12,6 +13,19 @@ from openemss.orchestrator.fmu.build import ensure_built
 
 ROOT = Path(__file__).resolve().parent.parent
 OSCILLATOR = ROOT / "examples" / "oscillator"
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """SIGINT as an interactive shell gives it, whatever started the suite.
+
+    A shell starts a background job (``pytest &``, ``nohup``, a CI runner's job control) with SIGINT ignored, and
+    an ignored disposition is inherited across ``exec``: every child the interruption tests start would ignore
+    the SIGINT they send (the programs keep an ignored SIGINT ignored on purpose,
+    ``test_an_ignored_sigint_stays_ignored``) and those tests would wait for an exit that never comes. A Python
+    handler, unlike ``SIG_IGN``, is reset to the default at ``exec``, so children start with SIGINT's default.
+    """
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 @pytest.fixture(scope="session")

@@ -1,10 +1,11 @@
 """Study speed-up on Dask: the same study of N cases on a LocalCluster of 1 and of 2 worker processes.
 
-Each case is ``emss run`` in its own process (openemss.study); the study's wall time
-includes starting the cluster and each case's process (imports, FMU loading). Prints
-a table: workers, wall time, the sum of the cases' own times, and the speed-up over
-one worker; asserts nothing (DESIGN.md, rule 12). Target of issue 9: at least 1.8x
-with 2 workers on a 2-core machine.
+Each case is ``emss run`` in its worker's warm case process (openemss.study.warm: the FMUs reset between
+cases); the study's wall time includes starting the cluster and each worker's case process (imports, FMU
+loading). Prints a table: workers, wall time, the sum of the cases' own times, the speed-up over one worker,
+the cases' time split into set-up, stepping and writing (study.csv's columns, summed) and the share of the
+workers' time spent stepping (sum of stepping / (wall x workers)); asserts nothing (DESIGN.md, rule 12).
+Targets: at least 1.8x with 2 workers on a 2-core machine (issue 9); at least 85 % stepping (issue 35).
 
 Systems:
 
@@ -73,14 +74,18 @@ def main(argv: list[str] | None = None) -> int:
             wall = time.perf_counter() - t0
             bad = [k for k, r in res.results.items() if r.status != "completed"]
             case_s = sum(r.process_time_s or 0.0 for r in res.results.values())
-            rows.append((n, wall, case_s, bad))
+            split = [sum(getattr(r, k) or 0.0 for r in res.results.values())
+                     for k in ("setup_s", "stepping_s", "writing_s")]
+            rows.append((n, wall, case_s, split, res.stepping_fraction or 0.0, bad))
             print(f"  {n} worker(s): {wall:.1f} s wall", flush=True)
         base = rows[0][1]
-        head = f"{'workers':>7} {'cases':>5} {'wall s':>8} {'sum of case s':>13} {'speed-up':>8}  failed"
+        head = (f"{'workers':>7} {'cases':>5} {'wall s':>8} {'sum of case s':>13} {'speed-up':>8} {'setup s':>8} "
+                f"{'stepping s':>10} {'writing s':>9} {'stepping %':>10}  failed")
         print(head)
         print("-" * len(head))
-        for n, wall, case_s, bad in rows:
-            print(f"{n:>7} {len(cases):>5} {wall:>8.1f} {case_s:>13.1f} {base / wall:>7.2f}x  {', '.join(bad) or '-'}")
+        for n, wall, case_s, (su, st, wr), frac, bad in rows:
+            print(f"{n:>7} {len(cases):>5} {wall:>8.1f} {case_s:>13.1f} {base / wall:>7.2f}x {su:>8.1f} {st:>10.1f} "
+                  f"{wr:>9.1f} {100 * frac:>10.1f}  {', '.join(bad) or '-'}")
         print(f"load average after: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
     finally:
         if args.work is None:

@@ -142,10 +142,11 @@ def write_report(run_dir: Path, plots: bool = True) -> list[Path]:
     return written
 
 
-def post_run(run_dir: Path, error: BaseException | None) -> list[Path]:
-    """Post-run hook: the report of a mission run (see :func:`write_report`); nothing for other systems.
+def post_run(run_dir: Path, error: BaseException | None, figures: bool = True) -> list[Path]:
+    """Post-run hook: the report of a mission run (see :func:`write_report`; without ``figures`` the summary
+    and the mission copy only, ``emss plot RUN_DIR`` draws the rest later); nothing for other systems.
     A degraded run (a model held its outputs, see :func:`.summary.degraded`) is said on stderr."""
-    written = write_report(run_dir)
+    written = write_report(run_dir, plots=figures)
     if written and written[0].name == SUMMARY:
         for line in json.loads(written[0].read_text(encoding="utf-8")).get("degraded") or []:
             print(f"emss run: warning: degraded run: {line}", file=sys.stderr)

@@ -1,11 +1,12 @@
-"""One case of a study: its definition, its folder, and running it as ``emss run`` in a child process.
+"""One case of a study: its definition, its folder, and running it as ``emss run`` in its worker's case process.
 
-pythonfmu FMUs of the same model share one interpreter, so a case never runs in
-the process of another: :func:`run_case` (the Dask task) starts ``emss run ...``
-(as ``python -m openemss.study.child run ...``, which dies with its worker) with the case's parameters
-written to ``case.ssv`` in the case folder, streams its output into that folder
-(``timeseries.parquet/``, ``run.json``, ``stdout.log``, ``stderr.log``) and reads the
-outcome back (``run.json`` and, where the run writes one, ``summary.json``).
+pythonfmu FMUs of the same model share one interpreter, so a case never runs beside
+another in one process: :func:`run_case` (the Dask task) hands ``emss run ...`` to its
+worker's case process (:mod:`.warm`: one case at a time, its FMUs reset between cases, tied
+to its worker) with the case's parameters written to ``case.ssv`` in the case folder; the case
+writes into that folder (``timeseries.parquet/``, ``run.json``, ``stdout.log``, ``stderr.log``,
+``command.txt``: the same case in a process of its own) and the outcome is read back
+(``run.json`` and, where the run writes one, ``summary.json``).
 
 A case that ran to its end (completed, or failed with an error of the run
 itself) leaves ``done.json`` holding the digest of its definition (the case's
@@ -18,7 +19,6 @@ import hashlib
 import json
 import os
 import signal
-import subprocess
 import sys
 import time
 from dataclasses import asdict, dataclass, field
@@ -32,6 +32,7 @@ from openemss.orchestrator.results import atomic_write, check_name
 
 from .child import PARENT_ENV
 from .lock import LOCK_NAME, wait_released
+from .warm import run_warm
 
 __all__ = ["CaseDef", "CaseResult", "command", "run_case", "read_done", "DONE_FILE", "CASE_SSV"]
 
@@ -59,6 +60,7 @@ class CaseDef:
     algorithm: str = algorithm_registry.DEFAULT
     record: tuple[str, ...] = ()
     record_every: int = 1
+    pre_run: bool = False  # emss run's pre-run checks (--no-pre-run without)
     digest: str = ""  # of the definition and the contents of the files it reads
 
 
@@ -73,7 +75,12 @@ class CaseResult:
     attempts: int = 1
     sim_time_s: float | None = None
     wall_time_s: float | None = None
-    process_time_s: float | None = None  # wall time of the child process, start-up included
+    process_time_s: float | None = None  # wall time of the case in its (warm) case process
+    #: The case's wall time [s] in its task, split: before the first step (folder, reading, FMU reset or
+    #: instantiation, initialization), the steps, after the last step (recorder, summary, dataset, done marker)
+    setup_s: float | None = None
+    stepping_s: float | None = None
+    writing_s: float | None = None
     summary: dict[str, Any] = field(default_factory=dict)
     digest: str = ""
 
@@ -101,10 +108,12 @@ def write_case_ssv(path: Path, values: tuple[tuple[str, ValueT], ...]) -> Path:
     return path
 
 
-def command(case: CaseDef, folder: Path, python: str | None = None) -> list[str]:
-    """The ``emss run`` command line of a case, writing into `folder`."""
-    cmd = [python or sys.executable, "-m", "openemss.study.child", "run", case.system, "--out", str(folder),
-           "--algorithm", case.algorithm, "--record-every", str(case.record_every), "--json"]
+def emss_args(case: CaseDef, folder: Path) -> list[str]:
+    """The ``emss`` arguments of a case (``run ...``), writing into `folder`. The study checks its FMUs against
+    their sources once before the cases (``--no-build``); a case writes its summary, no figures
+    (``--no-figures``: ``emss plot`` draws them from the case's folder)."""
+    cmd = ["run", case.system, "--out", str(folder), "--algorithm", case.algorithm, "--record-every",
+           str(case.record_every), "--json", "--no-build", "--no-figures"]
     params = [*case.params, *([str(folder / CASE_SSV)] if case.values else [])]
     if params:
         cmd += ["--params", *params]
@@ -116,7 +125,14 @@ def command(case: CaseDef, folder: Path, python: str | None = None) -> list[str]
         cmd += ["--scenario", case.scenario]
     if case.record:
         cmd += ["--record", *case.record]
+    if not case.pre_run:
+        cmd += ["--no-pre-run"]
     return cmd
+
+
+def command(case: CaseDef, folder: Path, python: str | None = None) -> list[str]:
+    """The command line of a case in a process of its own (``command.txt``: the case run again by hand)."""
+    return [python or sys.executable, "-m", "openemss.study.child", *emss_args(case, folder)]
 
 
 def _read_json(path: Path) -> dict[str, Any]:
@@ -170,6 +186,7 @@ def run_case(case: CaseDef, out: str, attempt: int = 1) -> CaseResult:
         ``completed``; ``failed`` with the run's one-line error; or ``killed`` when the
         child process died from a signal (the study retries it once).
     """
+    t0 = time.perf_counter()
     folder = case_dir(out, case.name)
     folder.mkdir(parents=True, exist_ok=True)
     wait_released(folder / LOCK_NAME, RELEASE_TIMEOUT_S)  # an earlier attempt still stopping (its worker died)
@@ -178,16 +195,12 @@ def run_case(case: CaseDef, out: str, attempt: int = 1) -> CaseResult:
         (folder / stale).unlink(missing_ok=True)
     if case.values:
         write_case_ssv(folder / CASE_SSV, case.values)
-    cmd = command(case, folder)
-    atomic_write(folder / "command.txt", " ".join(cmd) + "\n")
-    t0 = time.perf_counter()
-    with open(folder / "stdout.log", "wb") as so, open(folder / "stderr.log", "wb") as se:
-        proc = subprocess.run(cmd, stdout=so, stderr=se, stdin=subprocess.DEVNULL, env=_child_env(),
-                              cwd=str(folder), check=False)
-    elapsed = time.perf_counter() - t0
+    atomic_write(folder / "command.txt", " ".join(command(case, folder)) + "\n")
+    t1 = time.perf_counter()
+    rc = run_warm(emss_args(case, folder), folder, _child_env())
+    elapsed = time.perf_counter() - t1
     run = _read_json(folder / "run.json")
     summary = _read_json(folder / "summary.json")
-    rc = proc.returncode
     if rc == 0:
         status, error = "completed", ""
     elif rc < 0 or rc in INTERRUPTED_CODES:  # died from a signal, or ended by one as emss run does (128 + N)
@@ -201,10 +214,17 @@ def run_case(case: CaseDef, out: str, attempt: int = 1) -> CaseResult:
                         sim_time_s=_float(summary.get("sim_time_s", run.get("stop_time_s"))),
                         wall_time_s=_float(summary.get("wall_time_s", run.get("wall_time_s"))),
                         process_time_s=elapsed, summary=summary, digest=case.digest)
+    timing = run.get("timing") if isinstance(run.get("timing"), dict) else {}
+    stepping, writing = _float(timing.get("stepping_s")) or 0.0, _float(timing.get("writing_s")) or 0.0
     if status in ("completed", "failed"):
         from .dataset import publish_case
 
         publish_case(Path(out), case.name, folder)  # before done.json: a case marked done is in the dataset
+    now = time.perf_counter()
+    result.stepping_s = stepping
+    result.writing_s = writing + (now - t1 - elapsed)  # and the dataset
+    result.setup_s = max(now - t0 - stepping - result.writing_s, 0.0)
+    if status in ("completed", "failed"):
         mark_done(out, result)
     return result
 
@@ -241,8 +261,8 @@ def file_digest(path: Path, cache: dict[Path, str]) -> str:
 def definition_digest(case: CaseDef, files: list[Path], cache: dict[Path, str]) -> str:
     """Digest of the case definition (without its name and digest) and of the files it reads."""
     d = asdict(case)
-    d.pop("digest")
-    d.pop("name")
+    for key in ("digest", "name", "pre_run"):  # pre_run: checks before the run, whose results they do not change
+        d.pop(key)
     h = hashlib.sha256(json.dumps(d, sort_keys=True, default=str).encode())
     for f in files:
         h.update(file_digest(f, cache).encode())

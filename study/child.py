@@ -1,4 +1,5 @@
-"""``python -m openemss.study.child ARGS``: ``emss ARGS`` in a case's own process, tied to its worker.
+"""``python -m openemss.study.child ARGS``: ``emss ARGS`` in a process tied to its worker (``serve``: a worker's
+case process, :mod:`.warm`).
 
 On Linux the process asks for SIGTERM when the worker process that started it
 dies (``PR_SET_PDEATHSIG``): it then stops as ``emss run`` does on SIGTERM (its rows
@@ -31,8 +32,13 @@ def _tie_to_parent() -> None:
 
 
 def main() -> int:
-    """Run the ``emss`` command with this process's arguments."""
+    """Run the ``emss`` command with this process's arguments; with the one argument ``serve``, be a worker's
+    case process (:mod:`.warm`: case after case, FMUs kept warm)."""
+    from .warm import SERVE, serve
+
     _tie_to_parent()
+    if sys.argv[1:] == [SERVE]:
+        return serve()
     from openemss.orchestrator.cli.entry import emss
 
     return emss(sys.argv[1:])

@@ -35,8 +35,9 @@ def register(subparsers: argparse._SubParsersAction) -> tuple[type[Exception], .
     """Add ``study`` and its sub-commands to `subparsers`; return the user-error types."""
     st = subparsers.add_parser("study", help="parametric studies: many cases of a system on Dask",
                                description="Run every case of a study file (variants, grids of parameter "
-                                           "values, missions, scenarios), each in its own process, on a Dask "
-                                           "LocalCluster or a scheduler; resumable.")
+                                           "values, missions, scenarios), one after the other in each worker's "
+                                           "case process (its FMUs reset between cases), on a Dask LocalCluster "
+                                           "or a scheduler; resumable.")
     sub = st.add_subparsers(dest="study_command", required=True, parser_class=type(st))
     run = sub.add_parser("run", help="run a study (skips cases already done)",
                          description="Run the cases of STUDY.yaml not yet done into DIR/cases/<case> and write "
@@ -152,6 +153,7 @@ def _run_locked(study: StudyDef, folder: Path, scheduler: str | None, workers: i
         "study": study.name, "out": str(folder), "table": str(outcome.table), "cases": len(cases),
         "ran": len(outcome.ran), "skipped": len(outcome.skipped), "failed": outcome.failed,
         "wall_time_s": outcome.wall_time_s, "workers": outcome.workers,
+        "stepping_fraction": outcome.stepping_fraction,
     }
     if redesign is not None:
         result["redesign"] = _report(study, cases, outcome, redesign, folder)
@@ -191,6 +193,10 @@ def cmd_run(args: argparse.Namespace) -> int:
     else:
         print(f"study {res['study']}: {res['cases']} case(s), {res['ran']} run now, {res['skipped']} skipped, "
               f"{len(res['failed'])} failed; table {res['table']}")
+        if res["stepping_fraction"] is not None:
+            print(f"  {res['wall_time_s']:.1f} s wall on {res['workers']} worker(s): "
+                  f"{100 * res['stepping_fraction']:.1f} % of the workers' time stepping (study.csv: each case's "
+                  "setup_s, stepping_s, writing_s)")
         for name, rep in (res.get("redesign") or {}).items():
             if name == "cycle":
                 r, b = rep["redesigned"], rep["baseline"]

@@ -19,6 +19,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TextIO
 
+from openemss.orchestrator.cli.api import ensure_project_fmus
+
 from .case import CaseDef, CaseResult, case_dir, read_done, run_case
 from .lock import LOCK_NAME, wait_released
 from .spec import StudyError
@@ -45,10 +47,19 @@ class StudyOutcome:
     skipped: list[str] = field(default_factory=list)
     wall_time_s: float = 0.0
     workers: int = 0
+    slots: int = 0  # cases the cluster runs at once (its threads)
 
     @property
     def failed(self) -> list[str]:
         return [n for n, r in self.results.items() if r.status != "completed"]
+
+    @property
+    def stepping_fraction(self) -> float | None:
+        """The share of the cluster's time (wall time x slots) that the cases run now spent stepping."""
+        if not self.ran or self.wall_time_s <= 0 or self.slots < 1:
+            return None
+        stepping = sum(self.results[n].stepping_s or 0.0 for n in self.ran)
+        return stepping / (self.wall_time_s * self.slots)
 
 
 class Progress:
@@ -163,6 +174,8 @@ def run_cases(cases: Sequence[CaseDef], out: Path, scheduler: str | None = None,
         progress.note(f"all {len(cases)} case(s) already done with the same definition; nothing to run "
                       f"(table: {table})")
         return outcome
+    for system in dict.fromkeys(c.system for c in todo):  # once here, not in every case (emss run --no-build)
+        ensure_project_fmus(Path(system), lambda line: Progress(0, 0, 1, stream).note(line))
     n_workers = max(1, min(workers or os.cpu_count() or 1, len(todo)))
     # A LocalCluster fails a task at the first death of its worker, so that the retry is ours (one). Cases
     # are handed to the scheduler only as worker threads are free (never more in flight than threads), so
@@ -173,7 +186,7 @@ def run_cases(cases: Sequence[CaseDef], out: Path, scheduler: str | None = None,
         by_key: dict[str, tuple[CaseDef, int]] = {}
         try:
             slots = sum(client.nthreads().values()) or n_workers
-            outcome.workers = len(client.nthreads())
+            outcome.workers, outcome.slots = len(client.nthreads()), slots
             progress = Progress(len(cases), len(skipped), slots, stream)
             where = f"scheduler {scheduler}" if scheduler else f"a LocalCluster of {n_workers} worker process(es)"
             progress.note(f"{len(todo)} case(s) to run on {where} ({len(skipped)} already done); results in {out}")

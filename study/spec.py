@@ -13,6 +13,9 @@ grid point, a mission and a scenario is one case (:func:`expand_cases`).
     algorithm: jacobi                 # optional: a name of orchestrator/master/algorithm_registry.py (emss run --help)
     record: [engine.*, fcs.section_index]   # optional: variables to record (default: every connector)
     record_every: 1                   # optional
+    pre_run: false                    # optional: the plugins' pre-run checks (a mission's feasibility) before
+                                      # each case, into its stderr.log (seconds of set-up per case; the table
+                                      # has what each case flew)
     params: [../ssp/engine_reference_study.ssv]   # parameter sets applied to every case
     values: {engine.use_ambient: false}            # parameter values applied to every case
     missions: {munich: ../missions/munich.yaml}    # optional: each case flies each mission
@@ -53,7 +56,7 @@ __all__ = ["StudyError", "Variant", "StudyDef", "load_study", "parse_study"]
 ValueT = float | int | bool | str
 NAME_RE = re.compile(r"^[A-Za-z0-9_.=+-]+$")
 TOP_KEYS = ("study", "description", "system", "stop_time_s", "rate_hz", "algorithm", "record", "record_every",
-            "params", "values", "missions", "mission_parameter", "variants", "grid", "scenarios", "redesign")
+            "pre_run", "params", "values", "missions", "mission_parameter", "variants", "grid", "scenarios", "redesign")
 MAX_GRID_POINTS = 100_000
 MAX_RECORD_EVERY = 10**9  #: most steps between two recorded samples
 
@@ -100,6 +103,7 @@ class StudyDef:
     algorithm: str = algorithm_registry.DEFAULT
     record: tuple[str, ...] = ()
     record_every: int = 1
+    pre_run: bool = False
     params: tuple[Path, ...] = ()
     values: tuple[tuple[str, ValueT], ...] = ()
     missions: tuple[tuple[str, Path], ...] = ()
@@ -342,6 +346,7 @@ def parse_study(doc: Any, source: Path) -> StudyDef:
         raise ctx.fail(doc, "record", "expected a list of component.variable patterns")
     every = _typed(ctx, doc, "record_every", lambda v: checked.integer(v, 1, MAX_RECORD_EVERY), 1)
     description = _typed(ctx, doc, "description", checked.text, "")
+    pre_run = _typed(ctx, doc, "pre_run", checked.flag, False)
     grid_doc = doc.get("grid") or _Lines()
     if not isinstance(grid_doc, dict):
         raise ctx.fail(doc, "grid", "expected a mapping component.variable: [values] or {from, to, num}")
@@ -360,7 +365,7 @@ def parse_study(doc: Any, source: Path) -> StudyDef:
         description=description,
         stop_time_s=None if stop is None else _number(ctx, doc, "stop_time_s", stop, 1e-9, 1e9),
         rate_hz=None if rate is None else _number(ctx, doc, "rate_hz", rate, 0.1, 100.0),
-        algorithm=algorithm, record=tuple(record), record_every=every,
+        algorithm=algorithm, record=tuple(record), record_every=every, pre_run=pre_run,
         params=_paths(ctx, base, doc, "params", doc.get("params")),
         values=_values(ctx, doc, "values", doc.get("values")),
         missions=tuple((n, p) for n, p in _named_files(ctx, base, doc, "missions", doc.get("missions"), False)

@@ -13,12 +13,15 @@ from .case import CaseDef, CaseResult
 
 __all__ = ["OUTCOME_COLUMNS", "rows", "write_table"]
 
-#: Columns after the case's parameters. ``summary.json`` (written by ``emss run`` where the
+#: Columns after the case's parameters. setup_s, stepping_s, writing_s: the case's wall time [s] before its
+#: first step, in its steps and after its last step (:class:`.case.CaseResult`). ``summary.json`` (written by
+#: ``emss run`` where the
 #: project's report hook is installed) gives mission_completed ... limits_hit (final_soc: the battery's
 #: state of charge at the end, in a system with an electrical system; life_*: its ``life.mission``, the engine's
 #: life usage); a case without one leaves them empty.
 OUTCOME_COLUMNS: tuple[str, ...] = ("status", "error", "attempts", "ran", "mission_completed", "landed",
                                     "fuel_burned_kg", "sim_time_s", "wall_time_s", "realtime_factor",
+                                    "setup_s", "stepping_s", "writing_s",
                                     "max_Tt4_K", "final_soc", "life_lcf_equivalent_cycles", "life_lcf_damage",
                                     "life_creep_damage", "life_missions_to_life", "limits_hit", "folder")
 
@@ -61,6 +64,7 @@ def rows(cases: Sequence[CaseDef], results: dict[str, CaseResult], ran: set[str]
             "mission_completed": s.get("mission_completed"), "landed": s.get("landed"),
             "fuel_burned_kg": s.get("fuel_burned_kg"), "sim_time_s": sim, "wall_time_s": wall,
             "realtime_factor": s.get("realtime_factor", sim / wall if sim is not None and wall else None),
+            **{k: getattr(r, k) if r is not None else None for k in ("setup_s", "stepping_s", "writing_s")},
             "max_Tt4_K": s.get("max_Tt4_K"),
             "final_soc": ((s.get("electric") or {}).get("soc") or {}).get("end"),  # systems with a battery
             **{f"life_{k}": (s.get("life") or {}).get("mission", {}).get(k)   # summary.json's life (report/life.py)

@@ -52,7 +52,8 @@ def held(argv: list[str], phase: str, tmp_path: Path, **popen: object) -> subpro
     marker = tmp_path / f"held-{phase}"
     proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             env=_env(tmp_path, phase, marker), **popen)  # type: ignore[call-overload]
-    wait_for(marker.exists, proc, f"phase {phase}", HOLD_TIMEOUT_S)
+    # the marker holds the pid once written whole (it exists, empty, for a moment before)
+    wait_for(lambda: marker.exists() and marker.read_text().strip() != "", proc, f"phase {phase}", HOLD_TIMEOUT_S)
     assert int(marker.read_text()) == proc.pid
     return proc
 

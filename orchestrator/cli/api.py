@@ -13,6 +13,7 @@ Example
 """
 from __future__ import annotations
 
+import contextlib
 import difflib
 import math
 import numbers
@@ -347,7 +348,8 @@ def run(system: Path | str | None = None, *, stop_time: float | None = None, par
         step_multiple: Mapping[str, int] | Sequence[str] = (), record: Sequence[str] | None = None,
         record_inputs: bool = False, record_every: int = 1, format: str = DEFAULT_FORMAT,  # noqa: A002
         until: str | None = None, realtime: float = 0.0, status: str | None = None, pre_run: bool = True,
-        post_run: bool = True, progress: bool = False, warn: Callable[[str], None] | None = None) -> RunResult:
+        post_run: bool = True, figures: bool = True, build: bool = True, progress: bool = False,
+        warn: Callable[[str], None] | None = None) -> RunResult:
     """Run a system and return its results (the same run as ``emss run``, same folder, same files).
 
     Parameters
@@ -371,6 +373,12 @@ def run(system: Path | str | None = None, *, stop_time: float | None = None, par
         n-th step, in ``parquet`` (default), ``csv`` or ``mat``.
     pre_run, post_run : bool
         Run the plugins' checks before and reports after (summary.json, plots, report.html).
+    figures : bool
+        Let the post-run reports draw their figures (plots, report.html); without, a report writes its
+        tables only (summary.json), and ``emss plot RUN_DIR`` draws the figures later.
+    build : bool
+        Build the project's own FMUs first when they are missing or stale (:func:`ensure_project_fmus`);
+        False when the caller made sure of them (a study's cases: the study checked them once).
     progress : bool
         Show the progress bar on stderr (when it is a terminal).
     warn : callable, optional
@@ -379,7 +387,13 @@ def run(system: Path | str | None = None, *, stop_time: float | None = None, par
     Returns
     -------
     RunResult
-        Also for a failed or interrupted run (``status``, ``error``; what was recorded is kept).
+        Also for a failed or interrupted run (``status``, ``error``; what was recorded is kept). Its
+        ``info["timing"]`` (also in run.json) splits the call's wall time [s] into ``setup_s`` (to the first
+        step: reading, building, instantiating, initializing), ``stepping_s`` (the steps) and ``writing_s``
+        (after the last step: the recorder's last rows, the post-run reports), and the same for the process's CPU
+        time (``setup_cpu_s`` ...: what a loaded machine does not change); ``info["instances"]`` says of
+        each component whether its FMU instance was ``instantiated`` or taken warm from the pool and ``reset``
+        (:mod:`..master.pool`).
 
     Raises
     ------
@@ -393,9 +407,11 @@ def run(system: Path | str | None = None, *, stop_time: float | None = None, par
                                   or not math.isfinite(stop_time)):
         raise ConfigurationError(f"--stop-time {short(str(stop_time))}: not a finite number of seconds")
     stop_time = float(stop_time) if stop_time is not None else None  # a NumPy number as a Python float
+    started = time.perf_counter(), time.process_time()
     system = Path(system) if system is not None else default_system()
     interrupt.phase("start", "before the run", interrupt.NOTHING_RUN)
-    ensure_project_fmus(system, warn or (lambda line: print(f"emss run: {line}", file=sys.stderr)))  # news, no warning
+    if build:
+        ensure_project_fmus(system, warn or (lambda line: print(f"emss run: {line}", file=sys.stderr)))  # news
     interrupt.phase("load", "while loading the system", interrupt.NOTHING_RUN)
     sysdef = load_system(system)  # the one reading of the SSD in this run
     if out is None:  # the default folder is named after the system: that name must be one path component
@@ -414,7 +430,7 @@ def run(system: Path | str | None = None, *, stop_time: float | None = None, par
             interrupt.phase("pre-run", "before the first step", f"nothing was run (run.json in {out} says so)")
             return _run(system, sysdef, out, stop_time, params, set, scenario, rate, algorithm, step_multiple,
                         record, record_inputs, record_every, format, until, realtime, status, pre_run, post_run,
-                        progress, say)
+                        figures, progress, say, started)
         except BaseException as exc:  # a signal, also one that surfaced as an FMU's error (its code cut)
             if isinstance(exc, KeyboardInterrupt) or interrupt.received():
                 _record_not_run(out, system, exc)
@@ -425,8 +441,8 @@ def _run(system: Path, sysdef: SystemDef, out: Path, stop_time: float | None, pa
          settings: Mapping[str, Any] | Sequence[str], scenario: Path | str | None, rate: float | None,
          algorithm: str, step_multiple: Mapping[str, int] | Sequence[str], record: Sequence[str] | None,
          record_inputs: bool, record_every: int, fmt: str, until: str | None, realtime: float,
-         status: str | None, pre_run: bool, post_run: bool, progress: bool,
-         say: Callable[[str], None]) -> RunResult:
+         status: str | None, pre_run: bool, post_run: bool, figures: bool, progress: bool,
+         say: Callable[[str], None], started: tuple[float, float]) -> RunResult:
     from . import hooks
 
     bound = load(sysdef, params, settings, out)
@@ -477,10 +493,18 @@ def _run(system: Path, sysdef: SystemDef, out: Path, stop_time: float | None, pa
     if post_run and not isinstance(error, ResultsError):  # what was recorded is on disk
         interrupt.phase("report", "during the report", f"the run's results are in {out} (run.json: "
                                                        f"{record_.info.get('status')}), the report is incomplete")
-        written, failures = hooks.post_run(out, error)
+        written, failures = hooks.post_run(out, error, figures)
         if written:
             record_.add_files([f.name for f in written])
-            record_.rewrite()
+    first = ex.stepping_started if ex.stepping_started is not None else time.perf_counter()
+    last = ex.stepping_ended if ex.stepping_ended is not None else first
+    cpu_first, cpu_last = ex.stepping_cpu if ex.stepping_started is not None else (time.process_time(),) * 2
+    record_.info["timing"] = {"setup_s": first - started[0], "stepping_s": last - first,
+                              "writing_s": time.perf_counter() - last, "setup_cpu_s": cpu_first - started[1],
+                              "stepping_cpu_s": cpu_last - cpu_first, "writing_cpu_s": time.process_time() - cpu_last}
+    record_.info["instances"] = {s.name: "reset" if s.reused else "instantiated" for s in ex.slaves}
+    with contextlib.suppress(OSError, ResultsError):  # run.json cannot be written again: the outcome still returns
+        record_.rewrite()
     result = RunResult(out, str(record_.info.get("status")), None if error is None else str(error), record_.info,
                        files=written, post_run_failures=failures, pre_run=pre, rows=rec.rows_written,
                        stopped_by=ex.stopped_by, step_size_s=ex.step_size_s)

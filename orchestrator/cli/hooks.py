@@ -4,6 +4,7 @@ A failing hook never stops the run: it becomes one line saying how it failed.
 """
 from __future__ import annotations
 
+import inspect
 import os
 from pathlib import Path
 
@@ -53,9 +54,23 @@ def stop_condition(bound: BoundSystem, requested: str | None) -> str | None:
     return proposed(bound, "stop_condition")
 
 
-def each_hook(hook_name: str, *args: object) -> list[tuple[list[object], str | None]]:
-    """Call every plugin's ``hook_name(*args)``: per plugin that has it, (what it returned, as a list; None)
-    or ([], one line saying how it failed)."""
+def _accepted(hook: object, options: dict[str, object]) -> dict[str, object]:
+    """The keyword ``options`` that ``hook`` takes by name (a plugin written before an option existed is called
+    without it)."""
+    if not options:
+        return {}
+    try:
+        params = inspect.signature(hook).parameters  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        return {}
+    if any(p.kind is inspect.Parameter.VAR_KEYWORD for p in params.values()):
+        return options
+    return {k: v for k, v in options.items() if k in params}
+
+
+def each_hook(hook_name: str, *args: object, **options: object) -> list[tuple[list[object], str | None]]:
+    """Call every plugin's ``hook_name(*args, **options)`` (each option only where the hook names it): per plugin
+    that has it, (what it returned, as a list; None) or ([], one line saying how it failed)."""
     label = hook_name.replace("_", "-")
     out: list[tuple[list[object], str | None]] = []
     for module in plugins():
@@ -63,7 +78,7 @@ def each_hook(hook_name: str, *args: object) -> list[tuple[list[object], str | N
         if hook is None:
             continue
         try:
-            out.append((list(hook(*args)), None))
+            out.append((list(hook(*args, **_accepted(hook, options))), None))
         except (EmssError, *USER_ERRORS) as exc:
             out.append(([], f"{label} hook '{plugin_name(module)}' failed: {exc}"))
         except Exception as exc:
@@ -95,11 +110,12 @@ def output_files() -> list[str]:
     return names
 
 
-def post_run(out: Path, error: BaseException | None) -> tuple[list[Path], list[str]]:
-    """Every plugin's post-run hook on the results folder: (files written, one line per failure)."""
+def post_run(out: Path, error: BaseException | None, figures: bool = True) -> tuple[list[Path], list[str]]:
+    """Every plugin's post-run hook on the results folder: (files written, one line per failure). With
+    ``figures`` False, a hook that takes ``figures`` is told to write its tables only."""
     written: list[Path] = []
     failures: list[str] = []
-    for result, failure in each_hook("post_run", out, error):
+    for result, failure in each_hook("post_run", out, error, figures=figures):
         written.extend(Path(str(f)) for f in result)
         if failure is not None:
             failures.append(failure)

@@ -103,6 +103,12 @@ def build_parser() -> argparse.ArgumentParser:
                      help="skip the plugins' pre-run checks (e.g. the feasibility of a mission before flying it)")
     run.add_argument("--no-post-run", action="store_true",
                      help="skip the plugins' post-run hooks (e.g. summary.json and plots of a mission run)")
+    run.add_argument("--no-figures", action="store_true",
+                     help="post-run reports write their tables only (summary.json), no plots or report.html; "
+                          "emss plot RUN_DIR draws them later")
+    run.add_argument("--no-build", action="store_true",
+                     help="do not check the project's own FMUs against their sources before the run (a study's "
+                          "cases: the study checked them once)")
     run.add_argument("--json", action="store_true", help="print the run summary as JSON")
 
     info = sub.add_parser("info", help="describe a system: components, connections, parameters, step order")
@@ -151,7 +157,8 @@ def cmd_run(args: argparse.Namespace) -> int:
                   out=args.out, rate=args.rate, algorithm=args.algorithm, step_multiple=args.step_multiple,
                   record=args.record, record_inputs=args.record_inputs, record_every=args.record_every,
                   format=args.format, until=args.until, realtime=args.realtime, status=args.status,
-                  pre_run=not args.no_pre_run, post_run=not args.no_post_run, progress=True)
+                  pre_run=not args.no_pre_run, post_run=not args.no_post_run, figures=not args.no_figures,
+                  build=not args.no_build, progress=True)
     out = res.out
     if res.status == "interrupted":
         for line in res.post_run_failures:

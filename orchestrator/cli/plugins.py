@@ -21,10 +21,11 @@ A plugin is a module named by an entry point of the group ``openemss.plugins`` (
 ``output_files() -> Sequence[str]``
     the names of the files ``post_run`` may write into a results folder; a run refuses, before it
     starts, a folder where a file of these names stands that no run wrote;
-``post_run(run_dir: Path, error: BaseException | None) -> Sequence[Path]``
+``post_run(run_dir: Path, error: BaseException | None, figures: bool = True) -> Sequence[Path]``
     called after every ``emss run`` (also a failed one, once what was recorded is on
     disk) with the results folder; returns the files it wrote, nothing when the run is
-    not its business.
+    not its business. ``figures`` False (``emss run --no-figures``, a study's cases) asks for
+    the tables only (a hook without that argument is called without it).
 
 The orchestrator knows no plugin by name. Entry points rather than a scan of the
 ``openemss`` namespace: an editable install maps each package separately and leaves

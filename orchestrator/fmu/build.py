@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import argparse
 import ast
+import functools
 import hashlib
 import json
 import os
@@ -159,18 +160,28 @@ def _package_closure(packages: set[str]) -> set[str]:
         for f in _package_files(pkg):
             if f.suffix != ".py":
                 continue
-            for node in ast.walk(ast.parse(f.read_text(encoding="utf-8"), filename=str(f))):
-                if not (isinstance(node, ast.ImportFrom) and node.level >= 2):
-                    continue
+            st = f.stat()
+            for level, names in _relative_imports(str(f), st.st_mtime_ns, st.st_size):
                 depth = len(f.relative_to(MODELS_DIR / pkg).parts)  # 1 for a module at the package's top
-                if node.level != depth + 1:
+                if level != depth + 1:
                     continue                                          # inside the package itself
-                names = [node.module.split(".")[0]] if node.module else [a.name for a in node.names]
                 for other in names:
                     if other not in found and (MODELS_DIR / other / "__init__.py").is_file():
                         found.add(other)
                         todo.append(other)
     return found
+
+
+@functools.lru_cache(maxsize=4096)
+def _relative_imports(path: str, mtime_ns: int, size: int) -> tuple[tuple[int, tuple[str, ...]], ...]:
+    """(level, first names) of every ``from ..x import y`` (level >= 2) of a module, by its file's path, time and
+    size: the FMUs of one system share most model packages, and a process that checks them again (a study's
+    client) parses a file only once while it is unchanged."""
+    out = []
+    for node in ast.walk(ast.parse(Path(path).read_text(encoding="utf-8"), filename=path)):
+        if isinstance(node, ast.ImportFrom) and node.level >= 2:
+            out.append((node.level, (node.module.split(".")[0],) if node.module else tuple(a.name for a in node.names)))
+    return tuple(out)
 
 
 def _package_files(pkg: str) -> list[Path]:

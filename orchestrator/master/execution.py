@@ -10,6 +10,7 @@ modifiers, **observers** that read through the exchange, and a stop condition (:
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Sequence
 from typing import Protocol
 
@@ -142,6 +143,11 @@ class Execution:
         self._stop: StopCondition | None = None
         self.stopped_by = ""  # the stop condition, or the FMU that ended the simulation, that ended the run early
         self._signal = 0  # a signal that asked the run to stop (see request_stop)
+        #: perf_counter() [s] as the first step began and as the last one ended (None before the steps), and the
+        #: process's CPU time [s] (process_time()) at both
+        self.stepping_started: float | None = None
+        self.stepping_ended: float | None = None
+        self.stepping_cpu: tuple[float, float] = (0.0, 0.0)
 
     # -- set-up -----------------------------------------------------------------------------
     @property
@@ -312,6 +318,8 @@ class Execution:
             manipulate = self._manipulate if self.manipulators else None
             until = self._stop.holds if self._stop is not None else None
             ended = self._ended
+            self.stepping_started, cpu0 = time.perf_counter(), time.process_time()
+            self.stepping_cpu = (cpu0, cpu0)
             for k in range(self.k, n_steps):
                 if self._signal:
                     raise RunInterrupted(self._signal, self.time_s)
@@ -335,6 +343,9 @@ class Execution:
             error = exc
             raise
         finally:
+            if self.stepping_started is not None:
+                self.stepping_ended = time.perf_counter()
+                self.stepping_cpu = (self.stepping_cpu[0], time.process_time())
             self._finish(error)
 
     def _finish(self, error: BaseException | None) -> None:
@@ -361,6 +372,13 @@ class Execution:
             raise terminate_error
         if finish_error is not None and error is None:
             raise finish_error
+
+    @property
+    def stepping_s(self) -> float:
+        """Wall time [s] from the first step's start to the last step's end (0 before the steps)."""
+        if self.stepping_started is None or self.stepping_ended is None:
+            return 0.0
+        return self.stepping_ended - self.stepping_started
 
     def stats(self) -> dict[str, dict[str, float]]:
         """Per component: steps, wall time [s] in doStep, get and set, and the batched sets left out because

@@ -35,6 +35,7 @@ from fmpy.fmi2 import (
 from ..errors import SlaveError
 from ..results import check_archive
 from ..ssp.system_model import ComponentModel, VariableInfo
+from . import pool
 
 _STATUS = ("ok", "warning", "discard", "error", "fatal", "pending")
 _FMI2_LAST_SUCCESSFUL_TIME, _FMI2_TERMINATED = 2, 3  #: fmi2StatusKind values (FMI 2.0, section 4.2.3)
@@ -190,6 +191,10 @@ class Slave:
         self.fatal = False
         #: The FMU says its instances may be freed after fmi2Fatal (:func:`frees_after_failure`)
         self.free_after_fatal = False
+        #: The instance's run ended with fmi2Terminate returning OK: it may go to the pool (:mod:`.pool`)
+        self._clean_end = False
+        #: The instance came from the pool (fmi2Reset instead of fmi2Instantiate)
+        self.reused = False
         #: Input modifiers (see :mod:`.exchange`): (input vector, index, value) written before every set.
         self.modifiers: list[tuple[np.ndarray, int, float]] = []
         #: Told, with its reason, when the FMU ends the simulation itself (:meth:`_step_refused`); the
@@ -200,18 +205,39 @@ class Slave:
     def instantiate(self) -> None:
         """Extract the FMU into its own folder, load it and call fmi2Instantiate."""
         md = self.model.model_description
+        self._clean_end = self.reused = False
+        self.log.messages.pop(self.name, None)  # what an earlier instance of this name said is not this one's
         try:
             self._unzip_dir = extracted(self.model.fmu_path)
             self.free_after_fatal = frees_after_failure(self._unzip_dir)
-            self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=self._unzip_dir,
-                                 modelIdentifier=md.coSimulation.modelIdentifier, instanceName=self.name)
-            self.fmu.instantiate(callbacks=self.log.callbacks, loggingOn=True)
+            self.fmu = self._from_pool(md.guid) if pool.enabled() else None
+            if self.fmu is None:
+                self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=self._unzip_dir,
+                                     modelIdentifier=md.coSimulation.modelIdentifier, instanceName=self.name)
+                self.fmu.instantiate(callbacks=self.log.callbacks, loggingOn=True)
         except Exception as exc:
             raise SlaveError(self.name, "fmi2Instantiate", None, self._said(self.log.last(self.name) or str(exc))) \
                 from None
         self._do_step_fn = self.fmu._functions["fmi2DoStep"]
         self._component = self.fmu.component
         self._forget_sent()
+
+    def _from_pool(self, guid: str) -> FMU2Slave | None:
+        """A pooled instance of this FMU and name, reset (fmi2Reset); None when there is none or its reset
+        fails (that instance is then freed, and a new one is made)."""
+        fmu = pool.take(pool.key(self.model.fmu_path, guid, self.name))
+        if fmu is None:
+            return None
+        try:
+            fmu.reset()
+        except Exception:  # an FMU that cannot reset: freed, and the run instantiates a new one
+            try:
+                fmu.fmi2FreeInstance(fmu.component)
+            except Exception:  # freeing is the last call to it
+                pass
+            return None
+        self.reused = True
+        return fmu
 
     def _guard(self, call: str, fn, *args: object) -> None:  # type: ignore[no-untyped-def]
         """Run an fmpy call; turn its exception into a SlaveError naming this component."""
@@ -286,9 +312,11 @@ class Slave:
 
     def terminate(self) -> None:
         self._guard("fmi2Terminate", self.fmu.terminate)
+        self._clean_end = True
 
     def free(self) -> None:
-        """Free the instance and remove its extraction folder; never raises.
+        """Free the instance (or, with the pool enabled and the run ended cleanly, keep it there: :mod:`.pool`)
+        and forget its extraction folder; never raises.
 
         The shared library stays loaded: a pythonfmu FMU runs in this interpreter, and
         unloading its library while Python still holds objects it created crashes the
@@ -296,6 +324,12 @@ class Slave:
         further call at all, so such an instance is left alone, unless its FMU says it may be
         freed (ours do: :func:`frees_after_failure`); after any other failure it is freed.
         """
+        if self.fmu is not None and self._clean_end and not self.fatal and pool.enabled():
+            try:
+                if pool.give(pool.key(self.model.fmu_path, self.model.model_description.guid, self.name), self.fmu):
+                    self.fmu = None  # kept for the next run of this FMU: reset there, not instantiated
+            except OSError:  # the FMU file is gone: nothing would take this instance again
+                pass
         if self.fmu is not None:
             if not self.fatal or self.free_after_fatal:
                 try:

@@ -7,5 +7,6 @@ FMUs reset between cases instead of a new process and new instances), into its o
 folder. :mod:`.runner` submits the cases to a LocalCluster or a scheduler
 address, skips cases already done, retries a case whose worker died once, and
 writes the study table (``study.csv``). :mod:`.redesign` is the reference study:
-the cycle sweep picks the lowest-SFC engine and both engines fly the mission.
+the cycle sweep picks the lowest-SFC engine and both engines fly the mission; with
+``carpet: true`` every design of the sweep flies it (:mod:`.carpet`: the mission-fuel carpet).
 """

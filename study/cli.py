@@ -183,6 +183,12 @@ def _report(study: StudyDef, cases: list[Any], outcome: Any, redesign: dict[str,
         reports[mission or "mission"] = compare_engines(
             folder if len(missions) == 1 else sub, pick, outcome.results, redesign["info"], cfg.component,
             cfg.section, cfg.section_variable, names)
+        if cfg.carpet:
+            from .carpet import carpet_report
+
+            reports[mission or "mission"]["carpet"] = carpet_report(
+                folder / "carpet" / (f"mission-{mission}" if len(missions) > 1 else ""), cases, outcome.results,
+                redesign["info"], mission)
     return reports
 
 
@@ -214,6 +220,11 @@ def cmd_run(args: argparse.Namespace) -> int:
                                                    for k, v in rep["life_change_pct"].items()))
             if rep.get("files"):
                 print(f"  plots: {', '.join(rep['files'].values())}")
+            if rep.get("carpet"):
+                cp = rep["carpet"]
+                span = "n/a" if cp["ratio_min"] is None else f"{cp['ratio_min']:.2f} to {cp['ratio_max']:.2f}"
+                print(f"  carpet: {cp['designs']} designs ({', '.join(f'{n} {k}' for k, n in cp['outcomes'].items())});"
+                      f" mission fuel change / SFC change {span}; {cp['files']['table']}, {cp['files']['plot']}")
     return ExitCode.FAILED if res["failed"] else ExitCode.OK
 
 
@@ -226,9 +237,11 @@ def cmd_cases(args: argparse.Namespace) -> int:
 
         from .redesign import planned_variants
 
-        print("emss study cases: the redesigned engine's design_* values come from the cycle sweep, run by "
-              "emss study run", file=sys.stderr)
-        study = replace(study, variants=tuple(planned_variants(study)), redesign={})
+        variants = planned_variants(study)
+        if len(variants) == 2:  # without the carpet the sweep is not run here
+            print("emss study cases: the redesigned engine's design_* values come from the cycle sweep, run by "
+                  "emss study run", file=sys.stderr)
+        study = replace(study, variants=tuple(variants), redesign={})
     cases = expand_cases(study)
     if args.json:
         print(json.dumps([{"name": c.name, "labels": dict(c.labels), "values": dict(c.values),

@@ -35,7 +35,7 @@ __all__ = ["RedesignConfig", "parse_redesign", "cycle_redesign", "BASELINE", "RE
 
 BASELINE = "baseline"
 REDESIGNED = "redesigned"
-KEYS = ("component", "preset", "bpr", "opr", "section", "section_variable")
+KEYS = ("component", "preset", "bpr", "opr", "section", "section_variable", "carpet")
 
 
 @dataclass(frozen=True)
@@ -48,6 +48,7 @@ class RedesignConfig:
     oprs: tuple[float, ...] = tuple(float(x) for x in range(9, 21))
     section: int = 3
     section_variable: str = "fcs.section_index"
+    carpet: bool = False  # fly every feasible design of the sweep, not only the lowest-SFC one (:mod:`.carpet`)
 
 
 def parse_redesign(study: StudyDef) -> RedesignConfig:
@@ -78,6 +79,11 @@ def parse_redesign(study: StudyDef) -> RedesignConfig:
             out["section"] = checked.integer(d["section"], 0, 10**6)
         except ValueError as exc:
             raise ctx.fail(d, "redesign.section", f"a section index (0 = the first): {exc}") from None
+    if "carpet" in d:
+        try:
+            out["carpet"] = checked.flag(d["carpet"])
+        except ValueError as exc:
+            raise ctx.fail(d, "redesign.carpet", str(exc)) from None
     if "section_variable" in d:
         out["section_variable"] = _var_name(ctx, d, "redesign.section_variable", d["section_variable"])
     if study.variants:
@@ -86,22 +92,31 @@ def parse_redesign(study: StudyDef) -> RedesignConfig:
     return RedesignConfig(**out)
 
 
-def cycle_redesign(study: StudyDef, cfg: RedesignConfig, out: Path) -> tuple[list[Variant], dict[str, Any]]:
-    """Run the cycle sweep, pick the lowest-SFC design; the two engines as variants, and what was found.
+def cycle_redesign(study: StudyDef, cfg: RedesignConfig, out: Path | None) -> tuple[list[Variant], dict[str, Any]]:
+    """Run the cycle sweep, pick the lowest-SFC design; the two engines as variants (with ``carpet``, every
+    feasible design of the sweep too), and what was found.
 
     Writes ``out/cycle/carpet.csv``, ``carpet.png``, ``redesign.json`` and
-    ``redesigned_engine.ssv`` (the redesigned engine as a parameter set for ``emss run``).
+    ``redesigned_engine.ssv`` (the redesigned engine as a parameter set for ``emss run``); nothing without
+    ``out`` (the cases listed, not run).
     """
     from openemss.models.engine.cycle_design import design
-    from openemss.models.engine.cycle_study import cycle_study, lowest_sfc_design, plot_carpet, write_csv
+    from openemss.models.engine.cycle_study import (
+        cycle_study,
+        lowest_sfc_design,
+        plot_carpet,
+        point_params,
+        write_csv,
+    )
     from openemss.models.engine.design_params import TurbofanParams, load_params, preset_path
     from openemss.models.engine.errors import ModelError
     from openemss.orchestrator.errors import EmssError
     from openemss.orchestrator.ssp.read import load_system
     from openemss.orchestrator.ssp.system import bind_system
 
-    folder = out / "cycle"
-    folder.mkdir(parents=True, exist_ok=True)
+    folder = out / "cycle" if out is not None else None
+    if folder is not None:
+        folder.mkdir(parents=True, exist_ok=True)
     ref = load_params(preset_path(cfg.preset))
     if not isinstance(ref, TurbofanParams):
         raise StudyError(f"{study.source}: field 'redesign.preset': {cfg.preset} is not a turbofan")
@@ -110,10 +125,11 @@ def cycle_redesign(study: StudyDef, cfg: RedesignConfig, out: Path) -> tuple[lis
         dp_ref = design(ref)
     except ModelError as exc:
         raise StudyError(f"{study.source}: field 'redesign': the cycle sweep failed: {exc}") from None
-    write_csv(points, folder / "carpet.csv")
-    plot_carpet(points, folder / "carpet.png", title=f"Cycle sweep from {cfg.preset}")
+    if folder is not None:
+        write_csv(points, folder / "carpet.csv")
+        plot_carpet(points, folder / "carpet.png", title=f"Cycle sweep from {cfg.preset}")
     try:
-        chosen, _ = lowest_sfc_design(ref, points)
+        chosen, best = lowest_sfc_design(ref, points)
     except ModelError:
         raise StudyError(f"{study.source}: field 'redesign': no feasible design in the sweep") from None
     dp_new = design(chosen)  # the design the engine FMU will make of these parameters (given mass flow)
@@ -130,9 +146,24 @@ def cycle_redesign(study: StudyDef, cfg: RedesignConfig, out: Path) -> tuple[lis
                          "and design_* parameters")
     c = cfg.component
     base_values: tuple[tuple[str, Any], ...] = ((f"{c}.preset", cfg.preset),)
-    new_values = (*base_values, (f"{c}.design_override", True),
-                  *((f"{c}.{v}", float(getattr(chosen, v[7:]))) for v in design_vars))
-    write_case_ssv(folder / "redesigned_engine.ssv", new_values)
+
+    def engine_values(p: TurbofanParams) -> tuple[tuple[str, Any], ...]:
+        return (*base_values, (f"{c}.design_override", True), *((f"{c}.{v}", float(getattr(p, v[7:])))
+                                                               for v in design_vars))
+
+    new_values = engine_values(chosen)
+    if folder is not None:
+        write_case_ssv(folder / "redesigned_engine.ssv", new_values)
+    variants = [Variant(BASELINE, values=base_values), Variant(REDESIGNED, values=new_values)]
+    carpet: list[dict[str, Any]] = []
+    for p in points if cfg.carpet else ():  # every design of the sweep flown (the lowest-SFC one is REDESIGNED)
+        name = None
+        if math.isfinite(p.SFC_kg_N_s):
+            name = REDESIGNED if (p.BPR, p.OPR) == (best.BPR, best.OPR) else f"bpr{p.BPR:g}-opr{p.OPR:g}"
+            if name != REDESIGNED:
+                variants.append(Variant(name, values=engine_values(point_params(ref, p))))
+        carpet.append({"BPR": p.BPR, "OPR": p.OPR, "SFC_kg_N_s": p.SFC_kg_N_s if name else None,
+                       "variant": name, "note": p.note})
     info = {
         "preset": cfg.preset,
         "baseline": {"BPR": ref.BPR, "OPR": dp_ref.OPR, "W2_kg_s": dp_ref.W2_kg_s, "Fn_N": dp_ref.Fn_N,
@@ -144,8 +175,11 @@ def cycle_redesign(study: StudyDef, cfg: RedesignConfig, out: Path) -> tuple[lis
                   "feasible": sum(math.isfinite(p.SFC_kg_N_s) for p in points)},
         "design_point_SFC_change_pct": 100.0 * (dp_new.SFC_kg_N_s / dp_ref.SFC_kg_N_s - 1.0),
     }
-    atomic_write(folder / "redesign.json", json.dumps(info, indent=2, default=float) + "\n")
-    return [Variant(BASELINE, values=base_values), Variant(REDESIGNED, values=new_values)], info
+    if cfg.carpet:
+        info["carpet"] = carpet
+    if folder is not None:
+        atomic_write(folder / "redesign.json", json.dumps(info, indent=2, default=float) + "\n")
+    return variants, info
 
 
 def planned_variants(study: StudyDef) -> list[Variant]:
@@ -153,6 +187,8 @@ def planned_variants(study: StudyDef) -> list[Variant]:
     redesigned engine's ``design_*`` values are not): so that ``emss study cases`` counts and names the
     cases that run."""
     cfg = parse_redesign(study)
+    if cfg.carpet:  # which designs fly is known from the sweep alone (seconds): run it, write nothing
+        return cycle_redesign(study, cfg, None)[0]
     base = ((f"{cfg.component}.preset", cfg.preset),)
     return [Variant(BASELINE, values=base), Variant(REDESIGNED, values=(*base, (f"{cfg.component}.design_override",
                                                                                 True)))]

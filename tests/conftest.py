@@ -116,6 +116,20 @@ def oscillator(tmp_path: Path, fmu_dir: Path) -> Path:
 
 
 @pytest.fixture(scope="session")
+def engine_system(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A system of the engine FMU alone (built from fmus/engine.py into a temporary folder): the studies' cycle
+    sweep reads the engine's design_* parameters from it."""
+    from systems import Comp, write_system
+
+    build = tmp_path_factory.mktemp("engine_fmu")
+    ensure_built(ROOT / "fmus", build, names=["engine"], force=True)
+    folder = tmp_path_factory.mktemp("engine_system") / "engine_only"
+    write_system(folder, build, [Comp("engine", "Engine.fmu", [("Fn_N", "output", "Real")])], [],
+                 name="EngineOnly", stop_time=1.0)
+    return folder
+
+
+@pytest.fixture(scope="session")
 def larzac_dp():  # noqa: ANN201
     """The Larzac 04 preset's design point (SLS, ISA), shared by the engine tests."""
     from openemss.models.engine.cycle_design import design

@@ -41,7 +41,8 @@ from .cycle_design import DesignPoint, design
 from .design_params import TurbofanParams
 from .errors import ModelError
 
-__all__ = ["COLUMNS", "StudyPoint", "jet_velocity_ratio", "cycle_study", "write_csv", "plot_carpet"]
+__all__ = ["COLUMNS", "StudyPoint", "jet_velocity_ratio", "cycle_study", "lowest_sfc_design", "point_params",
+           "write_csv", "plot_carpet"]
 
 #: Columns of the CSV file, in order.
 COLUMNS: tuple[str, ...] = ("BPR", "OPR", "PR_fan_outer", "PR_fan_inner", "PR_hpc", "W2_kg_s", "Fn_N",
@@ -148,9 +149,16 @@ def lowest_sfc_design(ref: TurbofanParams, points: Sequence[StudyPoint]) -> tupl
     if not feasible:
         raise ModelError(f"{ref.name}: no feasible design in the cycle study")
     best = min(feasible, key=lambda p: p.SFC_kg_N_s)
-    return replace(ref, BPR=float(best.BPR), PR_fan_outer=float(best.PR_fan_outer),
-                   PR_fan_inner=float(best.PR_fan_inner), PR_hpc=float(best.PR_hpc), W2_kg_s=float(best.W2_kg_s),
-                   Fn_target_N=None), best
+    return point_params(ref, best), best
+
+
+def point_params(ref: TurbofanParams, point: StudyPoint) -> TurbofanParams:
+    """The engine of a feasible point of the carpet as design parameters of its own: the reference's with the
+    point's BPR and pressure ratios and its design mass flow given (no thrust target), as the engine FMU's
+    ``design_*`` parameters take it."""
+    return replace(ref, BPR=float(point.BPR), PR_fan_outer=float(point.PR_fan_outer),
+                   PR_fan_inner=float(point.PR_fan_inner), PR_hpc=float(point.PR_hpc), W2_kg_s=float(point.W2_kg_s),
+                   Fn_target_N=None)
 
 
 def write_csv(points: Sequence[StudyPoint], path: str | Path) -> Path:

@@ -10,26 +10,11 @@ import pytest
 
 from openemss.models.engine.cycle_design import design
 from openemss.models.engine.design_params import load_params, preset_path, replace
-from openemss.orchestrator.fmu.build import ensure_built
 from openemss.orchestrator.ssp.read import read_ssv
 from openemss.study.case import CaseResult
 from openemss.study.compare import compare_engines
 from openemss.study.redesign import BASELINE, REDESIGNED, cycle_redesign, parse_redesign
 from openemss.study.spec import StudyError, load_study
-from systems import Comp, write_system
-
-ROOT = Path(__file__).resolve().parents[2]
-
-
-@pytest.fixture(scope="module")
-def engine_system(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """A system of the engine FMU alone (built from fmus/engine.py into a temporary folder)."""
-    build = tmp_path_factory.mktemp("engine_fmu")
-    ensure_built(ROOT / "fmus", build, names=["engine"], force=True)
-    folder = tmp_path_factory.mktemp("engine_system") / "engine_only"
-    write_system(folder, build, [Comp("engine", "Engine.fmu", [("Fn_N", "output", "Real")])], [],
-                 name="EngineOnly", stop_time=1.0)
-    return folder
 
 
 def test_sweep_picks_the_lowest_sfc_engine_at_equal_thrust(tmp_path: Path, engine_system: Path) -> None:

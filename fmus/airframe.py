@@ -62,7 +62,6 @@ class Airframe(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
 
     author = "openEMSS"
     description = "UPERA airframe in JSBSim: controls, thrust [N] and fuel flow [kg/s] in; SI state out"
-    CAN_SERIALIZE = True
     STATE_SKIP = frozenset({"_model", "_log", "_start"})
 
     def __init__(self, **kwargs) -> None:  # type: ignore[no-untyped-def]

@@ -16,9 +16,11 @@ replaces them:
   (pythonfmu reports fmi2Fatal with it): never an OK with a state that would not restore. A slave whose
   state includes such an object leaves it out (:attr:`FmuState.STATE_SKIP`) and restores it itself
   (:meth:`FmuState._state_extra` / :meth:`FmuState._restore_extra`), as the airframe does for JSBSim.
-* serialization: the image holds live objects, so only a slave that declares ``CAN_SERIALIZE`` and gives
-  :meth:`FmuState._state_to_plain` / :meth:`FmuState._state_from_plain` (plain JSON data, exact floats)
-  serializes; the others refuse with a message, and say ``canSerializeFMUstate="false"``.
+* serialization: the image holds live objects; a slave that declares ``CAN_SERIALIZE`` writes each object as its
+  path from the slave, its type and its contents (:mod:`openemss.fmus.state_bytes`: restored into the objects
+  an instance holds at those paths, in place, in this instance or another one of the same FMU), or gives its
+  own :meth:`FmuState._state_to_plain` / :meth:`FmuState._state_from_plain` (the airframe: its start and
+  inputs); the others refuse with a message, and say ``canSerializeFMUstate="false"``.
 
 The model description's ``canGetAndSetFMUstate`` and ``canSerializeFMUstate`` are written from the class's
 ``CAN_GET_SET`` and ``CAN_SERIALIZE`` (one source). Nothing is added to ``doStep``.
@@ -28,6 +30,7 @@ what must be shared (a compiled model's arrays) and fails on read-only mappings.
 """
 from __future__ import annotations
 
+import base64
 import dataclasses
 import json
 import random
@@ -40,6 +43,8 @@ from typing import Any
 from xml.etree.ElementTree import Element
 
 import numpy as np
+
+from openemss.fmus.state_bytes import StateBytesError, from_bytes, to_bytes
 
 #: Attributes of a slave that are the plumbing of pythonfmu and SignalIO, not its state.
 PLUMBING = frozenset({"vars", "log_queue", "instance_name", "resources", "visible", "guid", "_plans", "_units",
@@ -165,7 +170,7 @@ class FmuState:
 
     #: What the model description declares (``canGetAndSetFMUstate``, ``canSerializeFMUstate``).
     CAN_GET_SET: bool = True
-    CAN_SERIALIZE: bool = False
+    CAN_SERIALIZE: bool = True
     #: Attributes the slave saves and restores itself (:meth:`_state_extra`), besides :data:`PLUMBING`.
     STATE_SKIP: frozenset[str] = frozenset()
 
@@ -229,12 +234,22 @@ class FmuState:
 
     @classmethod
     def _state_to_plain(cls, state: SlaveState) -> Any:
-        """A state as plain JSON data (exact: floats are written by ``repr``)."""
-        raise StateError(f"{cls.__name__}: this FMU cannot serialize its state")
+        """A state as plain JSON data: by default the image of the attributes written by
+        :func:`openemss.fmus.state_bytes.to_bytes` (base64), for a slave with nothing of its own (no extra)."""
+        if state.extra is not None:
+            raise StateError(f"{cls.__name__}: a state with parts of its own needs its own serialization")
+        try:
+            return {"image": base64.b64encode(to_bytes(state.attrs)).decode("ascii")}
+        except StateBytesError as exc:
+            raise StateError(f"{cls.__name__}: {exc}") from None
 
     def _state_from_plain(self, plain: Any) -> SlaveState:
-        """The state from :meth:`_state_to_plain`'s data."""
-        raise StateError(f"{type(self).__name__}: this FMU cannot deserialize a state")
+        """The state from :meth:`_state_to_plain`'s data, on the objects this instance holds."""
+        try:
+            data = base64.b64decode(plain["image"], validate=True)
+            return SlaveState(type(self).__name__, from_bytes(self, data), None)
+        except (StateBytesError, KeyError, TypeError, ValueError) as exc:
+            raise StateError(f"{type(self).__name__}: {exc}") from None
 
     def to_xml(self, model_options: dict[str, str] | None = None) -> Element:
         """The model description, declaring what the class can do with its state."""

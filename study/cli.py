@@ -144,8 +144,9 @@ def run_study(path: Path, out: Path | None = None, scheduler: str | None = None,
 def _run_locked(study: StudyDef, folder: Path, scheduler: str | None, workers: int | None,
                 retry_failed: bool) -> dict[str, Any]:
     from .plan import expand_cases
-    from .runner import run_cases
+    from .runner import check_fmus, run_cases
 
+    check_fmus([str(study.system)])  # before the cases' digests, which read the system's FMUs
     study, redesign = _with_redesign(study, folder)
     cases = expand_cases(study)
     outcome = run_cases(cases, folder, scheduler=scheduler, workers=workers, retry_failed=retry_failed)

@@ -26,7 +26,7 @@ from .lock import LOCK_NAME, wait_released
 from .spec import StudyError
 from .table import write_table
 
-__all__ = ["StudyOutcome", "Progress", "run_cases", "TABLE_FILE"]
+__all__ = ["StudyOutcome", "Progress", "check_fmus", "run_cases", "TABLE_FILE"]
 
 TABLE_FILE = "study.csv"
 #: Attempts of a case whose worker or process died (the first run and one retry).
@@ -129,6 +129,13 @@ def _stop(client: Any, cluster: Any, out: Path, running: Sequence[CaseDef]) -> N
         wait_released(case_dir(out, c.name) / LOCK_NAME, STOP_TIMEOUT_S)
 
 
+def check_fmus(systems: Sequence[str], stream: TextIO | None = None) -> None:
+    """Build the project's own FMUs of ``systems`` that are missing or stale, once for the study: its cases run
+    with ``emss run --no-build`` (each would check them again); each FMU built is said on ``stream``."""
+    for system in dict.fromkeys(systems):
+        ensure_project_fmus(Path(system), lambda line: Progress(0, 0, 1, stream).note(line))
+
+
 def run_cases(cases: Sequence[CaseDef], out: Path, scheduler: str | None = None, workers: int | None = None,
               retry_failed: bool = False, task: Task = run_case, stream: TextIO | None = None) -> StudyOutcome:
     """Run every case not yet done into ``out/cases/<name>``; write ``out/study.csv``.
@@ -174,8 +181,7 @@ def run_cases(cases: Sequence[CaseDef], out: Path, scheduler: str | None = None,
         progress.note(f"all {len(cases)} case(s) already done with the same definition; nothing to run "
                       f"(table: {table})")
         return outcome
-    for system in dict.fromkeys(c.system for c in todo):  # once here, not in every case (emss run --no-build)
-        ensure_project_fmus(Path(system), lambda line: Progress(0, 0, 1, stream).note(line))
+    check_fmus([c.system for c in todo], stream)
     n_workers = max(1, min(workers or os.cpu_count() or 1, len(todo)))
     # A LocalCluster fails a task at the first death of its worker, so that the retry is ours (one). Cases
     # are handed to the scheduler only as worker threads are free (never more in flight than threads), so

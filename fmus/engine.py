@@ -41,7 +41,13 @@ from openemss.models.engine.engine_model import (
     EngineModel,
     condition_from_ambient,
 )
-from openemss.models.engine.engine_signals import DESIGN_FIELDS, FLAMEOUT_STARVED, PARAMETER_SETS, SIGNALS
+from openemss.models.engine.engine_signals import (
+    DESIGN_FIELDS,
+    FLAMEOUT_STARVED,
+    N_FILE_OUTPUTS,
+    PARAMETER_SETS,
+    SIGNALS,
+)
 from openemss.models.engine.errors import OutOfRangeError
 from openemss.models.engine.fuel_supply import FuelSupply
 from openemss.models.engine.graph_engine import GraphEngineModel
@@ -148,6 +154,11 @@ class Engine(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
         if self.Wf_cmd_kg_s <= 0.0 or self.Wf_cmd_kg_s == self._filled_Wf_kg_s:
             self.Wf_cmd_kg_s = self._filled_Wf_kg_s = (m.match.Wf_kg_s if isinstance(m, GraphEngineModel) else
                                                        m.state.point.Wf_kg_s if m.state is not None else 0.0)
+        if not isinstance(m, GraphEngineModel):     # a preset has no file outputs: their slots stay 0
+            m.values.extend([0.0] * N_FILE_OUTPUTS)
+        elif m.extra_names:
+            self.log("engine: the engine file's outputs: " + ", ".join(
+                f"file_out_{k + 1} = {n}" for k, n in enumerate(m.extra_names)), Fmi2Status.ok, "logAll")
         self._model = m
         self._supply = FuelSupply()
         self._y, self._yb, self._yi = m.values, m.flags, [m.events, int(m.flags[FLAMEOUT])]

@@ -55,7 +55,9 @@ __all__ = ["EngineFileError", "ElementDef", "FlowLink", "BleedDef", "ShaftDef", 
 
 #: Folder of the shipped engine files.
 ENGINES_DIR: Path = Path(__file__).resolve().parent / "engines"
-TOP_KEYS = ("name", "sources", "notes", "design", "fuel", "elements", "shafts", "flow", "bleeds", "limits")
+TOP_KEYS = ("name", "sources", "notes", "design", "fuel", "elements", "shafts", "flow", "bleeds", "limits", "outputs")
+#: An output of the file (``outputs:``): ``name: element.quantity`` or ``name: shaft NAME.quantity``.
+_OUTPUT = re.compile(r"^\s*(?:(shaft)\s+)?([A-Za-z_]\w*)\.([A-Za-z_]\w*)\s*$")
 _LINK = re.compile(r"^\s*([A-Za-z_][\w]*)(?:\.([A-Za-z_]\w*))?\s*->\s*([A-Za-z_][\w]*)(?:\.([A-Za-z_]\w*))?\s*$")
 _NAME = re.compile(r"^[A-Za-z_][\w]*$")
 
@@ -127,6 +129,8 @@ class EngineDef:
     order: tuple[str, ...]          #: elements in flow order (sources before sinks, bleeds included)
     lines: Mapping[str, int]        #: line of each top-level key
     limits: Mapping[str, Any] = field(default_factory=lambda: MappingProxyType({}))  #: the FCS's limits (LIMIT_ATTRS)
+    #: the file's own outputs: name -> ("element" or "shaft", its name, quantity, line)
+    outputs: Mapping[str, tuple[str, str, str, int]] = field(default_factory=lambda: MappingProxyType({}))
 
     def where(self, element: str | None = None, attr: str | None = None, line: int | None = None) -> str:
         """``file:line: element 'name':`` for messages (the attribute's line where known)."""
@@ -221,7 +225,30 @@ def read_engine_file(name_or_path: str | Path) -> EngineDef:
                     MappingProxyType(design), MappingProxyType(fuel), (), MappingProxyType(ln))
     order = _check_topology(eng)
     return EngineDef(eng.name, f, eng.elements, eng.links, eng.bleeds, eng.shafts, eng.design, eng.fuel, order,
-                     eng.lines, MappingProxyType(limits))
+                     eng.lines, MappingProxyType(limits), _outputs(data.get("outputs", {}) or {}, eng, ln))
+
+
+def _outputs(raw: Any, eng: EngineDef, ln: Mapping[str, int]) -> Mapping[str, tuple[str, str, str, int]]:
+    """The file's own outputs (``outputs: {name: element.quantity | shaft NAME.quantity}``), names checked; the
+    quantities are checked where the engine is first evaluated (:mod:`.graph_engine`)."""
+    f, line0 = eng.file, ln.get("outputs", 1)
+    if not isinstance(raw, dict):
+        raise EngineFileError(f"{f}:{line0}: 'outputs' must be a mapping name: element.quantity or shaft NAME.quantity")
+    out = {}
+    for name, v in raw.items():
+        line = raw.lines[name]
+        _check_name(name, f, line, "output")
+        m = _OUTPUT.match(v) if isinstance(v, str) else None
+        if m is None:
+            raise EngineFileError(f"{f}:{line}: output {name!r}: {values.show(v)} is not element.quantity or "
+                                  "shaft NAME.quantity (e.g. ab.Wf_kg_s, shaft pt.torque_N_m)")
+        kind, target, q = ("shaft" if m.group(1) else "element"), m.group(2), m.group(3)
+        known = eng.shafts if kind == "shaft" else eng.elements
+        if target not in known:
+            raise EngineFileError(f"{f}:{line}: output {name!r}: no {kind} {target!r} (the file's: "
+                                  f"{', '.join(known) or 'none'})")
+        out[name] = (kind, target, q, line)
+    return MappingProxyType(out)
 
 
 def _sized_otherwise(data: Any) -> bool:

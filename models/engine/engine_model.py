@@ -75,6 +75,7 @@ _BETA_FLOOR = 0.1
 #: Largest customer bleed W/W25 [-] taken; a larger input is clipped (and logged).
 _CUSTOMER_BLEED_MAX = 0.3
 _IDX = {name: i for i, (name, _) in enumerate(OUTPUTS)}
+_N_OUT = len(OUTPUTS)
 _SOLVER_FAILED = [name for name, _ in FLAGS].index("solver_failed")
 _FLAMEOUT = [name for name, _ in FLAGS].index("flameout")
 #: Fields of EngineInputs, in order: the layout of the input array of :meth:`EngineModel.step_array`.
@@ -238,6 +239,8 @@ class EngineModel:
         self.valve_pos = 0.0
         self.valve_open_cmd = False
         self.fuel_burned_kg = 0.0
+        #: The outputs (:data:`OUTPUTS`); a caller may append slots after them (the engine FMU: an engine file's own
+        #: outputs, 0 for a preset), which the steps leave as they are
         self.values: list[float] = [0.0] * len(OUTPUTS)
         self.flags: list[bool] = [False] * len(FLAGS)
         self.events = 0
@@ -609,7 +612,7 @@ class EngineModel:
                 self._buf, self._lazy = self._rows[k], True
                 if self.tr.cache_source is None:
                     self.tr.cache_source = self._cache_of_current
-                self.values[:] = self._vals.tolist()
+                self.values[:_N_OUT] = self._vals.tolist()
                 if self.fuel_limited:
                     self.fuel_limited = False
                 if out:

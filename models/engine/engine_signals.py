@@ -30,7 +30,8 @@ from .health import HEALTH_LIMIT, health_parameter_names
 from .settings import EngineNumerics, EngineStart, FromEngineFile, engine_set
 
 __all__ = ["EngineInputs", "EngineLimits", "BleedValve", "OUTPUTS", "FLAGS", "SIGNALS", "DESIGN_FIELDS",
-           "PARAMETER_SETS", "condition_from_ambient", "FUEL_UNLIMITED_KG", "FLAMEOUT_CAUSES", "FLAMEOUT_STARVED"]
+           "PARAMETER_SETS", "condition_from_ambient", "N_FILE_OUTPUTS", "FUEL_UNLIMITED_KG", "FLAMEOUT_CAUSES",
+           "FLAMEOUT_STARVED"]
 
 #: The start value of the engine's ``fuel_kg`` input [kg]: no tank connected, the engine is not limited
 #: (:mod:`.fuel_supply`).
@@ -41,6 +42,8 @@ FLAMEOUT_CAUSES: tuple[str, ...] = (
     "burner fuel-air ratio below the lean limit or fuel flow below the minimum",
     "fuel starvation: the tanks could not deliver the metered fuel flow",
 )
+#: How many of an engine file's own outputs (its ``outputs:``) the engine FMU carries (``file_out_1`` ...).
+N_FILE_OUTPUTS = 8
 #: The code of a flame-out for want of fuel.
 FLAMEOUT_STARVED = 2
 
@@ -345,6 +348,10 @@ SIGNALS: tuple[Signal, ...] = check_table((
     *_FLAG_ROWS,
     Signal("events", "output", "1", "Rising edges of surge, flameout, overspeed, fuel limiting, shaft power "
            "limiting", "Integer"),
+    # the engine file's own outputs (its outputs: section, in its order); 0 where it declares fewer
+    *(Signal(f"file_out_{k + 1}", "output", "1", f"Output {k + 1} of the engine file's outputs: section, in the "
+             "unit its name says (the FMU logs the names at initialisation); 0 without one", "Real")
+      for k in range(N_FILE_OUTPUTS)),
     Signal("flameout_cause", "output", "1", "Why the burner is out: "
            + "; ".join(f"{i} {c.partition(':')[0] or 'burning'}" for i, c in enumerate(FLAMEOUT_CAUSES)), "Integer"),
 ), "models/engine/engine_signals.py")

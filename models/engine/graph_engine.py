@@ -38,9 +38,9 @@ from typing import Any
 
 import numpy as np
 
-from .engine_file import read_engine_file, scale_engine
+from .engine_file import EngineFileError, read_engine_file, scale_engine
 from .engine_graph import EngineGraph
-from .engine_signals import EO, FLAGS, OUTPUTS, EngineInputs, EngineLimits
+from .engine_signals import EO, FLAGS, N_FILE_OUTPUTS, OUTPUTS, EngineInputs, EngineLimits
 from .errors import FlameoutError, ModelError, OutOfRangeError
 from .graph_transient import GraphMatch, GraphTransient
 from .health import HealthDeltas
@@ -49,6 +49,7 @@ __all__ = ["GraphEngineModel"]
 
 _FLAG = {name: i for i, (name, _) in enumerate(FLAGS)}
 _N_IN = len(EngineInputs.__dataclass_fields__)
+_N_OUT = len(OUTPUTS)
 
 
 class GraphEngineModel:
@@ -102,7 +103,9 @@ class GraphEngineModel:
             float(self.dp.elements[self.last]["Pt_exit_Pa"])
         self.Wf_decel_max_kg_s2 = self.limits.Wf_decel_max_frac_s * self.Wf_d_kg_s
         self.match: GraphMatch | None = None
-        self.values: list[float] = [math.nan] * len(OUTPUTS)
+        #: The outputs (:data:`OUTPUTS`), then the file's own outputs (:attr:`extra_names`) in the engine FMU's
+        #: slots (``file_out_1`` ...; 0 where the file declares fewer)
+        self.values: list[float] = [math.nan] * len(OUTPUTS) + [0.0] * N_FILE_OUTPUTS
         self.flags: list[bool] = [False] * len(FLAGS)
         self.events = 0
         self.message = ""
@@ -113,6 +116,11 @@ class GraphEngineModel:
         self._port_limited = False
         self._Wf_last = 0.0
         self._uin = np.zeros(_N_IN)
+        #: The file's own outputs (its ``outputs:``), in its order: names, and values after each step
+        self.extra_names: tuple[str, ...] = tuple(eng.outputs)
+        if len(self.extra_names) > N_FILE_OUTPUTS:
+            raise EngineFileError(f"{eng.file}:{eng.lines.get('outputs', 1)}: {len(self.extra_names)} outputs; the "
+                                  f"engine FMU carries at most {N_FILE_OUTPUTS}")
 
     # ------------------------------------------------------------------ inputs
     @property
@@ -205,8 +213,29 @@ class GraphEngineModel:
         return v
 
     # ------------------------------------------------------------------ outputs
+    def _extra(self, m: GraphMatch) -> None:
+        """The file's own outputs: an element's output, or a shaft's (``N_rpm``, ``turbine_W``, ``compressor_W``,
+        ``offtake_W``, ``net_W``: on a fixed-speed shaft the power its load takes, ``mech_loss_W``; derived:
+        ``N_pct``, ``torque_N_m`` = eta_mech sum P_T / omega, the turbines' torque on it)."""
+        out = m.state.out
+        for i, (kind, target, q, line) in enumerate(self.g.eng.outputs.values()):
+            o = out["shaft " + target if kind == "shaft" else target] if (kind == "shaft" or target in out) else {}
+            if kind == "shaft" and q in ("N_pct", "torque_N_m"):
+                N = o["N_rpm"]
+                val = 100.0 * N / self.N_d[target] if q == "N_pct" else \
+                    self.g.eng.shafts[target].attrs["eta_mech"] * o["turbine_W"] / (N * math.pi / 30.0)
+            elif q in o:
+                val = o[q]
+            else:
+                have = sorted(o) + (["N_pct", "torque_N_m"] if kind == "shaft" else [])
+                raise EngineFileError(f"{self.g.eng.file}:{line}: output {self.extra_names[i]!r}: {kind} {target!r} "
+                                      f"has no quantity {q!r} (it has: {', '.join(have) or 'none'})")
+            self.values[_N_OUT + i] = float(val)
+
     def _publish(self, m: GraphMatch, failed: bool, Wf_in: float) -> None:
         s, g, v = m.state, self.g, self.values
+        if self.extra_names:
+            self._extra(m)
         st = {lk.station: s.flows[(lk.src, lk.src_port)] for lk in g.eng.links}
         el = s.out
         N1, N2 = s.N(self.lp), s.N(self.hp)
@@ -262,5 +291,7 @@ class GraphEngineModel:
         return {"Tt41_max_K": float(T), **({"N1_max_pct": float(N1)} if N1 is not None else {})}
 
     def value(self, name: str) -> float:
-        """One output by name (see :data:`.engine_signals.OUTPUTS`)."""
+        """One output by name (see :data:`.engine_signals.OUTPUTS`), or one of the file's own outputs."""
+        if name in self.extra_names:
+            return self.values[_N_OUT + self.extra_names.index(name)]
         return self.values[EO[name]]

@@ -115,6 +115,12 @@ class GraphTransient:
                 raise EngineFileError(f"{eng.file}:{eng.shafts[s].line}: shaft {s!r}: I_kg_m2 is not given (or 0): "
                                       "a transient needs the polar moment of inertia of every free shaft [kg m^2], "
                                       "> 0")
+        for e in eng.order:
+            el = eng.elements[e]
+            if el.kind == "nozzle" and el.attrs["area"] == "variable":
+                raise EngineFileError(f"{eng.where(e, 'area')}a variable-area nozzle holding a compressor's R-line is "
+                                      "not modelled in time (with the spool speed a state, nothing sets the turbine's "
+                                      "pressure ratio; the area's schedule is not in the file): use area: fixed")
         self.I_kg_m2 = tuple(float(eng.shafts[s].attrs["I_kg_m2"]) for s in self.shafts)
         self.main = graph.main_burner
         full_u, full_r = graph.offdesign_system(("Wf_kg_s", 0.0, None))

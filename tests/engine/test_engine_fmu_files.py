@@ -89,3 +89,49 @@ def test_bad_engine_file_or_scale_is_one_line(engine_file: str, scale: float, me
         slave.compute_start()
     assert message in str(exc.value)
     assert "\n" not in str(exc.value)
+
+
+def _with_inertia(tmp_path: Path, name: str, I_kg_m2: float) -> Path:
+    """A shipped engine file with an inertia on its gas generator's shaft (``hp``), maps by absolute path."""
+    src = Path(read_engine_file(name).file)
+    f = tmp_path / f"{name}.yaml"
+    f.write_text(src.read_text().replace("hp: {N_rpm: 8070.0}", f"hp: {{N_rpm: 8070.0, I_kg_m2: {I_kg_m2}}}")
+                 .replace("../maps/", f"{src.parents[1] / 'maps'}/"))
+    return f
+
+
+def test_file_outputs_power_turbine(fmu: Path, tmp_path: Path) -> None:
+    """The turboshaft's own outputs (its file's outputs:): the load's power against the steady graph's power
+    setting, the torque against P = Q omega, through the FMU's file_out_* slots."""
+    f = _with_inertia(tmp_path, "pycycle_turboshaft", 2.0)
+    slave, vr = open_slave(fmu, "ts")
+    slave.setString([vr["engine_file"]], [str(f)])
+    slave.setReal([vr["start_N1_pct"]], [95.0])
+    slave.enterInitializationMode()
+    slave.exitInitializationMode()
+    P, Q, N, Wf = slave.getReal([vr["file_out_1"], vr["file_out_2"], vr["file_out_3"], vr["Wf_kg_s"]])
+    unused = slave.getReal([vr["file_out_4"]])[0]
+    slave.terminate()
+    slave.fmi2FreeInstance(slave.component)
+    g = EngineGraph(str(f))
+    p = g.solve(demand=("Wf_kg_s", Wf))
+    assert P == pytest.approx(p.shafts["lp"]["net_W"], rel=1e-6)
+    assert N == 5000.0
+    assert Q == pytest.approx(p.shafts["lp"]["turbine_W"] / (5000.0 * 3.141592653589793 / 30.0), rel=1e-6)
+    assert P > 1e6 and unused == 0.0
+
+
+def test_file_output_naming_an_unknown_quantity_is_one_line(tmp_path: Path) -> None:
+    from openemss.models.engine.engine_file import EngineFileError
+    from openemss.models.engine.engine_signals import EngineInputs
+    from openemss.models.engine.graph_engine import GraphEngineModel
+
+    f = _with_inertia(tmp_path, "pycycle_turboshaft", 2.0)
+    f.write_text(f.read_text().replace("shaft lp.torque_N_m", "shaft lp.torque_Nm"))
+    m = GraphEngineModel(str(f))
+    with pytest.raises(EngineFileError, match=r"pycycle_turboshaft.yaml:\d+: output 'Q_pt_N_m': shaft 'lp' has no "
+                                              r"quantity 'torque_Nm' \(it has: .*torque_N_m\)"):
+        m.start(EngineInputs(0.0), N1_pct=95.0)
+    f.write_text(f.read_text().replace("shaft lp.torque_Nm", "shaft px.torque_N_m"))
+    with pytest.raises(EngineFileError, match=r"output 'Q_pt_N_m': no shaft 'px'"):
+        read_engine_file(str(f))

@@ -21,6 +21,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import replace
+from pathlib import Path
 from types import MappingProxyType
 
 import numpy as np
@@ -69,11 +70,11 @@ def test_shaft_energy_balance(hbtf: GraphTransient) -> None:
     dt = 0.002
     start = hbtf.match(0.0, SLS, a.N_rpm, b.Wf_kg_s, {}, a)      # the power right after the fuel step
     hist = hbtf.simulate(start, lambda t: b.Wf_kg_s, 1.0, dt, dt_internal_s=dt)
-    for i, I in enumerate(hbtf.I_kg_m2):
+    for i, inertia in enumerate(hbtf.I_kg_m2):
         P = np.array([m.net_W[i] for m in hist])
         work = float(np.sum(P[:-1]) * dt)                     # each step's start power, as Euler takes it
         w0, w1 = (m.N_rpm[i] * math.pi / 30.0 for m in (hist[0], hist[-1]))
-        dKE = 0.5 * I * (w1 * w1 - w0 * w0)
+        dKE = 0.5 * inertia * (w1 * w1 - w0 * w0)
         assert abs(dKE) > 1e4                                   # the spool did take up energy
         assert work == pytest.approx(dKE, rel=2e-3), hbtf.shafts[i]
 
@@ -151,6 +152,12 @@ def test_scaled_spools_are_slower_by_the_square_root(hbtf: GraphTransient) -> No
 def test_bad_input_is_one_line(tmp_path) -> None:  # type: ignore[no-untyped-def]
     with pytest.raises(EngineFileError, match=r"pycycle_ab_turbojet.yaml:\d+: shaft 'hp': I_kg_m2 is not given"):
         GraphTransient(EngineGraph("pycycle_ab_turbojet"))
+    text = Path(read_engine_file("pycycle_ab_turbojet").file).read_text()
+    f = tmp_path / "ab.yaml"
+    f.write_text(text.replace("hp: {N_rpm: 8070.0}", "hp: {N_rpm: 8070.0, I_kg_m2: 3.0}").replace(
+        "../maps/", str(Path(read_engine_file("larzac04").file).parents[1] / "maps") + "/"))
+    with pytest.raises(EngineFileError, match=r"ab.yaml:\d+: element 'nozz': a variable-area nozzle .* area: fixed"):
+        GraphTransient(EngineGraph(str(f)))
     for bad in (0.0, -1.0, math.nan, math.inf):
         with pytest.raises(EngineFileError, match="thrust_scale=.* must be a finite number > 0"):
             scale_engine(read_engine_file("larzac04"), bad)

@@ -61,6 +61,7 @@ class CaseDef:
     record: tuple[str, ...] = ()
     record_every: int = 1
     pre_run: bool = False  # emss run's pre-run checks (--no-pre-run without)
+    figures: bool = False  # the report's figures after the run (--no-figures without)
     digest: str = ""  # of the definition and the contents of the files it reads
 
 
@@ -110,10 +111,10 @@ def write_case_ssv(path: Path, values: tuple[tuple[str, ValueT], ...]) -> Path:
 
 def emss_args(case: CaseDef, folder: Path) -> list[str]:
     """The ``emss`` arguments of a case (``run ...``), writing into `folder`. The study checks its FMUs against
-    their sources once before the cases (``--no-build``); a case writes its summary, no figures
-    (``--no-figures``: ``emss plot`` draws them from the case's folder)."""
+    their sources once before the cases (``--no-build``); a case writes its summary, and its figures only
+    when the study asks (else ``--no-figures``: ``emss plot`` draws them from the case's folder)."""
     cmd = ["run", case.system, "--out", str(folder), "--algorithm", case.algorithm, "--record-every",
-           str(case.record_every), "--json", "--no-build", "--no-figures"]
+           str(case.record_every), "--json", "--no-build", *([] if case.figures else ["--no-figures"])]
     params = [*case.params, *([str(folder / CASE_SSV)] if case.values else [])]
     if params:
         cmd += ["--params", *params]
@@ -261,7 +262,7 @@ def file_digest(path: Path, cache: dict[Path, str]) -> str:
 def definition_digest(case: CaseDef, files: list[Path], cache: dict[Path, str]) -> str:
     """Digest of the case definition (without its name and digest) and of the files it reads."""
     d = asdict(case)
-    for key in ("digest", "name", "pre_run"):  # pre_run: checks before the run, whose results they do not change
+    for key in ("digest", "name", "pre_run", "figures"):  # checks before and figures after: the results stay
         d.pop(key)
     h = hashlib.sha256(json.dumps(d, sort_keys=True, default=str).encode())
     for f in files:

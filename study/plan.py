@@ -111,7 +111,8 @@ def expand_cases(study: StudyDef) -> list[CaseDef]:
                        params=tuple(str(p) for p in (*study.params, *var.params)),
                        values=tuple(values.items()), scenario=str(spath) if spath else None,
                        stop_time_s=study.stop_time_s, rate_hz=study.rate_hz, algorithm=study.algorithm,
-                       record=study.record, record_every=study.record_every, pre_run=study.pre_run)
+                       record=study.record, record_every=study.record_every, pre_run=study.pre_run,
+                       figures=study.figures)
         files = [study.system, *study.params, *var.params, *(p for p in (mpath, spath) if p is not None)]
         digest = definition_digest(case, files, cache)
         cases.append(CaseDef(**{**case.__dict__, "digest": digest}))

@@ -16,6 +16,8 @@ grid point, a mission and a scenario is one case (:func:`expand_cases`).
     pre_run: false                    # optional: the plugins' pre-run checks (a mission's feasibility) before
                                       # each case, into its stderr.log (seconds of set-up per case; the table
                                       # has what each case flew)
+    figures: false                    # optional: each case draws its figures (plots, report.html) as emss run
+                                      # does (seconds per case); without, emss plot DIR/cases/<case> draws them
     params: [../ssp/engine_reference_study.ssv]   # parameter sets applied to every case
     values: {engine.use_ambient: false}            # parameter values applied to every case
     missions: {munich: ../missions/munich.yaml}    # optional: each case flies each mission
@@ -56,7 +58,8 @@ __all__ = ["StudyError", "Variant", "StudyDef", "load_study", "parse_study"]
 ValueT = float | int | bool | str
 NAME_RE = re.compile(r"^[A-Za-z0-9_.=+-]+$")
 TOP_KEYS = ("study", "description", "system", "stop_time_s", "rate_hz", "algorithm", "record", "record_every",
-            "pre_run", "params", "values", "missions", "mission_parameter", "variants", "grid", "scenarios", "redesign")
+            "pre_run", "figures", "params", "values", "missions", "mission_parameter", "variants", "grid", "scenarios",
+            "redesign")
 MAX_GRID_POINTS = 100_000
 MAX_RECORD_EVERY = 10**9  #: most steps between two recorded samples
 
@@ -104,6 +107,7 @@ class StudyDef:
     record: tuple[str, ...] = ()
     record_every: int = 1
     pre_run: bool = False
+    figures: bool = False
     params: tuple[Path, ...] = ()
     values: tuple[tuple[str, ValueT], ...] = ()
     missions: tuple[tuple[str, Path], ...] = ()
@@ -347,6 +351,7 @@ def parse_study(doc: Any, source: Path) -> StudyDef:
     every = _typed(ctx, doc, "record_every", lambda v: checked.integer(v, 1, MAX_RECORD_EVERY), 1)
     description = _typed(ctx, doc, "description", checked.text, "")
     pre_run = _typed(ctx, doc, "pre_run", checked.flag, False)
+    figures = _typed(ctx, doc, "figures", checked.flag, False)
     grid_doc = doc.get("grid") or _Lines()
     if not isinstance(grid_doc, dict):
         raise ctx.fail(doc, "grid", "expected a mapping component.variable: [values] or {from, to, num}")
@@ -366,6 +371,7 @@ def parse_study(doc: Any, source: Path) -> StudyDef:
         stop_time_s=None if stop is None else _number(ctx, doc, "stop_time_s", stop, 1e-9, 1e9),
         rate_hz=None if rate is None else _number(ctx, doc, "rate_hz", rate, 0.1, 100.0),
         algorithm=algorithm, record=tuple(record), record_every=every, pre_run=pre_run,
+        figures=figures,
         params=_paths(ctx, base, doc, "params", doc.get("params")),
         values=_values(ctx, doc, "values", doc.get("values")),
         missions=tuple((n, p) for n, p in _named_files(ctx, base, doc, "missions", doc.get("missions"), False)

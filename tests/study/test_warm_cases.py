@@ -97,3 +97,22 @@ def test_the_pool_is_off_unless_enabled_and_keeps_only_clean_instances(tmp_path:
     finally:
         pool.enable(False)
     assert pool.counts()["held"] == 0
+
+
+def test_a_study_file_asks_for_checks_and_figures_per_case(tmp_path: Path) -> None:
+    """pre_run and figures (study file) become emss run's options; neither changes a case's digest (its results)."""
+    from openemss.study.case import emss_args
+    from openemss.study.plan import expand_cases
+    from openemss.study.spec import load_study
+
+    osc = Path(__file__).resolve().parents[2] / "examples" / "oscillator"
+    digests, args = [], []
+    for extra in ("", "pre_run: true\nfigures: true\n"):
+        path = tmp_path / f"s{len(extra)}.yaml"
+        path.write_text(f"study: s\nsystem: {osc}\nstop_time_s: 1\n{extra}", encoding="utf-8")
+        (case,) = expand_cases(load_study(path))
+        digests.append(case.digest)
+        args.append(emss_args(case, tmp_path))
+    assert digests[0] == digests[1]
+    assert {"--no-pre-run", "--no-figures", "--no-build"} <= set(args[0])
+    assert "--no-pre-run" not in args[1] and "--no-figures" not in args[1] and "--no-build" in args[1]

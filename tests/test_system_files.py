@@ -79,6 +79,21 @@ def _run_ours(system: Path, stop_s: float, record: list[str], master: type | Non
     return rec.result()
 
 
+def _libcosim_times() -> type:
+    """Our master at libcosim's times: t0 + k / rate (the doubles of its integer nanoseconds), each step the
+    difference of two of them."""
+    from openemss.orchestrator.master.execution import Execution
+
+    class LibcosimTimes(Execution):
+        def time_at(self, k: int) -> float:
+            return self.start_time_s + k / self.rate_hz
+
+        def advance(self, i: int, k: int) -> None:
+            t = self.time_at(k)
+            self.slaves[i].advance(t, self.time_at(k + 1) - t)
+    return LibcosimTimes
+
+
 def test_the_shipped_coupled_system_takes_off(shipped: Path) -> None:
     """ssp/: engine, airframe and flight control FMUs wired by the generated SSD take off from
     EDDM 26R under the Munich mission (the mission's first seconds: roll and lift-off)."""
@@ -100,29 +115,40 @@ def test_the_shipped_system_runs_in_libcosim_as_in_our_jacobi_master(shipped: Pa
     T41 (seen), within 1e-2 of the range a signal sweeps in 60 s. A difference in how the system is read or
     wired (a parameter, a unit, a connection, the initialization) changes the take-off by far more."""
     pytest.importorskip("libcosimpy.CosimExecution", reason="libcosimpy is a test dependency")
-    from openemss.orchestrator.master.execution import Execution
     from thirdparty import run_isolated
-
-    class LibcosimTimes(Execution):
-        """Our master at libcosim's times: k / rate, each step the difference of two of them."""
-
-        def time_at(self, k: int) -> float:
-            return self.start_time_s + k / self.rate_hz
-
-        def advance(self, i: int, k: int) -> None:
-            t = self.time_at(k)
-            self.slaves[i].advance(t, self.time_at(k + 1) - t)
 
     steps = 1200  # 60 s at 20 Hz
     got = run_isolated("libcosim_run", system=str(shipped), variables=LIBCOSIM_VARS, steps=steps,
                        step_ns=50_000_000)["values"]
-    same = _run_ours(shipped, steps * 0.05, LIBCOSIM_VARS, LibcosimTimes)
+    same = _run_ours(shipped, steps * 0.05, LIBCOSIM_VARS, _libcosim_times())
     ours = _run_ours(shipped, steps * 0.05, LIBCOSIM_VARS)
     assert ours["airframe.alt_m"][-1] > ours["airframe.alt_m"][0] + 200.0  # airborne and climbing
     for n in LIBCOSIM_VARS:
         np.testing.assert_array_equal(got[n], same[n][1:], err_msg=n)
         scale = float(np.ptp(ours[n]))
         np.testing.assert_allclose(got[n], ours[n][1:], rtol=0, atol=1e-2 * scale, err_msg=n)
+
+
+def test_the_shipped_system_at_100_hz_in_libcosim(shipped: Path) -> None:
+    """Issue 34 points 5 and 6: at 100 Hz (steps of 0.01 s, not whole frames of the airframe's 1/120 s: it fits
+    frames of 0.005 s at its first step) libcosim runs the shipped system, and our master at libcosim's times
+    (see above) gives the same trajectory bit for bit over the first 20 s (the take-off roll and lift-off)."""
+    pytest.importorskip("libcosimpy.CosimExecution", reason="libcosimpy is a test dependency")
+    from openemss.orchestrator.scenarios.observers import MemoryRecorder
+    from thirdparty import run_isolated
+
+    steps = 2000  # 20 s at 100 Hz
+    got = run_isolated("libcosim_run", system=str(shipped), variables=LIBCOSIM_VARS, steps=steps,
+                       step_ns=10_000_000)
+    assert got["time_ns"] == steps * 10_000_000
+    ex = _libcosim_times()(bind_system(load_system(shipped)), algorithm="jacobi", record=LIBCOSIM_VARS, rate_hz=100.0)
+    rec = MemoryRecorder()
+    ex.add_observer(rec)
+    ex.run(steps / 100.0)
+    ours = rec.result()
+    assert ours["airframe.tas_m_s"][-1] > 40.0  # the roll went on: the airframe took every step
+    for n in LIBCOSIM_VARS:
+        np.testing.assert_array_equal(got["values"][n], ours[n][1:], err_msg=n)
 
 
 @pytest.mark.parametrize("ssv", sorted(p.name for p in (ROOT / "ssp").glob("*.ssv")))

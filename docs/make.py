@@ -124,6 +124,12 @@ def munich_figures(run: Path, command: str = "emss run") -> Figures:
             command)
     fig(out, "munich.conformance", "\n\n" + "\n".join(rows) + "\n\n", None, command)
     fig(out, "munich.worst_end_error_m", f"{worst_end:.1f}", worst_end, command)
+    from openemss.models.fcs.vertical import VNAV_MODES
+
+    d = _series(run)
+    on_path = d["fcs.vnav_mode"] == VNAV_MODES.index("PATH")
+    dev = float(np.max(np.abs(d["airframe.alt_m"][on_path] - d["fcs.alt_cmd_m"][on_path]))) if on_path.any() else 0.0
+    fig(out, "munich.path_deviation_m", f"{dev:.0f}", dev, command)
     life = s.get("life") or {}
     for disc in life.get("discs", []):
         key = "hp" if disc.get("spool") == "N2" else "fan"

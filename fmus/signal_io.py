@@ -1,7 +1,7 @@
 """FMI variables of a pythonfmu slave from its model's signal table, with batched, pre-resolved I/O.
 
 A slave mixes :class:`SignalIO` in before ``Fmi2Slave`` and calls :meth:`SignalIO.register_signals`
-with its model's table (:class:`openemss.models.common.signals.Signal` rows). Then:
+with its model's table (:class:`openemss.models.infra.signals.Signal` rows). Then:
 
 * parameters and inputs are attributes of the slave under their own names (their start values
   set from the table); the Real inputs are held in one list, ``_u``, behind properties of those
@@ -13,7 +13,7 @@ with its model's table (:class:`openemss.models.common.signals.Signal` rows). Th
 * the model description gets the FMI ``unit`` of every Real variable and the UnitDefinitions
   (base-unit exponents and factor, FMI 2.0 section 2.2.2) from the table's units, and the ``min``/``max``
   of every Real and Integer row that states a range (parameters generated from a parameter file,
-  :meth:`openemss.models.common.params.ParamSet.signals`).
+  :meth:`openemss.models.infra.params.ParamSet.signals`).
 
 pythonfmu's own ``get_real``/``set_real`` look every variable up and call its getter or setter
 (about 1 us per variable); a master asks for the same value references every step, so the
@@ -29,7 +29,7 @@ from xml.etree.ElementTree import Element, SubElement
 
 from pythonfmu import Boolean, Fmi2Causality, Fmi2Variability, Integer, Real, String
 
-from openemss.models.common.signals import BASE_UNITS, Signal, si_unit
+from openemss.models.infra.signals import BASE_UNITS, Signal, si_unit
 
 _KINDS = {"Real": Real, "Boolean": Boolean, "Integer": Integer, "String": String}
 _CAUSALITY = {"input": Fmi2Causality.input, "output": Fmi2Causality.output, "parameter": Fmi2Causality.parameter}

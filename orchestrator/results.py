@@ -28,7 +28,7 @@ from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
 from typing import IO, Any
 
-from openemss.models.common import files
+from openemss.models.infra import files
 
 from .errors import ConfigurationError, EmssError
 
@@ -73,7 +73,7 @@ def check_name(name: str, what: str) -> str:
 
 
 def atomic_write(path: Path | str, data: str | bytes) -> Path:
-    """Write ``data`` to ``path`` whole (:func:`openemss.models.common.files.atomic_write`: a temporary
+    """Write ``data`` to ``path`` whole (:func:`openemss.models.infra.files.atomic_write`: a temporary
     file in the same folder, then a rename; a link in its place is replaced, not followed).
 
     Raises

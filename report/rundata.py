@@ -19,9 +19,9 @@ from xml.etree import ElementTree
 
 import numpy as np
 
-from openemss.models.common import safe_yaml
 from openemss.models.fcs.errors import FcsError
 from openemss.models.fcs.mission import Mission, parse_mission
+from openemss.models.infra import safe_yaml
 from openemss.orchestrator.scenarios.timeseries import (
     Column,
     TimeSeriesError,

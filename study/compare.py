@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from openemss.models.common.files import figure_bytes
+from openemss.models.infra.files import figure_bytes
 from openemss.orchestrator.results import atomic_write
 
 from .case import CaseResult, case_dir

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from openemss.models.common.files import figure_bytes
+from openemss.models.infra.files import figure_bytes
 from openemss.orchestrator.results import atomic_write
 
 from .table import OUTCOME_COLUMNS

@@ -25,7 +25,7 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
-from openemss.models.common import values as checked
+from openemss.models.infra import values as checked
 from openemss.orchestrator.results import atomic_write
 
 from .case import write_case_ssv

@@ -32,7 +32,7 @@ grid point, a mission and a scenario is one case (:func:`expand_cases`).
 Parameter values are typed by the FMU variable they set (Real, Integer,
 Boolean, String); a variable that does not exist or a value of the wrong kind
 is refused before any case runs. Every value of the file is typed where it is read
-(:mod:`openemss.models.common.values`: no Boolean, null, list or mapping where one value
+(:mod:`openemss.models.infra.values`: no Boolean, null, list or mapping where one value
 is, numbers finite and in range); nothing is taken twice silently: two missions or
 scenarios of one name, a file listed twice, one grid value twice, or a variable set by
 two of ``values``, a variant, the grid and ``mission_parameter`` are refused.
@@ -41,14 +41,15 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
-from collections.abc import Callable
 
 import yaml
 
-from openemss.models.common import safe_yaml, values as checked
+from openemss.models.infra import safe_yaml
+from openemss.models.infra import values as checked
 from openemss.orchestrator.errors import ConfigurationError
 from openemss.orchestrator.master import algorithm_registry
 from openemss.orchestrator.results import check_name

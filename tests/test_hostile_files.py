@@ -14,9 +14,9 @@ from pathlib import Path
 
 import pytest
 
-from openemss.models.common import safe_yaml
 from openemss.models.fcs.errors import MissionError
 from openemss.models.fcs.mission import load_mission
+from openemss.models.infra import safe_yaml
 from openemss.orchestrator.errors import EmssError, SystemStructureError
 from openemss.orchestrator.scenarios.manipulators import ScenarioError, load_scenario
 from openemss.orchestrator.ssp.read import load_system

@@ -147,7 +147,7 @@ def test_the_fmu_copy_on_a_full_disk_leaves_the_target(tmp_path: Path) -> None:
     (folder / "Gain.fmu").write_bytes(b"the old FMU")
     code = textwrap.dedent(f"""
         import errno, sys
-        from openemss.models.common.files import atomic_copy
+        from openemss.models.infra.files import atomic_copy
         try:
             atomic_copy({str(big)!r}, {str(folder / 'Gain.fmu')!r})
         except OSError as exc:

@@ -343,7 +343,7 @@ def test_only_the_error_line_and_warnings_to_the_callback(tmp_path: Path, monkey
 def test_report_plots_whatever_mplbackend_says(tmp_path: Path, backend: str) -> None:
     code = ("import sys; from openemss.orchestrator.cli.plugins import plugins, load_problems; "
             "names = [m.__name__ for m in plugins()]; "
-            "from openemss.report.plots import Figure; from openemss.models.common.files import figure_bytes; "
+            "from openemss.report.plots import Figure; from openemss.models.infra.files import figure_bytes; "
             "f = Figure(); f.add_subplot().plot([0, 1], [1, 0]); "
             "open(sys.argv[1], 'wb').write(figure_bytes(f, 'png')); print(load_problems, names)")
     png = tmp_path / "f.png"

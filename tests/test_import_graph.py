@@ -8,8 +8,8 @@ remove it), and ``importlib.import_module("openemss.x")`` with a constant name; 
 ``if TYPE_CHECKING:`` never run and make none. ``from package import name`` is an edge to the module ``name``
 when it is one, else to the package's ``__init__``.
 
-Directions (DESIGN.md): cli -> study, report -> orchestrator -> shared infrastructure; fmus -> models ->
-models/common. :data:`MAY_IMPORT` says, for each unit (a model package, or a top-level package), which other
+Directions (DESIGN.md): cli -> study, report -> orchestrator -> shared infrastructure (models/infra); fmus -> models ->
+models/common (physics) -> models/infra. :data:`MAY_IMPORT` says, for each unit (a model package, or a top-level package), which other
 units it may import; anything else is a forbidden direction. Inside the orchestrator the parts import one way
 down (:data:`PART_LEVEL`, orchestrator/README.md).
 """
@@ -27,15 +27,16 @@ ORCHESTRATOR = ROOT / "orchestrator"
 
 #: What each unit may import besides itself (``models.*``: any model package). A unit is ``models.<package>`` for
 #: the model packages and ``orchestrator`` or the top-level package's name for the rest; a model package not
-#: listed may import ``models.common`` only.
+#: listed may import ``models.common`` and ``models.infra`` only.
 MAY_IMPORT: dict[str, tuple[str, ...]] = {
     "openemss": ("orchestrator",),  # the Python API (orchestrator/toplevel), re-exported from cli/api.py
-    # models/common holds the shared infrastructure (files, YAML, jit) that the orchestrator uses too, until it
-    # gets a package of its own (issue 37.4); the orchestrator imports nothing else of the models
-    "orchestrator": ("models.common",),
+    # models/infra holds the shared infrastructure (files, YAML, values, jit) that the orchestrator uses too; the
+    # orchestrator imports nothing else of the models (no physics)
+    "orchestrator": ("models.infra",),
     "models": (),  # the package openemss.models itself (its __init__)
-    "models.common": (),
-    "models.performance": ("models.common", "models.airframe", "models.engine"),
+    "models.infra": (),
+    "models.common": ("models.infra",),
+    "models.performance": ("models.common", "models.infra", "models.airframe", "models.engine"),
     "fmus": ("models.*",),
     "report": ("orchestrator", "models.*", "fmus"),  # fmus: the engine FMU's default design (mission check)
     "study": ("orchestrator", "models.*", "report"),
@@ -156,7 +157,7 @@ def wrong_directions(g: dict[str, set[str]], may: dict[str, tuple[str, ...]]) ->
     out = []
     for m, edges in sorted(g.items()):
         a = unit(m)
-        allowed = may.get(a, ("models.common",) if a.startswith("models.") else ())
+        allowed = may.get(a, ("models.common", "models.infra") if a.startswith("models.") else ())
         for e in sorted(edges):
             b = unit(e)
             if b != a and not any(fnmatch(b, pattern) for pattern in allowed):
@@ -247,7 +248,7 @@ def test_every_package_is_in_the_graph(project: dict[str, set[str]]) -> None:
     """Every package pyproject installs is walked (its modules are nodes), and each has its line in MAY_IMPORT."""
     units = {unit(m) for m in project}
     assert {"openemss", "orchestrator", "report", "study", "fmus", "models.fcs", "models.engine", "models.airframe",
-            "models.electric", "models.common", "ssp", "examples"} <= units
+            "models.electric", "models.common", "models.infra", "ssp", "examples"} <= units
     assert {"openemss.report.summary", "openemss.study.cli", "openemss.fmus.engine",
             "openemss.orchestrator.cli.main"} <= set(project)
     assert {u for u in units if not u.startswith("models.")} - set(MAY_IMPORT) == set(), \

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import fields
 
-from ..common.signals import Signal, check_table
+from ..infra.signals import Signal, check_table
 from .adapter import AirframeState
 from .settings import PARAMETER_SETS, airframe_set
 

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..common.files import atomic_write, csv_text, figure_bytes
+from ..infra.files import atomic_write, csv_text, figure_bytes
 from .aero import aero_model
 from .calibrate import DRAG_FACTORS, LIFT_FACTORS, Calibration, fit, load_points
 from .corrections import CALIBRATION_FILE, FACTOR_BOUNDS, AeroCorrections, save_corrections

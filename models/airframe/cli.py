@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..common.files import atomic_write, csv_text, figure_bytes
+from ..infra.files import atomic_write, csv_text, figure_bytes
 from . import calibrate_cli
 from .aero import aero_model
 from .errors import AirframeError, TrimError

@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from ..common.files import atomic_write, csv_text, figure_bytes
+from ..infra.files import atomic_write, csv_text, figure_bytes
 from .aero import aero_model, geometric_model, isa
 from .errors import AirframeError, OutOfEnvelopeError
 

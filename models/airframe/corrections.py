@@ -27,8 +27,8 @@ from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
-from ..common import safe_yaml
-from ..common.files import atomic_write
+from ..infra import safe_yaml
+from ..infra.files import atomic_write
 from .errors import CalibrationError
 
 __all__ = ["AeroCorrections", "FACTOR_BOUNDS", "FACTOR_UNITS", "CALIBRATION_FILE", "load_corrections",

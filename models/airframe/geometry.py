@@ -19,8 +19,8 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
-from ..common import safe_yaml
 from ..common.atmosphere import G0_M_S2
+from ..infra import safe_yaml
 from .errors import AirframeError
 
 __all__ = ["Planform", "Geometry", "load_geometry", "DATA_FILE", "G0"]

@@ -1,7 +1,7 @@
 """The airframe's parameters, from ``data/airframe.yaml``: its start, its environment and JSBSim's rate.
 
 Each section of the file fills one frozen dataclass through the models' one parameter mechanism
-(:mod:`openemss.models.common.params`: value, unit, range, note and source of every field, errors naming
+(:mod:`openemss.models.infra.params`: value, unit, range, note and source of every field, errors naming
 ``file:line``). The airframe FMU's parameters are these entries under their field names
 (:data:`PARAMETER_SETS`), and the FMU collects the sets from them where it builds the model. A start
 position left ``null`` in the file is the departure runway's of the FMU's default mission.
@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TypeVar
 
-from ..common.params import ParamSet, parameter_set
+from ..infra.params import ParamSet, parameter_set
 from .errors import OutOfEnvelopeError
 
 __all__ = ["AirframeStart", "AirframeEnvironment", "AirframeSimulation", "PARAMETER_SETS", "airframe_set"]

@@ -25,8 +25,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .jit import jitable
-from .records import fast_init
+from ..infra.jit import jitable
+from ..infra.records import fast_init
 
 __all__ = ["G0_M_S2", "R_AIR_J_KG_K", "GAMMA_AIR", "T0_K", "P0_PA", "RHO0_KG_M3", "A0_M_S", "ALT_MIN_M",
            "ALT_MAX_M", "T_MIN_K", "T_MAX_K", "Atmosphere", "AtmosphereRangeError", "isa_T_p", "rho_a", "check", "isa",

@@ -8,7 +8,7 @@ rows (``fmus/README.md``), ``ssp/generate.py`` connects them by name.
 """
 from __future__ import annotations
 
-from ..common.signals import Signal, check_table
+from ..infra.signals import Signal, check_table
 from .params import parameter_sets
 from .system import FLAGS, INPUTS, OUTPUTS
 

@@ -1,7 +1,7 @@
 """Parameter sets of the electrical system, read from ``data/*.yaml`` (value, unit, min, max, note, source).
 
 Each section of a file fills one frozen dataclass through the models' one parameter mechanism
-(:mod:`openemss.models.common.params`): every field given once, within its stated range and of its
+(:mod:`openemss.models.infra.params`): every field given once, within its stated range and of its
 field's kind (bool, int or float), errors naming ``file:line``. :func:`parameter_sets` gives the sets of
 the system file by section; their entries are the FMU's tunable parameters under the dotted names
 ``<section>.<field>`` (``electric_signals.py``).
@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, TypeVar
 
-from ..common.params import ParamSet, parameter_set
+from ..infra.params import ParamSet, parameter_set
 from .errors import ParameterError
 
 __all__ = ["CellParams", "MachineParams", "PackParams", "BusParams", "EmsParams", "SECTIONS", "load_section",

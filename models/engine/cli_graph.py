@@ -16,7 +16,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from ..common.files import atomic_write, csv_text, figure_bytes
+from ..infra.files import atomic_write, csv_text, figure_bytes
 from .engine_file import ENGINES_DIR, EngineDef, EngineFileError, read_engine_file
 from .engine_graph import EngineGraph, GraphPoint
 from .engine_study import SWEEP_COLUMNS, check_grid, design_sweep

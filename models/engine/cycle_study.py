@@ -36,7 +36,7 @@ from pathlib import Path
 
 from scipy.optimize import brentq
 
-from ..common.files import atomic_write, csv_text, figure_bytes
+from ..infra.files import atomic_write, csv_text, figure_bytes
 from .cycle_design import DesignPoint, design
 from .design_params import TurbofanParams
 from .errors import ModelError

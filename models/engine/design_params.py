@@ -20,8 +20,8 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
-from ..common import safe_yaml, values
 from ..common.atmosphere import ALT_MAX_M, ALT_MIN_M
+from ..infra import safe_yaml, values
 from .bleed import SINKS, BleedSpec
 from .errors import ModelError, OutOfRangeError
 from .gas import HC_RATIO_JET_A, LHV_JET_A_J_KG

@@ -15,7 +15,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from ..common import values
+from ..infra import values
 from .maps import DEFAULT_EXTRAPOLATION
 
 __all__ = ["Attr", "Kind", "KINDS", "SHAFT_ATTRS", "BLEED_ATTRS", "SCHEDULE_ATTRS", "DESIGN_ATTRS", "FUEL_ATTRS", "LIMIT_ATTRS",

@@ -35,7 +35,7 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import Any
 
-from ..common import safe_yaml, values
+from ..infra import safe_yaml, values
 from .element_kinds import (
     BLEED_ATTRS,
     DESIGN_ATTRS,

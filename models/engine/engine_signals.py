@@ -1,6 +1,6 @@
 """Signals of the engine in time: inputs, outputs, flags, limits, the handling-bleed valve.
 
-:data:`SIGNALS` is the engine's signal table (``models/common/signals.py``): every variable of the
+:data:`SIGNALS` is the engine's signal table (``models/infra/signals.py``): every variable of the
 engine FMU (parameters, inputs, outputs, flags) with its unit and default, one row each; the FMU
 (``fmus/engine.py``) registers its variables from it and ``ssp/generate.py`` takes the system's
 connectors from the FMU. :data:`OUTPUTS` and :data:`FLAGS` (name, description with unit) are its
@@ -24,7 +24,7 @@ from dataclasses import dataclass, fields
 from typing import ClassVar
 
 from ..common.atmosphere import P0_PA, T0_K
-from ..common.signals import Signal, check_table
+from ..infra.signals import Signal, check_table
 from .errors import OutOfRangeError
 from .health import HEALTH_LIMIT, health_parameter_names
 from .settings import EngineNumerics, EngineStart, FromEngineFile, engine_set

@@ -20,7 +20,7 @@ from dataclasses import dataclass, replace
 from types import MappingProxyType
 from typing import Any
 
-from ..common import values
+from ..infra import values
 from .element_kinds import DESIGN_ATTRS, FUEL_ATTRS, KINDS, SHAFT_ATTRS, Attr, check_attr
 from .engine_file import EngineDef, EngineFileError
 from .engine_graph import EngineGraph

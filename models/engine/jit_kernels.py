@@ -36,7 +36,7 @@ import math
 
 import numpy as np
 
-from ..common.jit import AVAILABLE, borrowed, jit, jit_inline
+from ..infra.jit import AVAILABLE, borrowed, jit, jit_inline
 
 __all__ = ["AVAILABLE", "borrowed", "jit", "jit_inline", "T_MIN", "T_MAX"]
 

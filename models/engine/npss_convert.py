@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..common.files import atomic_write
+from ..infra.files import atomic_write
 from .engine_file import EngineFileError, read_engine_file
 from .errors import ModelError
 

@@ -1,7 +1,7 @@
 """The engine's parameters in time, from ``data/engine.json``: limits, bleed valve, numerics and start.
 
 Each section of the file fills one frozen dataclass through the models' one parameter mechanism
-(:mod:`openemss.models.common.params`: value, unit, range, note and source of every field, errors naming
+(:mod:`openemss.models.infra.params`: value, unit, range, note and source of every field, errors naming
 ``file:line``): ``limits`` :class:`.engine_signals.EngineLimits`, ``bleed_valve``
 :class:`.engine_signals.BleedValve`, ``numerics`` :class:`EngineNumerics`, ``start`` :class:`EngineStart`.
 The engine FMU's parameters are these entries (``engine_signals.PARAMETER_SETS`` names them), and the FMU
@@ -13,7 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, ClassVar, Self, TypeVar
 
-from ..common.params import ParamSet, parameter_set
+from ..infra.params import ParamSet, parameter_set
 from .errors import OutOfRangeError
 
 __all__ = ["ENGINE_FILE", "EngineNumerics", "EngineStart", "FromEngineFile", "engine_set", "METHODS"]

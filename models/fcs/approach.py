@@ -43,7 +43,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..common.records import fast_init
+from ..infra.records import fast_init
 from .clip import clip
 from .geo import LatLon, from_local_ne, local_ne_m, wrap_pi
 from .guidance import L1Guidance

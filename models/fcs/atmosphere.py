@@ -21,7 +21,7 @@ import math
 
 from ..common import atmosphere as _atm
 from ..common.atmosphere import T_MAX_K, T_MIN_K, Atmosphere, isa_T_p, rho_a
-from ..common.jit import jitable
+from ..infra.jit import jitable
 from .errors import FcsError
 
 __all__ = ["Atmosphere", "isa", "isa_values", "tas_from_mach", "mach_from_tas", "tas_from_cas", "cas_from_tas",

@@ -8,7 +8,7 @@ second is smaller.
 """
 from __future__ import annotations
 
-from ..common.jit import jitable
+from ..infra.jit import jitable
 
 __all__ = ["clip"]
 

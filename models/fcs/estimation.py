@@ -48,7 +48,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..common.jit import jitable
+from ..infra.jit import jitable
 from .tunable import Tunable, load_params
 
 __all__ = ["EstimationParams", "AirspeedRateEstimator", "air_path_direction", "estimator_law"]

@@ -17,9 +17,9 @@ from typing import Any
 
 import numpy as np
 
-from ..common.jit import entry_point
-from ..common.params import ParamSet
-from ..common.records import fast_init
+from ..infra.jit import entry_point
+from ..infra.params import ParamSet
+from ..infra.records import fast_init
 from .approach import APPROACH_PHASES, ApproachParams
 from .atmosphere import G0_M_S2, isa
 from .clip import clip
@@ -310,7 +310,7 @@ class FlightControlSystem:
 
     def _first_inner_step(self, *args: object) -> tuple:
         """:func:`.inner_loops.inner_step` through its entry point for these arguments' types, kept for the next
-        steps (:func:`..common.jit.entry_point`)."""
+        steps (:func:`..infra.jit.entry_point`)."""
         self._inner = entry_point(inner_step, args)
         return self._inner(*args)
 

@@ -12,7 +12,7 @@ so that the runway's data are written once, in ``missions/munich.yaml``.
 """
 from __future__ import annotations
 
-from ..common.signals import Signal, check_table
+from ..infra.signals import Signal, check_table
 
 __all__ = ["SIGNALS", "GAIN_DEFAULTS"]
 

@@ -54,8 +54,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..common.jit import jitable
-from ..common.records import fast_init
+from ..infra.jit import jitable
+from ..infra.records import fast_init
 from .errors import ParameterError
 from .tunable import Tunable, field_index, load_params
 

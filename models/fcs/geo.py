@@ -29,8 +29,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..common.jit import jitable
-from ..common.records import fast_init
+from ..infra.jit import jitable
+from ..infra.records import fast_init
 from .errors import GeometryError
 
 __all__ = [

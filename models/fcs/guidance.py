@@ -32,7 +32,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..common.records import fast_init
+from ..infra.records import fast_init
 from .atmosphere import G0_M_S2
 from .clip import clip
 from .errors import FcsError

@@ -8,7 +8,7 @@ their targets. It calls the laws' one implementation (:func:`.estimation.estimat
 controllers' own ``step`` methods call as plain Python; numba compiles them into this one function
 (``jitable``), so that a step is one compiled call on plain floats and two buffers, the controllers'
 states and parameters (:data:`STATE_BLOCKS`, :data:`PARAM_BLOCKS`), which it borrows
-(:func:`..common.jit.borrowed`).
+(:func:`..infra.jit.borrowed`).
 
 Why compiled: in the whole mission the FCS's Python step cost two and a half times what it costs alone,
 the engine and the airframe evicting its code and objects from the caches between two steps; the
@@ -23,7 +23,7 @@ import math
 
 import numpy as np
 
-from ..common.jit import borrowed, jit
+from ..infra.jit import borrowed, jit
 from .estimation import EstimationParams, estimator_law
 from .fuel_control import FuelControlParams, fuel_law
 from .lateral import LateralParams, lateral_law

@@ -25,8 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..common.jit import jitable
-from ..common.records import fast_init
+from ..infra.jit import jitable
+from ..infra.records import fast_init
 from .atmosphere import G0_M_S2
 from .clip import clip
 from .geo import wrap_pi

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 
-from ..common import safe_yaml, values
+from ..infra import safe_yaml, values
 from .errors import MissionError
 
 __all__ = ["Lines", "Context", "check_notes"]

@@ -34,7 +34,7 @@ are declared by its class in :mod:`.sections` (:data:`SECTION_FIELDS` is their v
 Validation collects nothing silently: the first problem raises a
 :class:`MissionError` whose message names the file and line (from the YAML
 node marks), the section (index and type) and the field, and says what is
-allowed. Every value is typed where it is read (:mod:`openemss.models.common.values`:
+allowed. Every value is typed where it is read (:mod:`openemss.models.infra.values`:
 numbers finite and in range, names as text, no Boolean, null, list or mapping where
 a single value is), and the route is checked as a whole: two consecutive fixes of a
 leg that coincide or are antipodal (no great-circle course between them) are refused
@@ -55,13 +55,13 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ..common import safe_yaml, values
+from ..infra import safe_yaml, values
 from .errors import MissionError
 from .geo import LatLon, leg_problem
 from .marks import Context as _Ctx
+from .marks import Lines as _Lines
 from .marks import check_notes
 from .sections import REGISTRY, Field
-from .marks import Lines as _Lines
 from .tecs import SpeedCommand, SpeedKind
 from .weather import WEATHER_KEYS, Weather, parse_weather
 

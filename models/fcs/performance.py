@@ -40,7 +40,7 @@ from importlib import resources
 
 import numpy as np
 
-from ..common.jit import jitable
+from ..infra.jit import jitable
 from .atmosphere import G0_M_S2, isa, mach_from_tas
 from .clip import clip
 from .errors import FcsError

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..common.jit import jitable
+from ..infra.jit import jitable
 from .atmosphere import G0_M_S2
 from .tunable import Tunable, field_index, load_params
 

@@ -25,13 +25,13 @@ QGroundControl Developer Guide, "Plan File Format"; MAVLink common message set.
 from __future__ import annotations
 
 import math
-from importlib import resources
 from collections.abc import Callable
+from importlib import resources
 from typing import Any
 
 import yaml
 
-from ..common import safe_yaml, values
+from ..infra import safe_yaml, values
 from .errors import MissionError
 from .geo import LatLon, initial_bearing_rad, leg_problem
 

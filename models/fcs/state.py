@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..common.records import fast_init
+from ..infra.records import fast_init
 from .geo import LatLon
 from .tecs import SpeedCommand
 

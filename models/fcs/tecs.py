@@ -81,8 +81,8 @@ from enum import StrEnum
 
 import numpy as np
 
-from ..common.jit import jitable
-from ..common.records import fast_init
+from ..infra.jit import jitable
+from ..infra.records import fast_init
 from .atmosphere import (
     G0_M_S2,
     Atmosphere,

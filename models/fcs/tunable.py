@@ -1,7 +1,7 @@
 """The tunable parameters of every controller, on the models' one parameter mechanism.
 
 Each controller keeps its gains, limits and time constants in a frozen dataclass (its *parameter set*),
-read from a YAML file in ``data/`` by :func:`load_params` through :mod:`openemss.models.common.params`
+read from a YAML file in ``data/`` by :func:`load_params` through :mod:`openemss.models.infra.params`
 (each entry ``name: {value, unit, min, max, note}``, every file names its sources; ranges checked on load
 and on every ``set_parameter``, errors naming ``file:line``). The :class:`Tunable` mixin gives every
 controller the same script interface:
@@ -20,7 +20,7 @@ from typing import Any, ClassVar, Generic, TypeVar
 
 import numpy as np
 
-from ..common.params import ParamSet, parameter_set
+from ..infra.params import ParamSet, parameter_set
 from .errors import ParameterError
 
 __all__ = ["Tunable", "load_params", "param_spec", "field_index"]
@@ -32,7 +32,7 @@ _SPECS: dict[type, ParamSet[Any]] = {}
 
 
 def param_spec(cls: type[P]) -> ParamSet[P]:
-    """The :class:`~openemss.models.common.params.ParamSet` of the parameter-set class ``cls`` (value, unit,
+    """The :class:`~openemss.models.infra.params.ParamSet` of the parameter-set class ``cls`` (value, unit,
     range, note and source of each field), read from its file by the class's ``from_file``."""
     if cls not in _SPECS:
         cls.from_file()  # type: ignore[attr-defined]

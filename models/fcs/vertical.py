@@ -31,7 +31,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..common.records import fast_init
+from ..infra.records import fast_init
 from .atmosphere import G0_M_S2
 from .geo import LatLon, distance_m, final_bearing_rad, initial_bearing_rad, wrap_pi
 from .guidance import FLY_BY_MAX_TURN_RAD, GuidanceParams

@@ -45,7 +45,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ..common import safe_yaml, values
+from ..infra import safe_yaml, values
 from .errors import MissionError
 from .marks import Context, Lines, check_notes
 

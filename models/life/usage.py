@@ -47,7 +47,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..common import safe_yaml
+from ..infra import safe_yaml
 from .errors import LifeDataError
 
 __all__ = ["StrainLife", "LarsonMiller", "DiscSpec", "BladeSpec", "LifeSpec", "load_life_spec", "rainflow_cycles",

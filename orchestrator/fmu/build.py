@@ -40,7 +40,7 @@ from pathlib import Path
 from fmpy.validation import validate_fmu
 from lxml import etree
 
-from openemss.models.common.files import atomic_copy
+from openemss.models.infra.files import atomic_copy
 
 from .. import interrupt
 from ..errors import BuildError, EmssError

@@ -77,7 +77,7 @@ from fmpy.model_description import (
     write_model_description,
 )
 
-from openemss.models.common.files import write_whole
+from openemss.models.infra.files import write_whole
 
 from ..errors import ConfigurationError
 from ..master.algorithm import gauss_seidel_order

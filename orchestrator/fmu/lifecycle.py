@@ -28,7 +28,7 @@ has two faults this code works around from the Python side, where a build can re
   module and its vendored package: our master's instances of one FMU file share one extraction, of two
   copies of one build one module, as before). Otherwise the modules of this FMU's vendored package
   imported from another folder are dropped from ``sys.modules`` (with the numba cache locators they
-  installed: ``models/common/jit.py`` keeps one per process), the copy in the instance's resources is
+  installed: ``models/infra/jit.py`` keeps one per process), the copy in the instance's resources is
   imported and its slave class handed to pythonfmu (which takes the class by name from the first module).
 
 :func:`lifecycle_head` goes after the requirements check, before the slave's imports;

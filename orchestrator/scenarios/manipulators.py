@@ -36,7 +36,7 @@ from typing import TYPE_CHECKING, Any
 
 import yaml
 
-from openemss.models.common import safe_yaml
+from openemss.models.infra import safe_yaml
 
 from ..errors import ScenarioError
 from ..master.condition import OPERATORS, Condition, parse_condition

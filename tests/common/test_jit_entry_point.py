@@ -1,11 +1,11 @@
-"""`common.jit.entry_point`: the compiled entry point takes its types from the kernel's annotations, so that the
+"""`infra.jit.entry_point`: the compiled entry point takes its types from the kernel's annotations, so that the
 first call's values (an integer given for a float) do not fix the types of every later call."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from openemss.models.common.jit import AVAILABLE, entry_point, jit
+from openemss.models.infra.jit import AVAILABLE, entry_point, jit
 
 
 @jit

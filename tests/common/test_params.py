@@ -1,4 +1,4 @@
-"""The models' one parameter mechanism (models/common/params.py): parameter files read against frozen
+"""The models' one parameter mechanism (models/infra/params.py): parameter files read against frozen
 dataclasses with file:line errors, and the FMU parameters generated from them with their ranges.
 
 The files are compared with themselves read by plain PyYAML (an independent reader), the FMUs' ranges
@@ -17,11 +17,11 @@ import pytest
 import yaml
 
 from openemss.models.airframe.settings import PARAMETER_SETS as AIRFRAME_SETS
-from openemss.models.common.params import ParameterError, parameter_set_from_text
 from openemss.models.electric.params import parameter_sets
 from openemss.models.engine.engine_signals import PARAMETER_SETS
 from openemss.models.engine.errors import OutOfRangeError
 from openemss.models.engine.settings import engine_set
+from openemss.models.infra.params import ParameterError, parameter_set_from_text
 
 ROOT = Path(__file__).resolve().parents[2]
 

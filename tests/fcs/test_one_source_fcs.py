@@ -25,7 +25,7 @@ import hashlib, json, math, struct, sys
 sys.path.insert(0, {here!r})
 from aircraft3dof import Aircraft3Dof
 from test_mission_run import DT, HOLD, N_SUB, ROOT, performance
-from openemss.models.common import jit
+from openemss.models.infra import jit
 from openemss.models.fcs import inner_loops
 from openemss.models.fcs.atmosphere import isa
 from openemss.models.fcs.fcs import FlightControlSystem
@@ -73,7 +73,7 @@ def _fly(no_jit: bool) -> dict:
 def test_inner_loops_compiled_equal_plain_python() -> None:
     """The same commands at every step of two closed-loop flights, compiled and not; the flights reach what they
     are for (the Munich climb past 900 s, the hold flown with the airbrake out)."""
-    from openemss.models.common import jit
+    from openemss.models.infra import jit
 
     if not jit.AVAILABLE:
         pytest.skip("numba not importable")

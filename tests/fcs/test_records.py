@@ -1,4 +1,4 @@
-"""The fast frozen records (models/common/records.py) and the FCS FMU's batched get/set fast paths.
+"""The fast frozen records (models/infra/records.py) and the FCS FMU's batched get/set fast paths.
 
 References: a plain frozen dataclass with the same fields (the construction ``fast_init`` replaces), and
 pythonfmu's own ``Fmi2Slave.get_*``/``set_*`` (one getter or setter per variable), which the FCS slave's
@@ -17,8 +17,8 @@ import pytest
 from pythonfmu import Fmi2Slave
 
 from openemss.fmus.fcs import INPUTS, OUTPUTS, Fcs
-from openemss.models.common.records import fast_init
 from openemss.models.fcs.state import Targets
+from openemss.models.infra.records import fast_init
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -20,13 +20,14 @@ def test_no_absolute_project_imports_and_no_fmi_packages() -> None:
 
 
 def test_vendored_copy_flies_a_step(tmp_path: Path) -> None:
-    """As build-fmus lays it out: the FCS and the shared models/common beside it, under a package of
+    """As build-fmus lays it out: the FCS and the shared models/common and models/infra beside it, under a package of
     another name."""
     dest = tmp_path / "vendored_fcs_pkg"
     dest.mkdir()
     (dest / "__init__.py").write_text("")
     shutil.copytree(FCS, dest / "fcs", ignore=shutil.ignore_patterns("__pycache__"))
-    shutil.copytree(ROOT / "models" / "common", dest / "common", ignore=shutil.ignore_patterns("__pycache__"))
+    for shared in ("common", "infra"):
+        shutil.copytree(ROOT / "models" / shared, dest / shared, ignore=shutil.ignore_patterns("__pycache__"))
     sys.path.insert(0, str(tmp_path))
     try:
         fcs_mod = importlib.import_module("vendored_fcs_pkg.fcs.fcs")

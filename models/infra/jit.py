@@ -8,7 +8,7 @@ unchanged). The engine's gas path (``models/engine``) and the flight control's i
 (``models/fcs``) use it.
 
 Compiled code is cached on disk under ``$OPENEMSS_JIT_CACHE`` (else the user's cache folder), in
-one folder per kernel package and content of its modules and of ``models/common`` (an FMU
+one folder per kernel package and content of its modules, of ``models/infra`` and of ``models/common`` (an FMU
 unpacks its packages to a new temporary folder on every import, where numba's own cache, kept
 beside the source and keyed by its path, would never be found again).
 
@@ -48,10 +48,14 @@ def _cache_dir(folder: str, package: str) -> str:
         os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "openemss", "numba")
     digest = hashlib.sha256(package.encode())            # compiled code refers to its modules by name
     # a kernel embeds the kernels it calls and the constants it reads (IntEnum indices of other modules, the
-    # common atmosphere): hash every module of the package and of models/common, so that no change to what a
-    # compiled kernel embeds can leave a stale one in the cache (any change recompiles, once)
-    common = os.path.dirname(os.path.abspath(__file__))
-    for where in dict.fromkeys((folder, common)):
+    # common atmosphere): hash every module of the package, of models/infra (this one) and of models/common (when
+    # it is there: an FMU carries it only if its models import it), so that no change to what a compiled kernel
+    # embeds can leave a stale one in the cache (any change recompiles, once)
+    infra = os.path.dirname(os.path.abspath(__file__))
+    common = os.path.join(os.path.dirname(infra), "common")
+    for where in dict.fromkeys((folder, infra, common)):
+        if not os.path.isdir(where):
+            continue
         for name in sorted(os.listdir(where)):
             if name.endswith(".py"):
                 with open(os.path.join(where, name), "rb") as fh:

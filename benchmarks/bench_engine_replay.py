@@ -60,7 +60,7 @@ def record_run(work: Path) -> Path:
 def engine_inputs(run: Path, component: str) -> tuple[Any, list[Any], np.ndarray, list[Any], float]:
     """(the component's model, its connected input variables, their values per step (n, k), its parameter
     assignments, the run's fuel burned [kg]) of a recorded run."""
-    from openemss.orchestrator.scenarios.timeseries import read_timeseries
+    from openemss.orchestrator.recording.timeseries import read_timeseries
     from openemss.orchestrator.ssp.read import load_system
     from openemss.orchestrator.ssp.system import bind_system
 

@@ -75,7 +75,7 @@ def load_run(run: Path) -> tuple[list[float], list[list[float]], list[bool], dic
     """(times, Real inputs per step in the order of fmus.fcs.INPUTS, on_ground per step, the FCS's parameters,
     run.json) of a recorded run."""
     from openemss.fmus.fcs import INPUTS
-    from openemss.orchestrator.scenarios.timeseries import TimeSeriesError, read_timeseries
+    from openemss.orchestrator.recording.timeseries import TimeSeriesError, read_timeseries
 
     if not (run / "run.json").is_file():
         raise SystemExit(f"bench_fcs_replay: --run {run}: no run.json; give the folder of a finished emss run")

@@ -324,7 +324,7 @@ def bare_loop(fmu: Path, n: int, steps: int, repeat: int, no_argtypes: bool = Fa
 def ours(folder: Path, n: int, algorithm: str, steps: int, repeat: int, record: bool = False) -> Measured:
     """Our Execution; ``initialize()`` is outside the clock; ``run()`` timed for two lengths."""
     from openemss.orchestrator.master.execution import Execution
-    from openemss.orchestrator.scenarios.observers import MemoryRecorder
+    from openemss.orchestrator.recording.observers import MemoryRecorder
     from openemss.orchestrator.ssp.read import load_system
     from openemss.orchestrator.ssp.system import bind_system
 

@@ -43,9 +43,9 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
 
     from openemss.orchestrator.fmu.build import ensure_built
-    from openemss.orchestrator.master.execution import Execution
     from openemss.orchestrator.fmu.export import export_container
-    from openemss.orchestrator.scenarios.observers import MemoryRecorder
+    from openemss.orchestrator.master.execution import Execution
+    from openemss.orchestrator.recording.observers import MemoryRecorder
     from openemss.orchestrator.ssp.read import load_system
     from openemss.orchestrator.ssp.system import bind_system
 

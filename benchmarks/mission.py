@@ -59,12 +59,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--repeat", type=int, default=3, help="replays of JSBSim alone, the best kept (default 3)")
     args = ap.parse_args(argv)
 
-    from openemss.orchestrator.fmu.build import ensure_built
     from openemss.orchestrator.errors import EmssError
+    from openemss.orchestrator.fmu.build import ensure_built
     from openemss.orchestrator.master.execution import Execution
+    from openemss.orchestrator.recording.timeseries import default_record, recorder
     from openemss.orchestrator.ssp.read import load_system
     from openemss.orchestrator.ssp.system import bind_system
-    from openemss.orchestrator.scenarios.timeseries import default_record, recorder
 
     ensure_built(ROOT / "fmus", ROOT / "ssp" / "resources")
     work = Path(tempfile.mkdtemp(prefix="emss-bench-mission-"))

@@ -36,9 +36,9 @@ def main(argv: list[str] | None = None) -> int:
 
     from openemss.orchestrator.fmu.build import ensure_built
     from openemss.orchestrator.master.execution import Execution
+    from openemss.orchestrator.recording.timeseries import default_record, recorder
     from openemss.orchestrator.ssp.read import load_system
     from openemss.orchestrator.ssp.system import bind_system
-    from openemss.orchestrator.scenarios.timeseries import default_record, recorder
 
     ensure_built(ROOT / "fmus", ROOT / "ssp" / "resources")
     bound = bind_system(load_system(ROOT / "ssp"))

@@ -22,7 +22,7 @@ import numpy as np
 from openemss.models.fcs.errors import FcsError
 from openemss.models.fcs.mission import Mission, parse_mission
 from openemss.models.infra import safe_yaml
-from openemss.orchestrator.scenarios.timeseries import (
+from openemss.orchestrator.recording.timeseries import (
     Column,
     TimeSeriesError,
     find_timeseries,

@@ -34,7 +34,7 @@ LIFE_KEYS: tuple[str, ...] = ("lcf_limiting_disc", "lcf_equivalent_cycles", "lcf
 def read_series(path: Path, columns: list[str]) -> dict[str, np.ndarray]:
     """The named columns (and ``time_s``) of a case's time series (a results folder or a file, any format
     emss run writes) as float arrays (missing: absent; unreadable: empty)."""
-    from openemss.orchestrator.scenarios.timeseries import TimeSeriesError, read_timeseries
+    from openemss.orchestrator.recording.timeseries import TimeSeriesError, read_timeseries
 
     try:
         data = read_timeseries(path).floats()

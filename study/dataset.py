@@ -20,8 +20,7 @@ import shutil
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from openemss.orchestrator.results import check_name
-from openemss.orchestrator.scenarios.timeseries import (
+from openemss.orchestrator.recording.timeseries import (
     FORMATS,
     PART_GLOB,
     TimeSeriesError,
@@ -29,6 +28,7 @@ from openemss.orchestrator.scenarios.timeseries import (
     find_timeseries,
     read_timeseries,
 )
+from openemss.orchestrator.results import check_name
 
 if TYPE_CHECKING:
     import pandas

@@ -156,14 +156,14 @@ collect_ignore = [] if _os.environ.get("EMSS_IN_PROCESS") else list(ISOLATED)
 
 def table(folder: Path) -> dict[str, object]:
     """The time series of a results folder (any format emss run writes), every column as float64."""
-    from openemss.orchestrator.scenarios.timeseries import read_timeseries
+    from openemss.orchestrator.recording.timeseries import read_timeseries
 
     return read_timeseries(folder).floats()
 
 
 def columns(folder: Path) -> list[str]:
     """The column names of a results folder's time series, in file order."""
-    from openemss.orchestrator.scenarios.timeseries import read_timeseries
+    from openemss.orchestrator.recording.timeseries import read_timeseries
 
     return read_timeseries(folder).names
 

@@ -17,11 +17,11 @@ from fmpy import read_model_description
 from fmpy.validation import validate_fmu
 from scipy.linalg import expm
 
-from openemss.orchestrator.fmu.build import ensure_built
 from openemss.orchestrator.errors import ConfigurationError
-from openemss.orchestrator.master.execution import Execution
+from openemss.orchestrator.fmu.build import ensure_built
 from openemss.orchestrator.fmu.export import check_exportable, export_container
-from openemss.orchestrator.scenarios.observers import MemoryRecorder
+from openemss.orchestrator.master.execution import Execution
+from openemss.orchestrator.recording.observers import MemoryRecorder
 from openemss.orchestrator.ssp.read import load_system
 from openemss.orchestrator.ssp.system import bind_system
 from thirdparty import run_isolated

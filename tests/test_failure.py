@@ -68,7 +68,7 @@ def test_nan_outputs_settle_in_initialization(tmp_path: Path, fmu_dir: Path) -> 
     write_system(tmp_path, fmu_dir, [Comp("a", "NanSource.fmu", nan), Comp("b", "NanSource.fmu", nan)],
                  [("a.target", "b.u"), ("b.echo", "a.u")])
     ex = Execution(bind_system(load_system(tmp_path)), rate_hz=10.0, record=["b.u"])
-    from openemss.orchestrator.scenarios.observers import MemoryRecorder
+    from openemss.orchestrator.recording.observers import MemoryRecorder
 
     rec = MemoryRecorder()
     ex.add_observer(rec)

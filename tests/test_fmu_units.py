@@ -63,10 +63,10 @@ def test_ssp_unit_conversion_uses_the_fmus_units(project_fmus: dict[str, Path], 
     input of another dimension (rpm into K) is refused naming both units."""
     from openemss.orchestrator.errors import EmssError
     from openemss.orchestrator.master.execution import Execution
-    from openemss.orchestrator.scenarios.observers import MemoryRecorder
+    from openemss.orchestrator.recording.observers import MemoryRecorder
     from openemss.orchestrator.ssp.read import load_system
-    from openemss.orchestrator.ssp.write import SystemBuilder
     from openemss.orchestrator.ssp.system import bind_system
+    from openemss.orchestrator.ssp.write import SystemBuilder
 
     res = tmp_path / "resources"
     res.mkdir()

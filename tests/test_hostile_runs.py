@@ -22,8 +22,8 @@ import numpy as np
 import pytest
 
 from openemss.orchestrator.cli.main import main
+from openemss.orchestrator.recording.timeseries import FORMATS, read_timeseries
 from openemss.orchestrator.results import ResultsFolder, atomic_write
-from openemss.orchestrator.scenarios.timeseries import FORMATS, read_timeseries
 from systems import write_gain_pair
 
 FSIZE_LIMIT = 1_000_000  # bytes per file: above the test FMU's largest file (0.35 MB), below the run's CSV

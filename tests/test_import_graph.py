@@ -47,8 +47,8 @@ MAY_IMPORT: dict[str, tuple[str, ...]] = {
 
 #: The level of every part of the orchestrator, lowest first (orchestrator/README.md describes them). A part is
 #: a sub-package; "" is the package root, the shared modules (SHARED). A module imports modules of its own part
-#: or of lower parts only; fmu/ and scenarios/ are side by side.
-PART_LEVEL = {"": 0, "ssp": 1, "master": 2, "fmu": 3, "scenarios": 3, "cli": 4}
+#: or of lower parts only; fmu/, scenarios/ (the run side) and recording/ (the results side) are side by side.
+PART_LEVEL = {"": 0, "ssp": 1, "master": 2, "fmu": 3, "scenarios": 3, "recording": 3, "cli": 4}
 SHARED = {"__init__", "errors", "exit_codes", "results", "interrupt"}
 
 
@@ -230,12 +230,12 @@ def test_the_graph_sees_absolute_relative_lazy_and_dynamic_imports(tmp_path: Pat
 
 def test_the_part_check_finds_upward_and_sideways_imports() -> None:
     g = {"openemss.orchestrator.master.exchange": {"openemss.orchestrator.errors", "openemss.orchestrator.cli.main"},
-         "openemss.orchestrator.scenarios.observers": {"openemss.orchestrator.master.exchange",
+         "openemss.orchestrator.recording.observers": {"openemss.orchestrator.master.exchange",
                                                       "openemss.orchestrator.fmu.build"},
          "openemss.orchestrator.fmu.build": {"openemss.orchestrator.master.exchange"}}
     assert wrong_way_parts(g, PART_LEVEL) == [
         "openemss.orchestrator.master.exchange (master) imports openemss.orchestrator.cli.main (cli)",
-        "openemss.orchestrator.scenarios.observers (scenarios) imports openemss.orchestrator.fmu.build (fmu)"]
+        "openemss.orchestrator.recording.observers (recording) imports openemss.orchestrator.fmu.build (fmu)"]
 
 
 # -- the project ------------------------------------------------------------------------------------

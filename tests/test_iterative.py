@@ -26,9 +26,9 @@ from openemss.orchestrator.errors import ConfigurationError, CouplingError
 from openemss.orchestrator.master import algorithm_registry
 from openemss.orchestrator.master.execution import Execution
 from openemss.orchestrator.master.iterative import IterativeGaussSeidel
+from openemss.orchestrator.recording.observers import MemoryRecorder
+from openemss.orchestrator.recording.timeseries import read_timeseries
 from openemss.orchestrator.scenarios.manipulators import ScenarioManipulator, load_scenario
-from openemss.orchestrator.scenarios.observers import MemoryRecorder
-from openemss.orchestrator.scenarios.timeseries import read_timeseries
 from openemss.orchestrator.ssp.read import load_system
 from openemss.orchestrator.ssp.system import bind_system
 from systems import Comp, write_system

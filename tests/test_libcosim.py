@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from openemss.orchestrator.master.execution import Execution
-from openemss.orchestrator.scenarios.observers import MemoryRecorder
+from openemss.orchestrator.recording.observers import MemoryRecorder
 from openemss.orchestrator.ssp.read import load_system
 from openemss.orchestrator.ssp.system import bind_system
 from thirdparty import require_libcosim, run_isolated

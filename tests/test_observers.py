@@ -5,8 +5,8 @@ import io
 from pathlib import Path
 
 from openemss.orchestrator.master.execution import Execution
-from openemss.orchestrator.scenarios.observers import CsvRecorder, MemoryRecorder, Progress
-from openemss.orchestrator.scenarios.timeseries import ParquetRecorder, read_timeseries
+from openemss.orchestrator.recording.observers import CsvRecorder, MemoryRecorder, Progress
+from openemss.orchestrator.recording.timeseries import ParquetRecorder, read_timeseries
 from openemss.orchestrator.ssp.read import load_system
 from openemss.orchestrator.ssp.system import bind_system
 

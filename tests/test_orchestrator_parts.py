@@ -14,8 +14,8 @@ from openemss.orchestrator.master import algorithm_registry
 from openemss.orchestrator.master.algorithm import Algorithm, Coupling, step_order
 from openemss.orchestrator.master.exchange import Exchange
 from openemss.orchestrator.master.execution import Execution
+from openemss.orchestrator.recording.observers import MemoryRecorder
 from openemss.orchestrator.scenarios.manipulators import ScenarioManipulator, load_scenario
-from openemss.orchestrator.scenarios.observers import MemoryRecorder
 from openemss.orchestrator.ssp import read as ssp
 from openemss.orchestrator.ssp import system as system_module
 from openemss.orchestrator.ssp.read import load_system

@@ -21,7 +21,7 @@ import pytest
 from scipy.linalg import expm
 
 from openemss.orchestrator.master.execution import Execution
-from openemss.orchestrator.scenarios.observers import MemoryRecorder
+from openemss.orchestrator.recording.observers import MemoryRecorder
 from openemss.orchestrator.ssp.read import load_system
 from openemss.orchestrator.ssp.system import bind_system
 from systems import write_ssv

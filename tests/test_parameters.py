@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from openemss.orchestrator.master.execution import Execution
-from openemss.orchestrator.scenarios.observers import MemoryRecorder
+from openemss.orchestrator.recording.observers import MemoryRecorder
 from openemss.orchestrator.ssp.read import load_system
 from openemss.orchestrator.ssp.system import bind_system
 from systems import Comp, write_ssv, write_system

@@ -1,4 +1,4 @@
-"""Time series formats are one registry (orchestrator/scenarios/timeseries.py: FORMATS, register_format) that
+"""Time series formats are one registry (orchestrator/recording/timeseries.py: FORMATS, register_format) that
 ``emss run --format``, its help, the results folder's checks and the readers all take them from (issue 37.3).
 
 A format registered by a test (tab-separated text under the name ``tsv``, written by a recorder of its own) is
@@ -18,8 +18,7 @@ import numpy as np
 import pytest
 
 from openemss.orchestrator.cli.main import build_parser, main
-from openemss.orchestrator.results import atomic_write
-from openemss.orchestrator.scenarios.timeseries import (
+from openemss.orchestrator.recording.timeseries import (
     FORMATS,
     Column,
     ParquetRecorder,
@@ -29,6 +28,7 @@ from openemss.orchestrator.scenarios.timeseries import (
     read_timeseries,
     register_format,
 )
+from openemss.orchestrator.results import atomic_write
 
 
 class TsvRecorder(ParquetRecorder):

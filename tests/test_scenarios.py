@@ -12,8 +12,8 @@ from conftest import table
 from openemss.orchestrator.cli.main import main
 from openemss.orchestrator.errors import ConfigurationError
 from openemss.orchestrator.master.execution import Execution
+from openemss.orchestrator.recording.observers import MemoryRecorder, RealTimePacer
 from openemss.orchestrator.scenarios.manipulators import ScenarioError, ScenarioManipulator, load_scenario
-from openemss.orchestrator.scenarios.observers import MemoryRecorder, RealTimePacer
 from openemss.orchestrator.ssp.read import load_system
 from openemss.orchestrator.ssp.system import bind_system
 from systems import GAIN_CONNECTORS, Comp, write_system

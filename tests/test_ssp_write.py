@@ -9,10 +9,10 @@ import pytest
 from lxml import etree
 
 from openemss.orchestrator.master.execution import Execution
-from openemss.orchestrator.scenarios.observers import MemoryRecorder
+from openemss.orchestrator.recording.observers import MemoryRecorder
 from openemss.orchestrator.ssp.read import load_system
-from openemss.orchestrator.ssp.write import MappingEntry, SystemBuilder, connectors_from_fmu
 from openemss.orchestrator.ssp.system import bind_system
+from openemss.orchestrator.ssp.write import MappingEntry, SystemBuilder, connectors_from_fmu
 from thirdparty import require_libcosim, run_isolated
 
 

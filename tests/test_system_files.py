@@ -69,7 +69,7 @@ LIBCOSIM_VARS = ["airframe.alt_m", "airframe.tas_m_s", "airframe.lat_deg", "airf
 
 def _run_ours(system: Path, stop_s: float, record: list[str], master: type | None = None) -> dict[str, np.ndarray]:
     from openemss.orchestrator.master.execution import Execution
-    from openemss.orchestrator.scenarios.observers import MemoryRecorder
+    from openemss.orchestrator.recording.observers import MemoryRecorder
 
     ex = (master or Execution)(bind_system(load_system(system)), algorithm="jacobi", record=record)
     assert ex.rate_hz == 20.0  # from the SSD

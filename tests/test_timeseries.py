@@ -22,16 +22,16 @@ import pytest
 
 from openemss.orchestrator.cli.main import main
 from openemss.orchestrator.master.execution import Execution
-from openemss.orchestrator.scenarios.observers import MemoryRecorder
-from openemss.orchestrator.ssp.read import load_system
-from openemss.orchestrator.ssp.system import bind_system
-from openemss.orchestrator.scenarios.timeseries import (
+from openemss.orchestrator.recording.observers import MemoryRecorder
+from openemss.orchestrator.recording.timeseries import (
     ParquetRecorder,
     default_record,
     read_timeseries,
     recorder,
     unit_from_description,
 )
+from openemss.orchestrator.ssp.read import load_system
+from openemss.orchestrator.ssp.system import bind_system
 
 
 def _descriptions(fmu: Path) -> dict[str, tuple[str, str]]:

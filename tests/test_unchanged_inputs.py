@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 from openemss.orchestrator.master.execution import Execution
+from openemss.orchestrator.recording.observers import MemoryRecorder
 from openemss.orchestrator.scenarios.manipulators import ScenarioManipulator, load_scenario
-from openemss.orchestrator.scenarios.observers import MemoryRecorder
 from openemss.orchestrator.ssp.read import load_system
 from openemss.orchestrator.ssp.system import bind_system
 from systems import Comp, write_system

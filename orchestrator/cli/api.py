@@ -31,10 +31,8 @@ from ..errors import ConfigurationError, EmssError, Problem, SettingError, Syste
 from ..exit_codes import ExitCode
 from ..fmu.build import PACKAGE_ROOT, ensure_built
 from ..master.execution import Execution
-from ..results import ResultsError, ResultsFolder, RunInterrupted, atomic_write, check_name, stop_on_signals
-from ..scenarios.manipulators import ScenarioManipulator, load_scenario
-from ..scenarios.observers import Progress, RealTimePacer, RunRecord
-from ..scenarios.timeseries import (
+from ..recording.observers import Progress, RealTimePacer, RunRecord
+from ..recording.timeseries import (
     DEFAULT_FORMAT,
     FORMATS,
     TimeSeries,
@@ -43,6 +41,8 @@ from ..scenarios.timeseries import (
     recorder,
     timeseries_names,
 )
+from ..results import ResultsError, ResultsFolder, RunInterrupted, atomic_write, check_name, stop_on_signals
+from ..scenarios.manipulators import ScenarioManipulator, load_scenario
 from ..ssp.model import ParameterValue, SystemDef
 from ..ssp.read import load_system
 from ..ssp.system import BoundSystem, VariableInfo, bind_system

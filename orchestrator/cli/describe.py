@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..scenarios.timeseries import unit_from_description
+from ..recording.timeseries import unit_from_description
 from ..ssp.system import BoundSystem
 
 

@@ -20,8 +20,8 @@ from ..exit_codes import ExitCode, help_text
 from ..master import algorithm_registry
 from ..master.algorithm import step_order
 from ..master.execution import DEFAULT_RATE_HZ, MAX_RATE_HZ, MIN_RATE_HZ
+from ..recording.timeseries import DEFAULT_FORMAT, DEFAULT_RECORD_TEXT, FORMATS, format_help
 from ..results import RunInterrupted, os_reason
-from ..scenarios.timeseries import DEFAULT_FORMAT, DEFAULT_RECORD_TEXT, FORMATS, format_help
 from ..ssp.system import BoundSystem
 from . import api
 from .argtypes import finite_number, folder_name

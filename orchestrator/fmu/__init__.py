@@ -4,7 +4,7 @@ FMU build and export: ``build-fmus`` (pythonfmu slaves to FMUs) and a bound syst
 FMU.
 
 May import: its own modules, ``ssp/``, ``master/``, the shared modules at the package root (``errors``,
-``results``, ``__init__``). Never ``scenarios/``, ``cli/`` (tests/test_import_graph.py checks it).
+``results``, ``__init__``). Never ``scenarios/``, ``recording/``, ``cli/`` (tests/test_import_graph.py checks it).
 
 Modules: ``build``, ``export``, ``fmu_deps``, ``lifecycle``. The parts: orchestrator/README.md.
 """

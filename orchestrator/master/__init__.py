@@ -5,7 +5,7 @@ of one process (fmi2Reset); the exchange vectors, transfers, input modifiers and
 their registry; conditions and the stop condition; the execution (time, initialization, the run loop).
 
 May import: its own modules, ``ssp/``, the shared modules at the package root (``errors``, ``results``,
-``__init__``). Never ``fmu/``, ``scenarios/``, ``cli/`` (tests/test_import_graph.py checks it).
+``__init__``). Never ``fmu/``, ``scenarios/``, ``recording/``, ``cli/`` (tests/test_import_graph.py checks it).
 
 Modules: ``transfer``, ``pool``, ``slave``, ``exchange``, ``algorithm``, ``iterative``, ``algorithm_registry``,
 ``condition``, ``execution``. The parts: orchestrator/README.md.

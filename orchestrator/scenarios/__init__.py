@@ -1,10 +1,10 @@
-"""scenarios/: scenarios and observers, one part of the orchestrator.
+"""scenarios/: scenarios, one part of the orchestrator (the run side: what acts on a run).
 
-Scenarios and observers: scenario files (set, ramp, hold, release, ``when:``); recorders, ``run.json``, real-
-time pacing, the progress bar.
+Scenario files (set, ramp, hold, release, ``when:``) and the manipulator that applies them where a slave's
+inputs are set (libcosim's manipulators). What a run records and writes is the results side, ``recording/``.
 
 May import: its own modules, ``ssp/``, ``master/``, the shared modules at the package root (``errors``,
-``results``, ``__init__``). Never ``fmu/``, ``cli/`` (tests/test_import_graph.py checks it).
+``results``, ``__init__``). Never ``fmu/``, ``recording/``, ``cli/`` (tests/test_import_graph.py checks it).
 
-Modules: ``manipulators``, ``observers``, ``timeseries``. The parts: orchestrator/README.md.
+Modules: ``manipulators``. The parts: orchestrator/README.md.
 """

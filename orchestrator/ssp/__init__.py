@@ -6,7 +6,7 @@ flattening nested systems, writing them (:mod:`.write`), units and conversions, 
 bound to its FMUs (``BoundSystem``: variables, value references, composed conversions, parameter assignments).
 
 May import: its own modules, the shared modules at the package root (``errors``, ``results``, ``__init__``).
-Never ``master/``, ``fmu/``, ``scenarios/``, ``cli/`` (tests/test_import_graph.py checks it).
+Never ``master/``, ``fmu/``, ``scenarios/``, ``recording/``, ``cli/`` (tests/test_import_graph.py checks it).
 
 Modules: ``units``, ``conversion``, ``model``, ``values``, ``archive``, ``read``, ``flatten``, ``write``,
 ``system_model``, ``parameters``, ``system``. The parts: orchestrator/README.md.

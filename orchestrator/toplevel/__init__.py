@@ -26,8 +26,8 @@ from typing import Any
 
 __all__ = ["run", "RunResult", "read_timeseries", "TimeSeries"]
 _WHERE = {"run": "openemss.orchestrator.cli.api", "RunResult": "openemss.orchestrator.cli.api",
-          "read_timeseries": "openemss.orchestrator.scenarios.timeseries",
-          "TimeSeries": "openemss.orchestrator.scenarios.timeseries"}
+          "read_timeseries": "openemss.orchestrator.recording.timeseries",
+          "TimeSeries": "openemss.orchestrator.recording.timeseries"}
 
 
 def __getattr__(name: str) -> Any:

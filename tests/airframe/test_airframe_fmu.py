@@ -141,7 +141,7 @@ def test_runs_in_our_orchestrator_and_libcosim(fmu: Path, tmp_path: Path) -> Non
     adapter's trajectory (trimmed air start at 5000 m, 180 m/s, then elevator and thrust held at
     their start values 0: the aircraft pitches up and slows). 1e-9: the same computation."""
     from openemss.orchestrator.master.execution import Execution
-    from openemss.orchestrator.scenarios.observers import MemoryRecorder
+    from openemss.orchestrator.recording.observers import MemoryRecorder
     from openemss.orchestrator.ssp.read import load_system
     from openemss.orchestrator.ssp.system import bind_system
     from systems import Comp, write_system

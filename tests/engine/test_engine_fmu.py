@@ -107,7 +107,7 @@ def test_runs_in_our_orchestrator_and_libcosim(fmu: Path, tmp_path: Path) -> Non
     """A one-component SSP system: start at N1 70 % at 3000 m, Mach 0.5, fuel flow input bound to a
     higher value: the spools accelerate. Ours and libcosim against the Python model, 1e-9."""
     from openemss.orchestrator.master.execution import Execution
-    from openemss.orchestrator.scenarios.observers import MemoryRecorder
+    from openemss.orchestrator.recording.observers import MemoryRecorder
     from openemss.orchestrator.ssp.read import load_system
     from openemss.orchestrator.ssp.system import bind_system
     from systems import Comp, write_system

@@ -32,8 +32,8 @@ from openemss.models.fcs.mission import load_mission
 from openemss.models.fcs.state import AircraftState, EngineState
 from openemss.orchestrator.fmu.build import build_fmu, ensure_built
 from openemss.orchestrator.master.execution import Execution
+from openemss.orchestrator.recording.observers import MemoryRecorder
 from openemss.orchestrator.scenarios.manipulators import ScenarioManipulator, load_scenario
-from openemss.orchestrator.scenarios.observers import MemoryRecorder
 from openemss.orchestrator.ssp.read import load_system
 from openemss.orchestrator.ssp.system import bind_system
 from systems import Comp, write_ssv, write_system
@@ -194,9 +194,7 @@ def python_reference(rows: list[dict[str, float | bool]], n_steps: int, gains: d
     """The Python FlightControlSystem fed with the rows, the measured state built as upera_loop.py does;
     ``gains`` set before the start, ``changes[k]`` before step ``k``."""
     # the FMU's default first fuel-flow command (its parameter Wf0_kg_s: the shipped system's)
-    from openemss.models.fcs.fcs_signals import SIGNALS
-
-    from openemss.models.fcs.fcs_signals import GAIN_DEFAULTS
+    from openemss.models.fcs.fcs_signals import GAIN_DEFAULTS, SIGNALS
 
     wf0 = next(float(s.start) for s in SIGNALS if s.name == "Wf0_kg_s")  # type: ignore[arg-type]
     fcs = FlightControlSystem(load_mission(MUNICH), Wf0_kg_s=wf0)

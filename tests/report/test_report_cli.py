@@ -13,8 +13,8 @@ from synthetic_runs import WF_KG_S, N, Runs
 
 from openemss.orchestrator.cli.main import main
 from openemss.orchestrator.master.execution import Execution
+from openemss.orchestrator.recording.observers import Progress
 from openemss.orchestrator.results import MANIFEST_NAME
-from openemss.orchestrator.scenarios.observers import Progress
 from openemss.orchestrator.ssp.read import load_system
 from openemss.orchestrator.ssp.system import bind_system
 from openemss.report.plugin import status_variable

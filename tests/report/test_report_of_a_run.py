@@ -24,7 +24,7 @@ import yaml
 
 from openemss.models.fcs.mission import load_mission
 from openemss.orchestrator.cli.main import main
-from openemss.orchestrator.scenarios.timeseries import read_timeseries
+from openemss.orchestrator.recording.timeseries import read_timeseries
 
 ROOT = Path(__file__).resolve().parents[2]
 FIGURES = {"ground_track.png", "altitude_mach.png", "fuel_burned.png", "fuel_flow_tt4.png", "spool_speeds.png",

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from openemss.orchestrator.cli.main import main
-from openemss.orchestrator.scenarios.timeseries import read_timeseries
+from openemss.orchestrator.recording.timeseries import read_timeseries
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -20,7 +20,7 @@ from pathlib import Path
 import pytest
 
 from openemss.orchestrator.cli.main import main
-from openemss.orchestrator.scenarios.timeseries import read_timeseries
+from openemss.orchestrator.recording.timeseries import read_timeseries
 from openemss.study.case import CaseDef, CaseResult, run_case
 from openemss.study.dataset import read_study
 from openemss.study.plan import expand_cases

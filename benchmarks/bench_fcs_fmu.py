@@ -61,9 +61,9 @@ def main(argv: list[str] | None = None) -> int:
 
     from openemss.fmus.fcs import INPUTS, OUTPUTS, Fcs
     from openemss.models.fcs.fcs import FlightControlSystem
-    from openemss.models.fcs.geo import destination
     from openemss.models.fcs.mission import load_mission
     from openemss.models.fcs.state import AircraftState, EngineState
+    from openemss.models.mission.geo import destination
 
     work = Path(tempfile.mkdtemp(prefix="bench_fcs_"))
     try:

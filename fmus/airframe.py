@@ -13,7 +13,7 @@ control can start from them).
 
 Weather: ``weather_file`` (String, empty by default: the steady ``wind_*_m_s`` and the
 ``turbulence_*`` parameters apply) names a mission file, or a file of only its ``wind`` and
-``turbulence`` keys (:mod:`openemss.models.fcs.weather`), absolute or relative to the FMU's
+``turbulence`` keys (:mod:`openemss.models.mission.weather`), absolute or relative to the FMU's
 resources folder (the shipped ones: ``missions/weather/``). Its winds aloft replace the steady
 wind and are applied at the aircraft's altitude every step; its turbulence (severity, wind at
 20 ft, seed) replaces the turbulence parameters. The airframe owns the atmosphere: the flight
@@ -37,9 +37,9 @@ from openemss.models.airframe.airframe_signals import SIGNALS, STATE_FIELDS
 from openemss.models.airframe.loading import check_air_start, check_loading
 from openemss.models.airframe.settings import PARAMETER_SETS, airframe_set
 from openemss.models.airframe.trim import trim_level
-from openemss.models.fcs.errors import MissionError
 from openemss.models.fcs.mission import departure_runway, load_mission
-from openemss.models.fcs.weather import Weather, load_weather
+from openemss.models.mission.errors import MissionError
+from openemss.models.mission.weather import Weather, load_weather
 
 REQUIREMENTS = ["jsbsim>=1.2", "numpy>=1.24", "scipy>=1.10", "pyyaml>=6.0"]
 DATA_FILES = ["missions/weather/munich_wind_light_turbulence.yaml", "missions/munich.yaml"]

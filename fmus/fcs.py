@@ -41,9 +41,9 @@ from openemss.models.fcs.atmosphere import isa, mach_from_tas
 from openemss.models.fcs.errors import FcsError
 from openemss.models.fcs.fcs import FcsOutput, FlightControlSystem
 from openemss.models.fcs.fcs_signals import GAIN_DEFAULTS, SIGNALS
-from openemss.models.fcs.geo import LatLon, local_ne_m
 from openemss.models.fcs.mission import Mission, departure_runway, load_mission
 from openemss.models.fcs.state import AircraftState, EngineState
+from openemss.models.mission.geo import LatLon, local_ne_m
 
 REQUIREMENTS = ["pyyaml>=6.0", "numpy>=1.24", "numba>=0.59"]
 DATA_FILES = ["missions/munich.yaml", "missions/README.md"]

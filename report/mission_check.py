@@ -39,9 +39,10 @@ from openemss.models.airframe.loading import above_mtow
 from openemss.models.fcs.errors import FcsError
 from openemss.models.fcs.feasibility import MissionCheck, check_mission
 from openemss.models.fcs.feasibility_perf import Limits, from_dotted
-from openemss.models.fcs.geo import LatLon
 from openemss.models.fcs.mission import Mission, load_mission, parse_mission_file
-from openemss.models.fcs.weather import Turbulence, Weather, WindLayer, WindProfile, parse_weather_text
+from openemss.models.mission.errors import GeometryError, MissionError
+from openemss.models.mission.geo import LatLon
+from openemss.models.mission.weather import Turbulence, Weather, WindLayer, WindProfile, parse_weather_text
 from openemss.orchestrator.exit_codes import ExitCode
 
 from .errors import ReportError
@@ -299,7 +300,7 @@ def pre_run(components: Mapping[str, Path], parameters: Mapping[str, Any]) -> li
     text, source = setup.mission_file
     try:
         mission = parse_mission_file(text, source)
-    except FcsError:
+    except (FcsError, MissionError):
         return []  # the flight control refuses it at its start, with the file and line
     warnings = setup_warnings(mission, setup)
     check = run_check(mission, setup)
@@ -401,4 +402,4 @@ def register(sub: argparse._SubParsersAction) -> tuple[type[Exception], ...]:  #
                    help="a feasible section with less margin than this is marginal [%%] (default 20)")
     c.add_argument("--json", action="store_true", help="print the check as JSON")
     c.set_defaults(handler=cmd_check)
-    return (FcsError,)
+    return (FcsError, MissionError, GeometryError)

@@ -17,8 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
-from openemss.models.fcs.geo import R_EARTH_M
 from openemss.models.infra.files import figure_bytes
+from openemss.models.mission.geo import R_EARTH_M
 from openemss.orchestrator.results import atomic_write
 
 from .agg import Axes, Figure  # matplotlib imported whatever MPLBACKEND says, figures on the Agg canvas

@@ -22,6 +22,7 @@ import numpy as np
 from openemss.models.fcs.errors import FcsError
 from openemss.models.fcs.mission import Mission, parse_mission
 from openemss.models.infra import safe_yaml
+from openemss.models.mission.errors import MissionError
 from openemss.orchestrator.recording.timeseries import (
     Column,
     TimeSeriesError,
@@ -226,9 +227,9 @@ def load_mission(run: RunData) -> tuple[Mission | None, str | None]:
     text, source = found
     try:
         if source.endswith(".plan"):
-            from openemss.models.fcs.qgc import plan_to_yaml
+            from openemss.models.mission.qgc import plan_to_yaml
 
             return parse_mission(plan_to_yaml(text, source), source + " (converted)"), text
         return parse_mission(text, source), text
-    except FcsError:
+    except (FcsError, MissionError):
         return None, None

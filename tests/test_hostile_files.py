@@ -14,9 +14,9 @@ from pathlib import Path
 
 import pytest
 
-from openemss.models.fcs.errors import MissionError
 from openemss.models.fcs.mission import load_mission
 from openemss.models.infra import safe_yaml
+from openemss.models.mission.errors import MissionError
 from openemss.orchestrator.errors import EmssError, SystemStructureError
 from openemss.orchestrator.scenarios.manipulators import ScenarioError, load_scenario
 from openemss.orchestrator.ssp.read import load_system
@@ -143,7 +143,7 @@ WEATHER_CASES: dict[str, tuple[str, list[str]]] = {
 
 @pytest.mark.parametrize("case", sorted(WEATHER_CASES))
 def test_hostile_weather(tmp_path: Path, case: str) -> None:
-    from openemss.models.fcs.weather import load_weather
+    from openemss.models.mission.weather import load_weather
 
     text, fragments = WEATHER_CASES[case]
     path = tmp_path / "weather.yaml"

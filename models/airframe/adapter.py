@@ -33,7 +33,7 @@ __all__ = ["Airframe", "AirframeState", "AeroForces", "JSBSIM_ROOT", "DEFAULT_RA
            "FUEL_ROUNDOFF_KG"]
 
 #: Winds aloft: altitude MSL [m] -> wind velocity (north, east, down) [m/s], e.g.
-#: ``openemss.models.fcs.weather.WindProfile.ned_m_s``.
+#: ``openemss.models.mission.weather.WindProfile.ned_m_s``.
 WindProfile = Callable[[float], tuple[float, float, float]]
 
 JSBSIM_ROOT = Path(__file__).resolve().parent / "jsbsim"

@@ -1,4 +1,4 @@
-"""Runways, ILS geometry, and the automatic approach and landing.
+"""ILS geometry, and the automatic approach and landing (the runway itself: :mod:`openemss.models.mission.runway`).
 
 Geometry (ICAO Annex 10 Vol. I, 3.1.5): the glide path of angle gs_angle passes
 the threshold at the reference datum height tch (15 m), so it meets the runway
@@ -44,12 +44,13 @@ import math
 from dataclasses import dataclass
 
 from ..infra.records import fast_init
+from ..mission.geo import LatLon, wrap_pi
+from ..mission.runway import Runway
 from .clip import clip
-from .geo import LatLon, from_local_ne, local_ne_m, wrap_pi
 from .guidance import L1Guidance
 from .tunable import Tunable, load_params
 
-__all__ = ["Runway", "IlsDeviation", "ApproachParams", "ApproachCommand", "AutoLand", "LOC_BEYOND_END_M",
+__all__ = ["IlsDeviation", "ApproachParams", "ApproachCommand", "AutoLand", "LOC_BEYOND_END_M",
            "ils_deviation", "centreline_steer", "APPROACH_PHASES"]
 
 #: Phases of :class:`AutoLand` in the order of their codes (the FCS FMU's Integer output ``ils_phase``; 0: none).
@@ -57,44 +58,6 @@ APPROACH_PHASES = ("", "HOLD", "LOC_ARMED", "LOC", "GS", "FLARE", "DEROTATION", 
 
 #: Localizer antenna beyond the stop end of the runway [m] (typical siting).
 LOC_BEYOND_END_M = 300.0
-
-
-@dataclass(frozen=True, slots=True)
-class Runway:
-    """A runway direction.
-
-    Attributes
-    ----------
-    name : str
-        Designator, e.g. ``"EDDM 26R"``.
-    threshold : LatLon
-        Landing threshold on the centre line.
-    heading_rad : float
-        True heading of the runway direction [rad].
-    elevation_m : float
-        Threshold elevation above mean sea level [m].
-    length_m, width_m : float
-        Runway length and width [m].
-    """
-
-    name: str
-    threshold: LatLon
-    heading_rad: float
-    elevation_m: float
-    length_m: float = 3000.0
-    width_m: float = 45.0
-
-    def local(self, pos: LatLon) -> tuple[float, float]:
-        """(along, cross) of ``pos`` in the runway frame [m]: along from the threshold in the
-        landing direction (negative on the approach), cross right of the centre line positive."""
-        n, e = local_ne_m(self.threshold, pos, self.elevation_m)
-        c, s = math.cos(self.heading_rad), math.sin(self.heading_rad)
-        return n * c + e * s, -n * s + e * c
-
-    def point(self, along_m: float, cross_m: float = 0.0) -> LatLon:
-        """Position at ``along_m`` and ``cross_m`` in the runway frame [m]."""
-        c, s = math.cos(self.heading_rad), math.sin(self.heading_rad)
-        return from_local_ne(self.threshold, along_m * c - cross_m * s, along_m * s + cross_m * c, self.elevation_m)
 
 
 @dataclass(frozen=True, slots=True)

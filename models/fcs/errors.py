@@ -2,12 +2,13 @@
 
 A small hierarchy: every error of the FCS is an :class:`FcsError`, so a caller
 (an FMU adapter, the CLI) can catch them all at once. Messages name what was
-wrong, where (parameter set, mission file:line, section) and what is allowed.
+wrong, where (parameter set, section) and what is allowed. A mission file's problems are the mission's
+(:class:`openemss.models.mission.errors.MissionError`).
 """
 
 from __future__ import annotations
 
-__all__ = ["FcsError", "ParameterError", "MissionError", "GeometryError"]
+__all__ = ["FcsError", "ParameterError"]
 
 
 class FcsError(Exception):
@@ -23,15 +24,3 @@ class ParameterError(FcsError, KeyError, ValueError):
 
     def __str__(self) -> str:  # KeyError would quote the message
         return str(self.args[0]) if self.args else ""
-
-
-class MissionError(FcsError, ValueError):
-    """A mission file (YAML or QGroundControl .plan) is invalid.
-
-    The message names the file and line, the section (index and type) and the
-    field, and says what is allowed.
-    """
-
-
-class GeometryError(FcsError, ValueError):
-    """A geometric request has no answer (e.g. coincident points for a bearing)."""

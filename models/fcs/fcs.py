@@ -20,13 +20,13 @@ import numpy as np
 from ..infra.jit import entry_point
 from ..infra.params import ParamSet
 from ..infra.records import fast_init
+from ..mission.geo import wrap_pi
 from .approach import APPROACH_PHASES, ApproachParams
 from .atmosphere import G0_M_S2, isa
 from .clip import clip
 from .errors import FcsError, ParameterError
 from .estimation import AirspeedRateEstimator
 from .fuel_control import FUEL_LIMITERS, FuelController
-from .geo import wrap_pi
 from .guidance import L1Guidance
 from .inner_loops import PARAM_BLOCKS, STATE_BLOCKS, blocks, inner_step
 from .lateral import LateralController

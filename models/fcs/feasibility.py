@@ -52,13 +52,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ..mission.geo import LatLon
+from ..mission.weather import WindProfile
 from .errors import FcsError
 from .feasibility_checker import NOTE, VERDICTS, Checker, CheckState, Finding
 from .feasibility_perf import Limits, Performance, PerformanceError, PerfPoint
-from .geo import LatLon
 from .mission import Mission, Section
 from .sections import REGISTRY
-from .weather import WindProfile
 
 __all__ = ["PerfPoint", "Performance", "PerformanceError", "Limits", "Finding", "SectionCheck", "MissionCheck",
            "check_mission", "VERDICTS"]

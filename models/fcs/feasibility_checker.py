@@ -21,11 +21,11 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from ..mission.geo import LatLon
+from ..mission.weather import WindProfile
 from .atmosphere import G0_M_S2, cas_from_tas, isa, mach_from_tas
 from .feasibility_perf import Limits, Performance, PerfPoint
-from .geo import LatLon
 from .tecs import SpeedCommand
-from .weather import WindProfile
 
 if TYPE_CHECKING:
     from .mission import Mission, Section

@@ -12,9 +12,9 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
+from ..mission.geo import destination, distance_m, final_bearing_rad, initial_bearing_rad, wrap_pi
 from .atmosphere import G0_M_S2, cas_from_tas, isa, tas_from_cas
 from .feasibility_checker import NOTE, Checker, CheckState, Finding, pct
-from .geo import destination, distance_m, final_bearing_rad, initial_bearing_rad, wrap_pi
 from .guidance import FLY_BY_MAX_TURN_RAD
 from .tecs import SpeedCommand
 

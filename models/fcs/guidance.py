@@ -33,10 +33,7 @@ import math
 from dataclasses import dataclass
 
 from ..infra.records import fast_init
-from .atmosphere import G0_M_S2
-from .clip import clip
-from .errors import FcsError
-from .geo import (
+from ..mission.geo import (
     LatLon,
     central_angle_rad,
     destination,
@@ -46,6 +43,9 @@ from .geo import (
     track_position_m,
     wrap_pi,
 )
+from .atmosphere import G0_M_S2
+from .clip import clip
+from .errors import FcsError
 from .tunable import Tunable, load_params
 
 __all__ = ["GuidanceParams", "PathCommand", "L1Guidance", "WaypointSequencer", "OrbitTracker"]

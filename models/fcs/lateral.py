@@ -27,9 +27,9 @@ import numpy as np
 
 from ..infra.jit import jitable
 from ..infra.records import fast_init
+from ..mission.geo import wrap_pi
 from .atmosphere import G0_M_S2
 from .clip import clip
-from .geo import wrap_pi
 from .tunable import Tunable, field_index, load_params
 
 __all__ = ["LateralParams", "LateralState", "LateralOutput", "LateralController"]

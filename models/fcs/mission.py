@@ -56,14 +56,14 @@ from pathlib import Path
 from typing import Any
 
 from ..infra import safe_yaml, values
-from .errors import MissionError
-from .geo import LatLon, leg_problem
-from .marks import Context as _Ctx
-from .marks import Lines as _Lines
-from .marks import check_notes
+from ..mission.errors import MissionError
+from ..mission.geo import LatLon, leg_problem
+from ..mission.marks import Context as _Ctx
+from ..mission.marks import Lines as _Lines
+from ..mission.marks import check_notes
+from ..mission.weather import WEATHER_KEYS, Weather, parse_weather
 from .sections import REGISTRY, Field
 from .tecs import SpeedCommand, SpeedKind
-from .weather import WEATHER_KEYS, Weather, parse_weather
 
 __all__ = ["SECTION_TYPES", "SECTION_FIELDS", "Section", "Mission", "load_mission", "parse_mission",
            "parse_mission_file", "speed_from_mapping", "departure_runway"]
@@ -157,7 +157,7 @@ def _place_name(ctx: _Ctx, path: tuple, key: Any, what: str) -> str:
 
 
 def _places(doc: dict, ctx: _Ctx) -> tuple[dict, dict]:
-    from .approach import Runway  # local import: approach imports guidance, keep mission light
+    from ..mission.runway import Runway
 
     places = doc.get("places", {}) or {}
     if not isinstance(places, dict):
@@ -372,7 +372,7 @@ def parse_mission_file(text: str, source: str) -> Mission:
     ``.plan`` (converted, errors naming the plan's lines), else a mission YAML file."""
     if not source.endswith(".plan"):
         return parse_mission(text, source)
-    from .qgc import convert_plan
+    from ..mission.qgc import convert_plan
 
     converted, locate = convert_plan(text, source)
     try:

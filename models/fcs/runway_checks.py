@@ -24,8 +24,8 @@ from __future__ import annotations
 import math
 from typing import Any
 
+from ..mission.geo import wrap_pi
 from .errors import FcsError
-from .geo import wrap_pi
 from .state import AircraftState
 
 __all__ = ["START_BEFORE_THRESHOLD_M", "START_HEADING_TOL_DEG", "START_HEIGHT_TOL_M", "check_departure",

@@ -32,10 +32,10 @@ import dataclasses
 import math
 from typing import TYPE_CHECKING, Any, ClassVar
 
+from ..mission.geo import LatLon, wrap_pi
 from . import feasibility_sections as checks
 from .approach import AutoLand, centreline_steer
 from .atmosphere import cas_from_tas, isa
-from .geo import LatLon, wrap_pi
 from .guidance import L1Guidance, OrbitTracker, WaypointSequencer
 from .runway_checks import check_on_runway
 from .state import AircraftState, Targets

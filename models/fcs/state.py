@@ -11,7 +11,7 @@ import math
 from dataclasses import dataclass
 
 from ..infra.records import fast_init
-from .geo import LatLon
+from ..mission.geo import LatLon
 from .tecs import SpeedCommand
 
 __all__ = ["AircraftState", "EngineState", "Targets"]

@@ -17,8 +17,8 @@ the constraint cannot be met (:attr:`MissionRunner.holds`).
 
 from __future__ import annotations
 
+from ..mission.geo import LatLon
 from .approach import ApproachParams
-from .geo import LatLon
 from .guidance import L1Guidance
 from .mission import Mission
 from .performance import Performance

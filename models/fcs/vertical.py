@@ -32,8 +32,8 @@ import math
 from dataclasses import dataclass
 
 from ..infra.records import fast_init
+from ..mission.geo import LatLon, distance_m, final_bearing_rad, initial_bearing_rad, wrap_pi
 from .atmosphere import G0_M_S2
-from .geo import LatLon, distance_m, final_bearing_rad, initial_bearing_rad, wrap_pi
 from .guidance import FLY_BY_MAX_TURN_RAD, GuidanceParams
 from .state import AircraftState
 from .tecs import SpeedCommand, SpeedKind
@@ -213,7 +213,7 @@ class SectionVnav:
 
     def _dtg_from(self, pos: LatLon, start: LatLon, waypoints: list[LatLon]) -> float:
         """Distance to go from ``pos`` at the start: along the first leg to its waypoint, then the route."""
-        from .geo import track_position_m
+        from ..mission.geo import track_position_m
 
         if distance_m(start, waypoints[0]) < 1.0:
             return self.route.dtg(0, distance_m(pos, waypoints[0]))

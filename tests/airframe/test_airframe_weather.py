@@ -20,8 +20,8 @@ import pytest
 from conftest import open_slave
 from openemss.models.airframe.adapter import Airframe
 from openemss.models.airframe.trim import trim_level
-from openemss.models.fcs.geo import LatLon, local_ne_m
-from openemss.models.fcs.weather import WindLayer, WindProfile
+from openemss.models.mission.geo import LatLon, local_ne_m
+from openemss.models.mission.weather import WindLayer, WindProfile
 
 ALT_M = 2000.0
 # a west wind of 10 m/s at 1000 m turning to a north-west wind of 20 m/s at 3000 m

@@ -142,8 +142,7 @@ def _file_entries(path: Path, prefix: dict[str, str] | None = None, sections: tu
                                      {s: p for s, (_, p) in PARAMETER_SETS.items()})),
     ("electric", lambda: _file_entries(ROOT / "models/electric/data/electric.yaml", sections=tuple(parameter_sets()))),
     ("airframe", lambda: _file_entries(ROOT / "models/airframe/data/airframe.yaml", dict.fromkeys(AIRFRAME_SETS, ""))),
-    ("fcs", lambda: {k: e for f in sorted((ROOT / "models/fcs/data").glob("*.yaml")) if f.stem != "qgc_defaults"
-                     for k, e in _file_entries(f).items()}),
+    ("fcs", lambda: {k: e for f in sorted((ROOT / "models/fcs/data").glob("*.yaml")) for k, e in _file_entries(f).items()}),
 ])
 def test_every_fmu_parameter_of_a_file_has_its_range_in_the_model_description(
         project_fmus: dict[str, Path], fmu_name: str, entries) -> None:  # type: ignore[no-untyped-def]

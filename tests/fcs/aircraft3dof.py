@@ -24,8 +24,8 @@ import math
 from dataclasses import dataclass
 
 from openemss.models.fcs.atmosphere import isa
-from openemss.models.fcs.geo import LatLon, destination, final_bearing_rad, initial_bearing_rad
 from openemss.models.fcs.state import AircraftState, EngineState
+from openemss.models.mission.geo import LatLon, destination, final_bearing_rad, initial_bearing_rad
 
 G = 9.80665
 S, CBAR, IYY = 11.2, 1.9, 2800.0

@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from openemss.models.fcs.geo import LatLon, destination, final_bearing_rad, initial_bearing_rad
+from openemss.models.mission.geo import LatLon, destination, final_bearing_rad, initial_bearing_rad
 
 G = 9.80665
 TAU_PHI_S = 0.5

@@ -17,8 +17,9 @@ import numpy as np
 import pytest
 from kinematic import Kinematic
 
-from openemss.models.fcs.approach import ApproachParams, AutoLand, Runway, ils_deviation
-from openemss.models.fcs.geo import LatLon, distance_m
+from openemss.models.fcs.approach import ApproachParams, AutoLand, ils_deviation
+from openemss.models.mission.geo import LatLon, distance_m
+from openemss.models.mission.runway import Runway
 
 DT = 0.05
 KT = 0.514444

@@ -17,8 +17,8 @@ import math
 
 import pytest
 
-from openemss.models.fcs.errors import GeometryError
-from openemss.models.fcs.geo import (
+from openemss.models.mission.errors import GeometryError
+from openemss.models.mission.geo import (
     LatLon,
     along_track_m,
     central_angle_rad,
@@ -129,7 +129,7 @@ def test_track_position_equals_cross_and_along_track() -> None:
     above check against published geometry), to round-off, on both sides and behind the start."""
     import random
 
-    from openemss.models.fcs.geo import LatLon, along_track_m, cross_track_m, track_position_m
+    from openemss.models.mission.geo import LatLon, along_track_m, cross_track_m, track_position_m
 
     rng = random.Random(1)
     for _ in range(200):

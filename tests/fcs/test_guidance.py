@@ -21,8 +21,15 @@ import pytest
 from kinematic import Kinematic
 
 from openemss.models.fcs.errors import FcsError
-from openemss.models.fcs.geo import LatLon, along_track_m, cross_track_m, destination, distance_m, initial_bearing_rad
 from openemss.models.fcs.guidance import L1Guidance, OrbitTracker, WaypointSequencer
+from openemss.models.mission.geo import (
+    LatLon,
+    along_track_m,
+    cross_track_m,
+    destination,
+    distance_m,
+    initial_bearing_rad,
+)
 
 DT = 0.05
 EDDM = LatLon.from_deg(48.3538, 11.7861)

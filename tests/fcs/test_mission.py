@@ -10,10 +10,10 @@ from pathlib import Path
 
 import pytest
 
-from openemss.models.fcs.errors import MissionError
-from openemss.models.fcs.geo import LatLon
 from openemss.models.fcs.mission import SECTION_TYPES, load_mission, parse_mission
 from openemss.models.fcs.tecs import SpeedKind
+from openemss.models.mission.errors import MissionError
+from openemss.models.mission.geo import LatLon
 
 ROOT = Path(__file__).resolve().parents[2]
 BAD = Path(__file__).parent / "data" / "bad_missions"
@@ -172,10 +172,10 @@ def test_a_section_type_is_one_registered_class() -> None:
     a type added by subclassing is read from a mission file and flown, with no other change."""
     import math
 
-    from openemss.models.fcs.geo import LatLon
     from openemss.models.fcs.sections import REGISTRY, SectionType, register
     from openemss.models.fcs.state import AircraftState
     from openemss.models.fcs.state_machine import MissionRunner
+    from openemss.models.mission.geo import LatLon
 
     for name, cls in REGISTRY.items():
         assert cls.type_name == name and cls.fields and cls.completion, name

@@ -142,7 +142,7 @@ sections:
 
 
 def test_gturn_load_factor_and_levelling() -> None:
-    from openemss.models.fcs.geo import LatLon
+    from openemss.models.mission.geo import LatLon
 
     m = parse_mission(GTURN)
     a = isa(3000.0)
@@ -200,7 +200,7 @@ def test_every_gain_is_reachable_by_name() -> None:
 
 def test_output_signals_have_units_and_vdot_is_estimated() -> None:
     from openemss.models.fcs.fcs import OUTPUT_SIGNALS
-    from openemss.models.fcs.geo import LatLon
+    from openemss.models.mission.geo import LatLon
 
     m = parse_mission(GTURN)
     a = isa(3000.0)
@@ -218,7 +218,7 @@ def test_output_signals_have_units_and_vdot_is_estimated() -> None:
 
 
 def test_custom_section_runs_for_its_duration() -> None:
-    from openemss.models.fcs.geo import LatLon
+    from openemss.models.mission.geo import LatLon
 
     m = parse_mission("""
 mission: {name: custom}
@@ -280,7 +280,7 @@ def test_impossible_descent_is_a_planned_flagged_hold_at_the_fix() -> None:
     HOLD) about B until within 30 m of 1500 m, then ends; the turns flown are those planned within 0.5 (the
     spiral at idle with up to full airbrake, planned with half); outside the hold the heading turns by less than
     a full circle (no unplanned loop)."""
-    from openemss.models.fcs.geo import LatLon
+    from openemss.models.mission.geo import LatLon
 
     m = parse_mission(HOLD)
     a = isa(5000.0)
@@ -323,7 +323,7 @@ def test_impossible_climb_is_a_planned_climbing_hold_at_the_fix() -> None:
     """4000 m up within about 10 km: the top of climb predicted at maximum thrust (perf_models' thrust of
     this aircraft) lies beyond B, so a climbing hold at B is planned at the section's start (flagged, with the
     height to climb, -4000 m); the section ends within 30 m of 5000 m after the hold."""
-    from openemss.models.fcs.geo import LatLon
+    from openemss.models.mission.geo import LatLon
 
     m = parse_mission(CLIMB_HOLD)
     a = isa(1000.0)

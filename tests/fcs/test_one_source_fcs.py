@@ -29,7 +29,7 @@ from openemss.models.infra import jit
 from openemss.models.fcs import inner_loops
 from openemss.models.fcs.atmosphere import isa
 from openemss.models.fcs.fcs import FlightControlSystem
-from openemss.models.fcs.geo import LatLon
+from openemss.models.mission.geo import LatLon
 from openemss.models.fcs.mission import load_mission, parse_mission
 
 def fly(m, ac, t_end):

@@ -19,12 +19,12 @@ import pytest
 from kinematic import Kinematic
 
 from openemss.models.fcs.fcs import FlightControlSystem
-from openemss.models.fcs.geo import LatLon, destination
 from openemss.models.fcs.guidance import L1Guidance
 from openemss.models.fcs.mission import parse_mission
 from openemss.models.fcs.sections import REGISTRY, SectionType, register
 from openemss.models.fcs.state import AircraftState, EngineState
 from openemss.models.fcs.state_machine import MissionRunner
+from openemss.models.mission.geo import LatLon, destination
 
 DT = 0.05
 

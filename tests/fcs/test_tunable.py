@@ -28,8 +28,6 @@ CLASSES = (FuelControlParams, TecsParams, PitchParams, LateralParams, GuidancePa
 def test_parameter_files_are_documented(path: Path) -> None:
     doc = yaml.safe_load(path.read_text())
     for section, entries in doc.items():
-        if section == "qgc_defaults":
-            continue
         assert isinstance(entries.get("source"), str) and len(entries["source"]) > 40, section
         for name, e in entries.items():
             if name == "source":

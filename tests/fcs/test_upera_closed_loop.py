@@ -150,8 +150,8 @@ def test_munich_on_upera_waypoints_and_orbit(munich) -> None:
     80 % of the bank limit and the section's highest Mach number times the sea-level speed of sound (at
     least its true airspeed; no wind), plus the same 600 m. The orbit radius within 5 % from capture on
     (measured 3.5 %)."""
-    from openemss.models.fcs.geo import distance_m, final_bearing_rad, initial_bearing_rad, wrap_pi
     from openemss.models.fcs.guidance import FLY_BY_MAX_TURN_RAD
+    from openemss.models.mission.geo import distance_m, final_bearing_rad, initial_bearing_rad, wrap_pi
 
     m, fcs, run = munich
     gp = fcs.runner.guidance.parameters

@@ -20,20 +20,20 @@ def test_no_absolute_project_imports_and_no_fmi_packages() -> None:
 
 
 def test_vendored_copy_flies_a_step(tmp_path: Path) -> None:
-    """As build-fmus lays it out: the FCS and the shared models/common and models/infra beside it, under a package of
-    another name."""
+    """As build-fmus lays it out: the FCS and the models/common, models/infra and models/mission it imports
+    beside it, under a package of another name."""
     dest = tmp_path / "vendored_fcs_pkg"
     dest.mkdir()
     (dest / "__init__.py").write_text("")
     shutil.copytree(FCS, dest / "fcs", ignore=shutil.ignore_patterns("__pycache__"))
-    for shared in ("common", "infra"):
+    for shared in ("common", "infra", "mission"):
         shutil.copytree(ROOT / "models" / shared, dest / shared, ignore=shutil.ignore_patterns("__pycache__"))
     sys.path.insert(0, str(tmp_path))
     try:
         fcs_mod = importlib.import_module("vendored_fcs_pkg.fcs.fcs")
         mission_mod = importlib.import_module("vendored_fcs_pkg.fcs.mission")
         state_mod = importlib.import_module("vendored_fcs_pkg.fcs.state")
-        geo = importlib.import_module("vendored_fcs_pkg.fcs.geo")
+        geo = importlib.import_module("vendored_fcs_pkg.mission.geo")
         m = mission_mod.load_mission(ROOT / "missions" / "munich.yaml")
         fcs = fcs_mod.FlightControlSystem(m, Wf0_kg_s=0.012)
         rwy = m.sections[0]["runway"]

@@ -1,4 +1,4 @@
-"""Winds aloft and turbulence in mission files (models/fcs/weather.py): the profile against hand
+"""Winds aloft and turbulence in mission files (models/mission/weather.py): the profile against hand
 interpolation, the severities against JSBSim's reference table, and every bad input refused with
 one line naming the file, the line and what is allowed."""
 from __future__ import annotations
@@ -8,9 +8,9 @@ from pathlib import Path
 
 import pytest
 
-from openemss.models.fcs.errors import MissionError
 from openemss.models.fcs.mission import load_mission, parse_mission
-from openemss.models.fcs.weather import KT_M_S, load_weather
+from openemss.models.mission.errors import MissionError
+from openemss.models.mission.weather import KT_M_S, load_weather
 
 ROOT = Path(__file__).resolve().parents[2]
 MISSION = """mission: {name: windy}

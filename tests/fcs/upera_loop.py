@@ -15,8 +15,8 @@ from dataclasses import dataclass, field
 
 from openemss.models.fcs.atmosphere import isa
 from openemss.models.fcs.fcs import FlightControlSystem
-from openemss.models.fcs.geo import LatLon, local_ne_m
 from openemss.models.fcs.state import AircraftState, EngineState
+from openemss.models.mission.geo import LatLon, local_ne_m
 
 
 @dataclass

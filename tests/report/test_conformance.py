@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 from synthetic_runs import H_S, N, Runs
 
-from openemss.models.fcs.geo import LatLon, from_local_ne
+from openemss.models.mission.geo import LatLon, from_local_ne
 from openemss.report.rundata import load_mission, load_run
 from openemss.report.summary import summarize
 

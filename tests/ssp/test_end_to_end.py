@@ -17,8 +17,8 @@ import pytest
 import yaml
 
 from conftest import table
-from openemss.models.fcs.geo import LatLon
 from openemss.models.fcs.mission import load_mission
+from openemss.models.mission.geo import LatLon
 from openemss.orchestrator.cli.main import main
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -8,6 +8,7 @@
 * ``stop_condition``: the run ends when the FCS reports the mission completed.
 * ``pre_run``: before every ``emss run`` of a system that flies a mission, its feasibility check
   (:mod:`.mission_check`): the marginal and infeasible sections, as warnings.
+* ``run_summary``: ``summary.json`` read back for the Python API (``RunResult.summary``).
 * ``emss plot RUN_DIR [RUN_DIR_B ...]``, ``emss summary RUN_DIR`` and ``emss mission check MISSION``.
 """
 from __future__ import annotations
@@ -24,18 +25,16 @@ from openemss.orchestrator.results import ResultsFolder, atomic_write
 
 from . import mission_check
 from .errors import ReportError
+from .files import PLOTS_RECORD, SUMMARY
 from .html import REPORT, write_html_report, write_variables_html
 from .mission_check import pre_run
 from .plots import FigureFile, PlotRun, plot_runs, plot_variables
 from .rundata import MISSION_COPY, find_roles, load_mission, load_run, read_header
 from .summary import summarize
 
-__all__ = ["pre_run", "post_run", "output_files", "status_variable", "stop_condition", "register", "write_report"]
+__all__ = ["pre_run", "post_run", "output_files", "run_summary", "status_variable", "stop_condition", "register",
+           "write_report", "SUMMARY"]
 
-SUMMARY = "summary.json"
-#: What made each figure of a folder that ``emss plot`` wrote into: runs, window, variables (so that another
-#: plot into the same folder does not silently replace it).
-PLOTS_RECORD = "plots.json"
 MAX_RUNS = len(("-", "--", ":", "-."))
 
 
@@ -151,6 +150,12 @@ def post_run(run_dir: Path, error: BaseException | None, figures: bool = True) -
         for line in json.loads(written[0].read_text(encoding="utf-8")).get("degraded") or []:
             print(f"emss run: warning: degraded run: {line}", file=sys.stderr)
     return written
+
+
+def run_summary(files: Sequence[Path]) -> dict | None:
+    """The summary among the files the post-run hooks wrote (``summary.json``), read back; None without one."""
+    path = next((Path(f) for f in files if Path(f).name == SUMMARY), None)
+    return None if path is None else json.loads(path.read_text(encoding="utf-8"))
 
 
 # -- commands ----------------------------------------------------------------------------------

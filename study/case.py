@@ -29,6 +29,7 @@ from lxml import etree
 
 from openemss.orchestrator.master import algorithm_registry
 from openemss.orchestrator.results import atomic_write, check_name
+from openemss.report.files import SUMMARY
 
 from .child import PARENT_ENV
 from .lock import LOCK_NAME, wait_released
@@ -192,7 +193,7 @@ def run_case(case: CaseDef, out: str, attempt: int = 1) -> CaseResult:
     folder.mkdir(parents=True, exist_ok=True)
     wait_released(folder / LOCK_NAME, RELEASE_TIMEOUT_S)  # an earlier attempt still stopping (its worker died)
     (folder / DONE_FILE).unlink(missing_ok=True)
-    for stale in ("run.json", "summary.json"):
+    for stale in ("run.json", SUMMARY):
         (folder / stale).unlink(missing_ok=True)
     if case.values:
         write_case_ssv(folder / CASE_SSV, case.values)
@@ -201,7 +202,7 @@ def run_case(case: CaseDef, out: str, attempt: int = 1) -> CaseResult:
     rc = run_warm(emss_args(case, folder), folder, _child_env())
     elapsed = time.perf_counter() - t1
     run = _read_json(folder / "run.json")
-    summary = _read_json(folder / "summary.json")
+    summary = _read_json(folder / SUMMARY)
     if rc == 0:
         status, error = "completed", ""
     elif rc < 0 or rc in INTERRUPTED_CODES:  # died from a signal, or ended by one as emss run does (128 + N)

@@ -74,7 +74,8 @@ class RunResult:
     info : dict
         ``run.json``.
     summary : dict or None
-        ``summary.json`` where a plugin wrote one (a mission run).
+        The run's summary where a plugin wrote one (the report plugin's ``summary.json`` of a mission run;
+        :func:`.hooks.run_summary`).
     files : list of Path
         Files the post-run hooks wrote (summary, plots, report.html).
     post_run_failures : list of str
@@ -508,11 +509,9 @@ def _run(system: Path, sysdef: SystemDef, out: Path, stop_time: float | None, pa
     result = RunResult(out, str(record_.info.get("status")), None if error is None else str(error), record_.info,
                        files=written, post_run_failures=failures, pre_run=pre, rows=rec.rows_written,
                        stopped_by=ex.stopped_by, step_size_s=ex.step_size_s)
-    summary = out / "summary.json"
-    if any(f.name == summary.name for f in written):
-        import json
-
-        result.summary = json.loads(summary.read_text(encoding="utf-8"))
+    if written:
+        result.summary, failed = hooks.run_summary(written)
+        result.post_run_failures.extend(failed)
     if isinstance(error, RunInterrupted):
         result.exit_code = error.exit_code
     elif isinstance(error, (ConfigurationError, SystemStructureError)) or (error is not None and not ex.initialized):

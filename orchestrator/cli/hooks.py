@@ -1,4 +1,5 @@
-"""Calling the plugins' hooks for a run (:mod:`.plugins`): status variable, stop condition, pre- and post-run.
+"""Calling the plugins' hooks for a run (:mod:`.plugins`): status variable, stop condition, pre- and post-run,
+the run's summary.
 
 A failing hook never stops the run: it becomes one line saying how it failed.
 """
@@ -6,7 +7,9 @@ from __future__ import annotations
 
 import inspect
 import os
+from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 from ..errors import EmssError
 from ..ssp.system import BoundSystem
@@ -68,24 +71,26 @@ def _accepted(hook: object, options: dict[str, object]) -> dict[str, object]:
     return {k: v for k, v in options.items() if k in params}
 
 
-def each_hook(hook_name: str, *args: object, **options: object) -> list[tuple[list[object], str | None]]:
+def each_hook(hook_name: str, *args: object, whole: bool = False, **options: object) -> list[tuple[Any, str | None]]:
     """Call every plugin's ``hook_name(*args, **options)`` (each option only where the hook names it): per plugin
-    that has it, (what it returned, as a list; None) or ([], one line saying how it failed)."""
+    that has it, (what it returned, as a list, or as it is with ``whole``; None) or ([] or None with ``whole``, one
+    line saying how it failed)."""
     label = hook_name.replace("_", "-")
-    out: list[tuple[list[object], str | None]] = []
+    out: list[tuple[Any, str | None]] = []
     for module in plugins():
         hook = getattr(module, hook_name, None)
         if hook is None:
             continue
         try:
-            out.append((list(hook(*args, **_accepted(hook, options))), None))
+            answer = hook(*args, **_accepted(hook, options))
+            out.append((answer if whole else list(answer), None))
         except (EmssError, *USER_ERRORS) as exc:
-            out.append(([], f"{label} hook '{plugin_name(module)}' failed: {exc}"))
+            out.append((None if whole else [], f"{label} hook '{plugin_name(module)}' failed: {exc}"))
         except Exception as exc:
             if os.environ.get("EMSS_DEBUG"):
                 raise
-            out.append(([], f"{label} hook '{plugin_name(module)}' failed: internal error: "
-                            f"{type(exc).__name__}: {exc} (set EMSS_DEBUG=1 for the traceback)"))
+            out.append((None if whole else [], f"{label} hook '{plugin_name(module)}' failed: internal error: "
+                                               f"{type(exc).__name__}: {exc} (set EMSS_DEBUG=1 for the traceback)"))
     return out
 
 
@@ -120,3 +125,16 @@ def post_run(out: Path, error: BaseException | None, figures: bool = True) -> tu
         if failure is not None:
             failures.append(failure)
     return written, failures
+
+
+def run_summary(files: Sequence[Path]) -> tuple[dict[str, Any] | None, list[str]]:
+    """The run's summary: the first plugin's ``run_summary(files)`` that gives one (``files``: what the post-run
+    hooks wrote), or None; and one line per failed hook."""
+    summary: dict[str, Any] | None = None
+    failures: list[str] = []
+    for answer, failure in each_hook("run_summary", list(files), whole=True):
+        if failure is not None:
+            failures.append(failure)
+        elif answer is not None and summary is None:
+            summary = dict(answer)
+    return summary, failures

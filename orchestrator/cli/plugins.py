@@ -26,6 +26,10 @@ A plugin is a module named by an entry point of the group ``openemss.plugins`` (
     disk) with the results folder; returns the files it wrote, nothing when the run is
     not its business. ``figures`` False (``emss run --no-figures``, a study's cases) asks for
     the tables only (a hook without that argument is called without it).
+``run_summary(files: Sequence[Path]) -> Mapping | None``
+    given the files the post-run hooks wrote, the run's summary as the plugin wrote it (e.g. a
+    mission run's summary), or None; the Python API's ``RunResult.summary`` (the first answer).
+    Only the plugin knows its files' names and formats.
 
 The orchestrator knows no plugin by name. Entry points rather than a scan of the
 ``openemss`` namespace: an editable install maps each package separately and leaves

@@ -1,7 +1,8 @@
 """One name per quantity (issue 37 point 2): from the model through the FMU and the SSD to the results.
 
 * An engine input fills the field of ``EngineInputs`` of its own name, an airframe output is the field of
-  ``AirframeState`` of its own name: no renaming at the FMU's edge (the signal tables' accessors).
+  ``AirframeState`` of its own name, an FCS output read from the step's ``FcsOutput`` is its field of the same
+  name: no renaming at the FMU's edge (the signal tables' accessors).
 * Every connection of the shipped systems joins an output and an input of the same name.
 * The quantities the issue found under two names each have one (no table, SSD or results column uses the
   old ones).
@@ -18,6 +19,7 @@ from openemss.models.airframe.adapter import AirframeState
 from openemss.models.airframe.airframe_signals import SIGNALS as AIRFRAME
 from openemss.models.engine.engine_signals import SIGNALS as ENGINE
 from openemss.models.engine.engine_signals import EngineInputs
+from openemss.models.fcs.fcs import OUTPUT_SIGNALS, FcsOutput
 from openemss.models.fcs.fcs_signals import SIGNALS as FCS
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -40,6 +42,21 @@ def test_airframe_outputs_are_the_state_fields_of_their_names() -> None:
     outputs = [s for s in AIRFRAME if s.causality == "output"]
     assert all(s.accessor is None for s in outputs), [(s.name, s.accessor) for s in outputs if s.accessor]
     assert fields <= {s.name for s in outputs}
+
+
+def test_fcs_outputs_are_the_output_fields_of_their_names() -> None:
+    """Every FCS output the FMU reads from the step's FcsOutput (accessor ``out.<field>``) is the field of its own
+    name, and FcsOutput.signals() (the Python model's outputs) names them as the FMU does."""
+    fields = {f.name for f in dataclasses.fields(FcsOutput)}
+    read = {s.name: s.accessor.removeprefix("out.") for s in FCS
+            if s.causality == "output" and s.accessor and s.accessor.startswith("out.")
+            and s.accessor.count(".") == 1}
+    assert read and all(name == field for name, field in read.items()), read
+    assert set(read) <= fields
+    assert set(read) <= set(OUTPUT_SIGNALS)
+    fmu_outputs = {s.name for s in FCS if s.causality == "output"}
+    shared = (set(OUTPUT_SIGNALS) & fields) - {"targets"}
+    assert shared <= fmu_outputs, shared - fmu_outputs
 
 
 @pytest.mark.parametrize("ssd", ["ssp/SystemStructure.ssd", "ssp/hybrid/SystemStructure.ssd"])

@@ -44,15 +44,16 @@ from .vnav import Vnav
 
 __all__ = ["FcsOutput", "FlightControlSystem", "FUEL_LIMITERS", "OUTPUT_SIGNALS"]
 
-#: Flat output signals of :meth:`FcsOutput.signals`: name -> description with unit (for FMU variables).
+#: Flat output signals of :meth:`FcsOutput.signals`: name -> description with unit; the names are the FCS FMU's
+#: outputs (:data:`.fcs_signals.SIGNALS`), one name from the model to the results.
 OUTPUT_SIGNALS: dict[str, str] = {
-    "elevator": "Elevator command, normalised, > 0 trailing edge down (nose down) [-]",
-    "aileron": "Aileron command, normalised, > 0 rolls right [-]",
-    "rudder": "Rudder command, normalised, > 0 yaws the nose right [-]",
-    "steer": "Nose-wheel steering command, > 0 right [-]",
-    "brake": "Wheel brake command [0-1]",
+    "elevator_norm": "Elevator command, normalised, > 0 trailing edge down (nose down) [-]",
+    "aileron_norm": "Aileron command, normalised, > 0 rolls right [-]",
+    "rudder_norm": "Rudder command, normalised, > 0 yaws the nose right [-]",
+    "steering_norm": "Nose-wheel steering command, > 0 right [-]",
+    "brakes_norm": "Wheel brake command [0-1]",
     "gear_down": "Landing gear command, 1 down [-]",
-    "lever": "Thrust lever command [0-1]",
+    "lever_norm": "Thrust lever command [0-1]",
     "Wf_cmd_kg_s": "Fuel-flow command [kg/s]",
     "theta_cmd_rad": "Pitch attitude command [rad]",
     "phi_cmd_rad": "Bank angle command [rad]",
@@ -65,7 +66,7 @@ OUTPUT_SIGNALS: dict[str, str] = {
     "xtk_m": "Cross-track error of the active path, right positive (NaN when none) [m]",
     "fuel_limiter": "Regulator the fuel controller selected: 0 the lever's N1c demand, 1 the Tt41 limit, "
                     "2 the N1 limit [-]",
-    "airbrake": "Airbrake command, 0 retracted to 1 fully out [-]",
+    "airbrake_norm": "Airbrake command, 0 retracted to 1 fully out [-]",
     "vnav_mode": "Vertical mode: 0 none (ground), 1 ALT, 2 CLIMB, 3 PATH (managed descent), 4 DECEL, "
                  "5 HOLD (planned hold at a fix), 6 DESCENT (open), 7 APPROACH [-]",
     "ils_phase": "Phase of the automatic approach and landing: 0 none, 1 HOLD, 2 LOC_ARMED, 3 LOC, 4 GS, 5 FLARE, "
@@ -99,15 +100,15 @@ class FcsOutput:
 
     Attributes
     ----------
-    elevator, aileron, rudder : float
+    elevator_norm, aileron_norm, rudder_norm : float
         Normalised surfaces [-1, 1] (elevator > 0 nose down, aileron > 0 roll right, rudder > 0 nose right).
-    steer : float
+    steering_norm : float
         Nose-wheel steering [-1, 1] (> 0 right).
-    brake : float
+    brakes_norm : float
         Wheel brakes [0, 1].
     gear_down : bool
         Landing gear command.
-    lever : float
+    lever_norm : float
         Thrust lever [0, 1].
     Wf_cmd_kg_s : float
         Fuel-flow command [kg/s].
@@ -119,7 +120,7 @@ class FcsOutput:
         Speed target as true airspeed [m/s] (NaN on the ground).
     fuel_limiter : int
         Regulator the fuel controller selected, an index of :data:`FUEL_LIMITERS` [-].
-    airbrake : float
+    airbrake_norm : float
         Airbrake command [0, 1].
     vnav_mode : int
         Vertical mode, an index of :data:`.vertical.VNAV_MODES` [-].
@@ -127,34 +128,34 @@ class FcsOutput:
         Approach phase, an index of :data:`.approach.APPROACH_PHASES` (0 outside a landing) [-].
     """
 
-    elevator: float
-    aileron: float
-    rudder: float
-    steer: float
-    brake: float
+    elevator_norm: float
+    aileron_norm: float
+    rudder_norm: float
+    steering_norm: float
+    brakes_norm: float
     gear_down: bool
-    lever: float
+    lever_norm: float
     Wf_cmd_kg_s: float
     theta_cmd_rad: float
     phi_cmd_rad: float
     targets: Targets
     tas_cmd_m_s: float
     fuel_limiter: int = 0
-    airbrake: float = 0.0
+    airbrake_norm: float = 0.0
     vnav_mode: int = 0
     ils_phase: int = 0
 
     def signals(self) -> dict[str, float | int | str | bool]:
-        """The outputs as a flat mapping named as :data:`OUTPUT_SIGNALS` (what an FMU exposes)."""
+        """The outputs as a flat mapping named as :data:`OUTPUT_SIGNALS` (the FMU's output names)."""
         tg = self.targets
-        return {"elevator": self.elevator, "aileron": self.aileron, "rudder": self.rudder, "steer": self.steer,
-                "brake": self.brake, "gear_down": self.gear_down, "lever": self.lever,
-                "Wf_cmd_kg_s": self.Wf_cmd_kg_s, "theta_cmd_rad": self.theta_cmd_rad,
-                "phi_cmd_rad": self.phi_cmd_rad, "section_index": tg.section_index, "section_name": tg.section_name,
-                "section_phase": tg.phase, "alt_cmd_m": math.nan if tg.alt_cmd_m is None else tg.alt_cmd_m,
-                "tas_cmd_m_s": self.tas_cmd_m_s, "track_cmd_rad": tg.track_cmd_rad, "xtk_m": tg.xtk_m,
-                "fuel_limiter": self.fuel_limiter, "airbrake": self.airbrake, "vnav_mode": self.vnav_mode,
-                "ils_phase": self.ils_phase}
+        return {"elevator_norm": self.elevator_norm, "aileron_norm": self.aileron_norm,
+                "rudder_norm": self.rudder_norm, "steering_norm": self.steering_norm, "brakes_norm": self.brakes_norm,
+                "gear_down": self.gear_down, "lever_norm": self.lever_norm, "Wf_cmd_kg_s": self.Wf_cmd_kg_s,
+                "theta_cmd_rad": self.theta_cmd_rad, "phi_cmd_rad": self.phi_cmd_rad,
+                "section_index": tg.section_index, "section_name": tg.section_name, "section_phase": tg.phase,
+                "alt_cmd_m": math.nan if tg.alt_cmd_m is None else tg.alt_cmd_m, "tas_cmd_m_s": self.tas_cmd_m_s,
+                "track_cmd_rad": tg.track_cmd_rad, "xtk_m": tg.xtk_m, "fuel_limiter": self.fuel_limiter,
+                "airbrake_norm": self.airbrake_norm, "vnav_mode": self.vnav_mode, "ils_phase": self.ils_phase}
 
 
 class FlightControlSystem:

@@ -72,7 +72,7 @@ def test_fcs_engine_airframe_coupled() -> None:
         N1 += 0.5 * DT * (s0.dN1_dt_rpm_s + p.dN1_dt_rpm_s)
         N2 += 0.5 * DT * (s0.dN2_dt_rpm_s + p.dN2_dt_rpm_s)
         es = tr.state((k + 1) * DT, N1, N2, wf, s.alt_m, s.mach, guess=p)
-        af.set_surfaces(aileron=out.aileron, elevator=out.elevator, rudder=out.rudder)
+        af.set_surfaces(aileron=out.aileron_norm, elevator=out.elevator_norm, rudder=out.rudder_norm)
         af.set_thrust(es.point.Fn_N)
         af.set_fuel_flow(wf)
         af.step(DT)

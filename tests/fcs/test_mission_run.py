@@ -48,9 +48,10 @@ def fly(m: Mission, ac: Aircraft3Dof, t_end: float) -> tuple[FlightControlSystem
     while not fcs.finished and k * DT < t_end:
         t = k * DT
         out = fcs.step(t, DT, ac.state(), ac.engine())
-        ac.airbrake_cmd = out.airbrake
+        ac.airbrake_cmd = out.airbrake_norm
         for _ in range(N_SUB):
-            ac.step(DT / N_SUB, out.elevator, out.aileron, out.steer, out.brake, out.Wf_cmd_kg_s)
+            ac.step(DT / N_SUB, out.elevator_norm, out.aileron_norm, out.steering_norm, out.brakes_norm,
+                    out.Wf_cmd_kg_s)
         tg = out.targets
         a = isa(ac.h)
         sp = tg.speed
@@ -170,9 +171,10 @@ def _fly_with(fcs: FlightControlSystem, ac: Aircraft3Dof, t_end: float):
     k = 0
     while not fcs.finished and k * DT < t_end:
         out = fcs.step(k * DT, DT, ac.state(), ac.engine())
-        ac.airbrake_cmd = out.airbrake
+        ac.airbrake_cmd = out.airbrake_norm
         for _ in range(N_SUB):
-            ac.step(DT / N_SUB, out.elevator, out.aileron, out.steer, out.brake, out.Wf_cmd_kg_s)
+            ac.step(DT / N_SUB, out.elevator_norm, out.aileron_norm, out.steering_norm, out.brakes_norm,
+                    out.Wf_cmd_kg_s)
         for key, v in zip(keys, (k * DT, out.targets.section_index, ac.h, _load_factor(ac)), strict=True):
             log[key].append(v)
         k += 1

@@ -37,13 +37,14 @@ def fly(m, ac, t_end):
     h, k, airbrake_steps = hashlib.sha256(), 0, 0
     while not fcs.finished and k * DT < t_end:
         out = fcs.step(k * DT, DT, ac.state(), ac.engine())
-        ac.airbrake_cmd = out.airbrake
+        ac.airbrake_cmd = out.airbrake_norm
         for _ in range(N_SUB):
-            ac.step(DT / N_SUB, out.elevator, out.aileron, out.steer, out.brake, out.Wf_cmd_kg_s)
-        f = (out.elevator, out.aileron, out.rudder, out.steer, out.brake, out.lever, out.Wf_cmd_kg_s,
-             out.theta_cmd_rad, out.phi_cmd_rad, out.tas_cmd_m_s, out.airbrake)
+            ac.step(DT / N_SUB, out.elevator_norm, out.aileron_norm, out.steering_norm, out.brakes_norm,
+                    out.Wf_cmd_kg_s)
+        f = (out.elevator_norm, out.aileron_norm, out.rudder_norm, out.steering_norm, out.brakes_norm, out.lever_norm,
+             out.Wf_cmd_kg_s, out.theta_cmd_rad, out.phi_cmd_rad, out.tas_cmd_m_s, out.airbrake_norm)
         h.update(struct.pack("11d", *f) + repr((out.gear_down, out.fuel_limiter, out.vnav_mode)).encode())
-        airbrake_steps += bool(out.airbrake > 0.0)
+        airbrake_steps += bool(out.airbrake_norm > 0.0)
         k += 1
     return {{"hash": h.hexdigest(), "steps": k, "airbrake_steps": airbrake_steps,
              "holds": [h.reason for h in fcs.runner.holds]}}

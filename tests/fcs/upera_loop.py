@@ -72,13 +72,13 @@ def fly_upera(af, s, fcs: FlightControlSystem, t_end: float, N1c0: float, dt: fl
         delta = s.p_amb_Pa / 101325.0
         N1c += (min(400.0 * out.Wf_cmd_kg_s / (delta * math.sqrt(th)), 115.0) - N1c) * h
         thrust = 13000.0 * (s.rho_amb_kg_m3 / 1.225) ** 0.7 * (N1c / 100.0) ** 2
-        af.set_surfaces(aileron=out.aileron, elevator=out.elevator, rudder=out.rudder)
+        af.set_surfaces(aileron=out.aileron_norm, elevator=out.elevator_norm, rudder=out.rudder_norm)
         af.set_thrust(thrust)
         af.set_fuel_flow(out.Wf_cmd_kg_s)
         af.set_gear(out.gear_down)
-        af.set_brakes(out.brake)
-        af.set_steering(out.steer)
-        af.set_airbrake(out.airbrake)
+        af.set_brakes(out.brakes_norm)
+        af.set_steering(out.steering_norm)
+        af.set_airbrake(out.airbrake_norm)
         af.step(dt)
         s = af.state()
         tg = out.targets

@@ -75,7 +75,7 @@ def _summary(run: Path) -> dict[str, Any]:
 
 
 def _series(run: Path) -> dict[str, np.ndarray]:
-    from openemss.orchestrator.scenarios.timeseries import read_timeseries
+    from openemss.orchestrator.recording.timeseries import read_timeseries
 
     return read_timeseries(run).floats()
 

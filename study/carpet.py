@@ -27,7 +27,7 @@ import math
 from pathlib import Path
 from typing import Any
 
-from openemss.models.common.files import figure_bytes
+from openemss.models.infra.files import figure_bytes
 from openemss.orchestrator.results import atomic_write
 
 from .case import CaseDef, CaseResult

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import math
 
-from .geo import wrap_pi
+from ..mission.geo import wrap_pi
 from .state import Targets
 
 __all__ = ["RampedTargets", "TargetRamp"]

@@ -86,7 +86,7 @@ def test_discrete_changes_are_taken_at_once() -> None:
 
 
 def _steady_descents(run: Path) -> list[tuple[float, float]]:
-    from openemss.orchestrator.scenarios.timeseries import read_timeseries
+    from openemss.orchestrator.recording.timeseries import read_timeseries
 
     d = read_timeseries(run).floats()
     t, mode = d["time_s"], d["fcs.vnav_mode"]
@@ -108,7 +108,7 @@ def _line_ratio(f: np.ndarray, p: np.ndarray, f_line: float) -> float:
 def test_fuel_flow_has_no_line_at_the_outer_rate_in_descents(munich_run: Path) -> None:
     from scipy.signal import welch
 
-    from openemss.orchestrator.scenarios.timeseries import read_timeseries
+    from openemss.orchestrator.recording.timeseries import read_timeseries
 
     d = read_timeseries(munich_run).floats()
     t, wf = d["time_s"], d["engine.Wf_kg_s"]

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from openemss.orchestrator.master import pool
-from openemss.orchestrator.scenarios.timeseries import read_timeseries
+from openemss.orchestrator.recording.timeseries import read_timeseries
 from openemss.study.warm import CaseHost
 from systems import Comp, write_system
 

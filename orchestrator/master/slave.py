@@ -104,6 +104,8 @@ class FmuLog:
     def __init__(self) -> None:
         self.messages: dict[str, collections.deque[str]] = collections.defaultdict(
             lambda: collections.deque(maxlen=_MAX_MESSAGES))
+        #: per instance, the FMI status its last message was logged with
+        self.last_status: dict[str, int] = {}
         from fmpy import calloc, free
         from fmpy.logging import addLoggerProxy
 
@@ -120,6 +122,7 @@ class FmuLog:
         name = instance.decode("utf-8", "replace") if instance else "?"
         text = message.decode("utf-8", "replace") if message else ""
         self.messages[name].append(text.strip())
+        self.last_status[name] = status
 
     def last(self, instance: str) -> str:
         """The most telling recent message of an instance, on one line."""
@@ -444,9 +447,11 @@ class Slave:
         FMI 2.0 (section 4.2.3): a step that returns ``fmi2Discard`` with ``fmi2GetBooleanStatus(fmi2Terminated)``
         true is the FMU asking to end the simulation (the Modelica Reference FMUs' Stair does so at its last
         count): the slave stays readable at ``fmi2LastSuccessfulTime`` and :attr:`on_end` is told, with the time
-        and what the FMU logged, so that the run ends as completed. Any other status fails the step.
+        and what the FMU logged, so that the run ends as completed. Any other status fails the step, and so
+        does a discard whose last message the FMU logged as an error: pythonfmu's slaves discard a step that
+        failed (``do_step`` returned False after logging why) and say terminated.
         """
-        if (status == 2 and self.on_end is not None
+        if (status == 2 and self.on_end is not None and self.log.last_status.get(self.name, 0) < 3
                 and self._status(self.fmu.dll.fmi2GetBooleanStatus, c_int, _FMI2_TERMINATED)):
             end_s = self._status(self.fmu.dll.fmi2GetRealStatus, c_double, _FMI2_LAST_SUCCESSFUL_TIME)
             said = self._said(self.log.last(self.name))

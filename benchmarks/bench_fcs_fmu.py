@@ -61,7 +61,7 @@ def main(argv: list[str] | None = None) -> int:
 
     from openemss.fmus.fcs import INPUTS, OUTPUTS, Fcs
     from openemss.models.fcs.fcs import FlightControlSystem
-    from openemss.models.fcs.mission import load_mission
+    from openemss.models.mission.mission import load_mission
     from openemss.models.fcs.state import AircraftState, EngineState
     from openemss.models.mission.geo import destination
 

@@ -13,7 +13,7 @@ import statistics
 import time
 from pathlib import Path
 
-from openemss.models.fcs.mission import load_mission
+from openemss.models.mission.mission import load_mission
 from openemss.orchestrator.fmu.build import PACKAGE_ROOT
 from openemss.report import mission_check
 from openemss.report.model_performance import ModelPerformance

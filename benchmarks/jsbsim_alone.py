@@ -86,7 +86,7 @@ def _starts(bound: Any, i: int) -> tuple[dict[str, Any], dict[str, Any]]:
 
 def _started(rate_hz: float, fuel_kg: float, flaps: float, added_kg: float) -> Any:
     from openemss.models.airframe.adapter import Airframe
-    from openemss.models.fcs.mission import departure_runway, load_mission
+    from openemss.models.mission.mission import departure_runway, load_mission
     rwy = departure_runway(load_mission(ROOT / "missions" / "munich.yaml"))  # the FMU's DEFAULT_MISSION
     m = Airframe(rate_hz=rate_hz)
     m.set_added_mass(added_kg)

@@ -37,8 +37,8 @@ from openemss.models.airframe.airframe_signals import SIGNALS, STATE_FIELDS
 from openemss.models.airframe.loading import check_air_start, check_loading
 from openemss.models.airframe.settings import PARAMETER_SETS, airframe_set
 from openemss.models.airframe.trim import trim_level
-from openemss.models.fcs.mission import departure_runway, load_mission
 from openemss.models.mission.errors import MissionError
+from openemss.models.mission.mission import departure_runway, load_mission
 from openemss.models.mission.weather import Weather, load_weather
 
 REQUIREMENTS = ["jsbsim>=1.2", "numpy>=1.24", "scipy>=1.10", "pyyaml>=6.0"]

@@ -37,13 +37,14 @@ from openemss.fmus.data import data_file
 from openemss.fmus.fmu_state import FmuState
 from openemss.fmus.initial_outputs import InitialOutputs
 from openemss.fmus.signal_io import SignalIO
-from openemss.models.fcs.atmosphere import isa, mach_from_tas
+from openemss.models.common.airspeed import mach_from_tas
+from openemss.models.fcs.atmosphere import isa
 from openemss.models.fcs.errors import FcsError
 from openemss.models.fcs.fcs import FcsOutput, FlightControlSystem
 from openemss.models.fcs.fcs_signals import GAIN_DEFAULTS, SIGNALS
-from openemss.models.fcs.mission import Mission, departure_runway, load_mission
 from openemss.models.fcs.state import AircraftState, EngineState
 from openemss.models.mission.geo import LatLon, local_ne_m
+from openemss.models.mission.mission import Mission, departure_runway, load_mission
 
 REQUIREMENTS = ["pyyaml>=6.0", "numpy>=1.24", "numba>=0.59"]
 DATA_FILES = ["missions/munich.yaml", "missions/README.md"]

@@ -31,13 +31,14 @@ from typing import Any
 
 import numpy as np
 
+from openemss.models.common.airspeed import cas_from_tas
 from openemss.models.fcs.approach import APPROACH_PHASES, ApproachParams, ils_deviation
-from openemss.models.fcs.atmosphere import cas_from_tas, isa
-from openemss.models.fcs.mission import Mission, Section
-from openemss.models.fcs.sections import APPROACH, REGISTRY, TARGETS
-from openemss.models.fcs.tecs import SpeedKind
+from openemss.models.fcs.atmosphere import isa
 from openemss.models.fcs.vertical import VNAV_MODES
 from openemss.models.mission.geo import LatLon
+from openemss.models.mission.mission import Mission, Section
+from openemss.models.mission.sections import APPROACH, REGISTRY, TARGETS
+from openemss.models.mission.speed import SpeedKind
 
 from .rundata import RunData, parameter_float
 

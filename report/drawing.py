@@ -7,8 +7,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from openemss.models.fcs.mission import Mission
 from openemss.models.infra.files import figure_bytes
+from openemss.models.mission.mission import Mission
 from openemss.orchestrator.results import atomic_write
 
 from .agg import Axes, Figure

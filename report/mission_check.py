@@ -39,9 +39,9 @@ from openemss.models.airframe.loading import above_mtow
 from openemss.models.fcs.errors import FcsError
 from openemss.models.fcs.feasibility import MissionCheck, check_mission
 from openemss.models.fcs.feasibility_perf import Limits, from_dotted
-from openemss.models.fcs.mission import Mission, load_mission, parse_mission_file
 from openemss.models.mission.errors import GeometryError, MissionError
 from openemss.models.mission.geo import LatLon
+from openemss.models.mission.mission import Mission, load_mission, parse_mission_file
 from openemss.models.mission.weather import Turbulence, Weather, WindLayer, WindProfile, parse_weather_text
 from openemss.orchestrator.exit_codes import ExitCode
 
@@ -380,7 +380,7 @@ def cmd_check(args: argparse.Namespace) -> int:
 def register(sub: argparse._SubParsersAction) -> tuple[type[Exception], ...]:  # type: ignore[type-arg]
     """Add ``emss mission check``."""
     m = sub.add_parser("mission", help="mission files: check a mission against what the aircraft can do",
-                       description="Mission files (models/fcs/mission.py, missions/README.md).")
+                       description="Mission files (models/mission/mission.py, missions/README.md).")
     msub = m.add_subparsers(dest="mission_command", required=True, parser_class=type(m))
     c = msub.add_parser("check", help="predict per section whether the aircraft can fly it as planned",
                         description="Before flying: per section the required climb or descent gradient (altitude "

@@ -11,8 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from openemss.models.fcs.mission import Mission
 from openemss.models.mission.geo import from_local_ne
+from openemss.models.mission.mission import Mission
 
 from .rundata import RunData, parameter_float
 

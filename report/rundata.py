@@ -20,9 +20,9 @@ from xml.etree import ElementTree
 import numpy as np
 
 from openemss.models.fcs.errors import FcsError
-from openemss.models.fcs.mission import Mission, parse_mission
 from openemss.models.infra import safe_yaml
 from openemss.models.mission.errors import MissionError
+from openemss.models.mission.mission import Mission, parse_mission
 from openemss.orchestrator.recording.timeseries import (
     Column,
     TimeSeriesError,

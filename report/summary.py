@@ -18,8 +18,8 @@ from typing import Any
 
 import numpy as np
 
-from openemss.models.fcs.mission import Mission
 from openemss.models.mission.geo import LatLon, local_ne_m
+from openemss.models.mission.mission import Mission
 
 from .conformance import holds, ils_conformance, section_conformance
 from .electric import electric_summary

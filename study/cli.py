@@ -175,7 +175,7 @@ def _report(study: StudyDef, cases: list[Any], outcome: Any, redesign: dict[str,
         mpath = dict(study.missions).get(mission)
         if mpath is not None:
             try:
-                from openemss.models.fcs.mission import load_mission
+                from openemss.models.mission.mission import load_mission
 
                 names = [s.name for s in load_mission(mpath).sections]
             except Exception:  # the names only label the plot

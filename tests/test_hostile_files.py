@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pytest
 
-from openemss.models.fcs.mission import load_mission
+from openemss.models.mission.mission import load_mission
 from openemss.models.infra import safe_yaml
 from openemss.models.mission.errors import MissionError
 from openemss.orchestrator.errors import EmssError, SystemStructureError

@@ -23,7 +23,7 @@ from xml.etree import ElementTree
 
 import pytest
 
-from openemss.models.fcs.mission import load_mission
+from openemss.models.mission.mission import load_mission
 from openemss.orchestrator.cli.main import main
 from openemss.study.spec import load_study
 

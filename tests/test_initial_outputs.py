@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from openemss.models.fcs.mission import departure_runway, load_mission
+from openemss.models.mission.mission import departure_runway, load_mission
 from thirdparty import run_isolated
 
 ROOT = Path(__file__).resolve().parent.parent

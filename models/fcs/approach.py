@@ -4,7 +4,7 @@ Geometry (ICAO Annex 10 Vol. I, 3.1.5): the glide path of angle gs_angle passes
 the threshold at the reference datum height tch (15 m), so it meets the runway
 at the glide path intercept GPI, tch / tan(gs) past the threshold (286 m at 3 deg).
 The localizer antenna stands 300 m beyond the stop end. Positions relative to a
-runway are taken in the WGS-84 tangent plane of its threshold (:func:`.geo.local_ne_m`),
+runway are taken in the WGS-84 tangent plane of its threshold (:func:`openemss.models.mission.geo.local_ne_m`),
 exact to centimetres over an approach.
 
 Phases of :class:`AutoLand` (each reported as a string):

@@ -1,18 +1,14 @@
-"""ISA atmosphere and airspeed conversions (Mach, CAS, TAS) for the guidance laws.
+"""The ISA atmosphere for the guidance laws: the FCS's range and error type.
 
 The atmosphere is :mod:`openemss.models.common.atmosphere` (ISO 2533:1975), the one shared by the
-engine, the airframe and the FCS (``build-fmus`` vendors it into each FMU); this module adds the
-airspeed conversions and raises the FCS's own error type for an altitude outside the range.
-
-Calibrated airspeed uses the subsonic compressible (Saint-Venant) relation for
-the impact pressure qc, the definition of CAS:
-
-    qc = p0 [(1 + 0.2 (CAS/a0)^2)^3.5 - 1] = p [(1 + 0.2 M^2)^3.5 - 1]
+engine, the airframe and the FCS (``build-fmus`` vendors it into each FMU); this module limits it to
+the FCS's altitudes, keeps the last answer (the FCS asks several times per step for the same altitude)
+and raises the FCS's own error type outside the range. The airspeed conversions (Mach, CAS, TAS) are
+:mod:`openemss.models.common.airspeed`.
 
 References
 ----------
 ISO 2533:1975, "Standard Atmosphere". NOAA-S/T 76-1562, "U.S. Standard Atmosphere, 1976".
-E. Williams, "Aviation Formulary V1.47", section "Mach numbers, true vs calibrated airspeeds".
 """
 
 from __future__ import annotations
@@ -24,12 +20,9 @@ from ..common.atmosphere import T_MAX_K, T_MIN_K, Atmosphere, isa_T_p, rho_a
 from ..infra.jit import jitable
 from .errors import FcsError
 
-__all__ = ["Atmosphere", "isa", "isa_values", "tas_from_mach", "mach_from_tas", "tas_from_cas", "cas_from_tas",
-           "tas_from_cas_values", "cas_from_tas_values", "G0_M_S2", "ALT_MAX_M"]
+__all__ = ["Atmosphere", "isa", "isa_values", "G0_M_S2", "ALT_MAX_M"]
 
 G0_M_S2: float = _atm.G0_M_S2
-_P0_PA = _atm.P0_PA
-_A0_M_S = _atm.A0_M_S
 #: Valid geopotential altitude range [m] of the FCS's laws.
 ALT_MIN_M: float = _atm.ALT_MIN_M
 ALT_MAX_M: float = 20000.0
@@ -70,47 +63,3 @@ def isa_values(alt_m: float, dT_isa_K: float) -> tuple[float, float, float, floa
 
 #: The last (altitude, deviation, atmosphere) of :func:`isa` (an Atmosphere is frozen: it may be shared).
 _LAST: list = [math.nan, math.nan, None]
-
-
-def tas_from_mach(mach: float, atm: Atmosphere) -> float:
-    """True airspeed for Mach number ``mach`` [m/s]."""
-    return mach * atm.a_m_s
-
-
-def mach_from_tas(tas_m_s: float, atm: Atmosphere) -> float:
-    """Mach number for true airspeed ``tas_m_s`` [-]."""
-    return tas_m_s / atm.a_m_s
-
-
-@jitable
-def _qc_from_mach(mach: float, p_Pa: float) -> float:
-    return p_Pa * ((1.0 + 0.2 * mach * mach) ** 3.5 - 1.0)
-
-
-@jitable
-def _mach_from_qc(qc_Pa: float, p_Pa: float) -> float:
-    return math.sqrt(5.0 * ((qc_Pa / p_Pa + 1.0) ** (2.0 / 7.0) - 1.0))
-
-
-def tas_from_cas(cas_m_s: float, atm: Atmosphere) -> float:
-    """True airspeed for calibrated airspeed ``cas_m_s`` (subsonic) [m/s]."""
-    return tas_from_cas_values(cas_m_s, atm.p_Pa, atm.a_m_s)
-
-
-def cas_from_tas(tas_m_s: float, atm: Atmosphere) -> float:
-    """Calibrated airspeed for true airspeed ``tas_m_s`` (subsonic) [m/s]."""
-    return cas_from_tas_values(tas_m_s, atm.p_Pa, atm.a_m_s)
-
-
-@jitable
-def tas_from_cas_values(cas_m_s: float, p_Pa: float, a_m_s: float) -> float:
-    """:func:`tas_from_cas` at static pressure ``p_Pa`` [Pa] and speed of sound ``a_m_s`` [m/s]."""
-    qc = _qc_from_mach(cas_m_s / _A0_M_S, _P0_PA)
-    return _mach_from_qc(qc, p_Pa) * a_m_s
-
-
-@jitable
-def cas_from_tas_values(tas_m_s: float, p_Pa: float, a_m_s: float) -> float:
-    """:func:`cas_from_tas` at static pressure ``p_Pa`` [Pa] and speed of sound ``a_m_s`` [m/s]."""
-    qc = _qc_from_mach(tas_m_s / a_m_s, p_Pa)
-    return _mach_from_qc(qc, _P0_PA) * _A0_M_S

@@ -21,6 +21,8 @@ from ..infra.jit import entry_point
 from ..infra.params import ParamSet
 from ..infra.records import fast_init
 from ..mission.geo import wrap_pi
+from ..mission.mission import Mission
+from ..mission.sections import APPROACH, REGISTRY
 from .approach import APPROACH_PHASES, ApproachParams
 from .atmosphere import G0_M_S2, isa
 from .clip import clip
@@ -30,10 +32,8 @@ from .fuel_control import FUEL_LIMITERS, FuelController
 from .guidance import L1Guidance
 from .inner_loops import PARAM_BLOCKS, STATE_BLOCKS, blocks, inner_step
 from .lateral import LateralController
-from .mission import Mission
 from .performance import Performance
 from .pitch import PitchController
-from .sections import APPROACH, REGISTRY
 from .smoothing import TargetRamp
 from .state import AircraftState, EngineState, Targets
 from .state_machine import MissionRunner

@@ -53,12 +53,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..mission.geo import LatLon
+from ..mission.mission import Mission, Section
+from ..mission.sections import REGISTRY
 from ..mission.weather import WindProfile
 from .errors import FcsError
 from .feasibility_checker import NOTE, VERDICTS, Checker, CheckState, Finding
 from .feasibility_perf import Limits, Performance, PerformanceError, PerfPoint
-from .mission import Mission, Section
-from .sections import REGISTRY
+from .sections import LAWS
 
 __all__ = ["PerfPoint", "Performance", "PerformanceError", "Limits", "Finding", "SectionCheck", "MissionCheck",
            "check_mission", "VERDICTS"]
@@ -137,7 +138,7 @@ class MissionCheck:
 
 def _check_section(ck: Checker, sec: Section, st: CheckState, nxt: Section | None) -> SectionCheck:
     """The check of one section by its type's :attr:`~.sections.SectionType.feasibility` (``n/a`` without one)."""
-    kind = REGISTRY[sec.type]
+    kind = LAWS.get(sec.type)  # None: a type the flight control does not fly (declared by the mission only)
     ck.findings = []
     ck.next_fix = REGISTRY[nxt.type].entry_fix(nxt) if nxt is not None else None
     h0, mass0 = st.alt_m, st.mass_kg
@@ -145,8 +146,9 @@ def _check_section(ck: Checker, sec: Section, st: CheckState, nxt: Section | Non
                                         achievable_gradient=None, needed_distance_m=None, turn_radius_m=None,
                                         geometry_radius_m=None, thrust_ratio=None)
     h1 = h0
-    if kind.feasibility is None:
-        ck.note(f"{sec.type} sections {kind.not_checked}: not checked")
+    if kind is None or kind.feasibility is None:
+        why = "have no flight law in the flight control" if kind is None else kind.not_checked
+        ck.note(f"{sec.type} sections {why}: not checked")
         verdict = "n/a"
     else:
         try:

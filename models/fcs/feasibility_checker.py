@@ -21,14 +21,15 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from ..common.airspeed import cas_from_tas, mach_from_tas
 from ..mission.geo import LatLon
+from ..mission.speed import SpeedCommand
 from ..mission.weather import WindProfile
-from .atmosphere import G0_M_S2, cas_from_tas, isa, mach_from_tas
+from .atmosphere import G0_M_S2, isa
 from .feasibility_perf import Limits, Performance, PerfPoint
-from .tecs import SpeedCommand
 
 if TYPE_CHECKING:
-    from .mission import Mission, Section
+    from ..mission.mission import Mission, Section
 
 __all__ = ["VERDICTS", "NOTE", "Finding", "CheckState", "Checker", "FeasibilityCheck", "pct"]
 

@@ -12,14 +12,15 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
+from ..common.airspeed import cas_from_tas, tas_from_cas
 from ..mission.geo import destination, distance_m, final_bearing_rad, initial_bearing_rad, wrap_pi
-from .atmosphere import G0_M_S2, cas_from_tas, isa, tas_from_cas
+from ..mission.speed import SpeedCommand
+from .atmosphere import G0_M_S2, isa
 from .feasibility_checker import NOTE, Checker, CheckState, Finding, pct
 from .guidance import FLY_BY_MAX_TURN_RAD
-from .tecs import SpeedCommand
 
 if TYPE_CHECKING:
-    from .mission import Section
+    from ..mission.mission import Section
 
 __all__ = ["rolling", "takeoff", "waypoint_following", "orbiting", "gturns", "levelling", "landing"]
 

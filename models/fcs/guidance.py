@@ -10,7 +10,7 @@ velocity to the line of sight to that point, the lateral acceleration command is
 which for small errors is a PD law on the cross-track error with natural period
 T and damping zeta when L1 = zeta T Vg / pi. Legs are great circles (the cross
 track distance and the path direction at the foot of the aircraft come from
-:mod:`.geo`); in the aircraft's neighbourhood the path is treated as the straight
+:mod:`openemss.models.mission.geo`); in the aircraft's neighbourhood the path is treated as the straight
 line tangent to the great circle, which is exact to far below a metre within L1
 (a few kilometres). Orbits use the line tangent to the circle at the aircraft's
 radial plus the centripetal feed-forward dir Vg^2 / R; the equilibrium is then

@@ -40,8 +40,9 @@ from importlib import resources
 
 import numpy as np
 
+from ..common.airspeed import mach_from_tas
 from ..infra.jit import jitable
-from .atmosphere import G0_M_S2, isa, mach_from_tas
+from .atmosphere import G0_M_S2, isa
 from .clip import clip
 from .errors import FcsError
 from .tunable import Tunable, load_params

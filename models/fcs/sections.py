@@ -1,29 +1,16 @@
-"""The mission section types: each one class with its fields, its step and its completion, registered once.
+"""The flight laws of the mission section types: each type's step and completion, registered once.
 
-:data:`REGISTRY` maps a section's ``type`` to its class. The mission reader (:mod:`.mission`) takes the
-fields and their checks from it, the state machine (:mod:`.state_machine`) makes an executor of the
-class when a section starts, and the documentation lists :attr:`SectionType.completion`:
+A section type is declared by the mission (:mod:`openemss.models.mission.sections`: its fields, completion,
+conformance kind, the one registry the mission reader and the report read); here each type's class derives from
+its declaration and adds how the FCS flies it: the state machine (:mod:`.state_machine`) makes an executor of the
+class when a section starts, and the mission check judges the section with the class's
+:attr:`SectionType.feasibility` (the shipped checks in :mod:`.feasibility_sections`).
 
-=================  ==============================================================
-type               complete when
-=================  ==============================================================
-Rolling            calibrated airspeed >= ``rotate_cas_m_s``
-TakeOff            height above the runway >= ``until_height_agl_m`` (after lift-off)
-WaypointFollowing  every waypoint passed (fly-over within ``wp_accept_m`` or abeam;
-                   fly-by at the turn anticipation distance), and a planned hold at
-                   the constraint's waypoint flown
-Orbiting           ``turns`` full turns swept around the centre after capture
-GTurns             ``|heading change|`` >= ``heading_change_deg``, or ``duration_s`` elapsed
-Levelling          ``|h - altitude_m|`` < ``tolerance_m`` continuously for ``hold_s``
-Landing            stopped on the runway (ground speed < ``v_stop_m_s``)
-Custom             ``duration_s`` elapsed
-=================  ==============================================================
-
-A new section type is a subclass of :class:`SectionType` with ``@register``: nothing else names it. Its class
-also says how the mission check judges it before the flight (:attr:`SectionType.feasibility`, the shipped
-checks in :mod:`.feasibility_sections`) and what the report compares after it (:attr:`SectionType.conformance`).
-The navigation types (waypoints, orbits, turns, levelling) set :attr:`SectionType.outer_rate`: the state
-machine steps them every ``guidance.outer_period_s`` and holds their targets in between.
+A new section type is one subclass of :class:`SectionType` (its fields, step and completion) with
+``@register``: the declaration is registered in the mission's registry and the flight law in :data:`LAWS` by the
+same call, and nothing else names it. The navigation types (waypoints, orbits, turns, levelling) set
+:attr:`SectionType.outer_rate`: the state machine steps them every ``guidance.outer_period_s`` and holds their
+targets in between.
 """
 
 from __future__ import annotations
@@ -32,100 +19,56 @@ import dataclasses
 import math
 from typing import TYPE_CHECKING, Any, ClassVar
 
+from ..common.airspeed import cas_from_tas
+from ..mission import sections as decl
 from ..mission.geo import LatLon, wrap_pi
+from ..mission.sections import REGISTRY, SectionSpec, section_label
+from ..mission.speed import SpeedCommand, SpeedKind
 from . import feasibility_sections as checks
 from .approach import AutoLand, centreline_steer
-from .atmosphere import cas_from_tas, isa
+from .atmosphere import isa
 from .guidance import L1Guidance, OrbitTracker, WaypointSequencer
 from .runway_checks import check_on_runway
 from .state import AircraftState, Targets
-from .tecs import SpeedCommand, SpeedKind
 from .vertical import SectionVnav
 
 if TYPE_CHECKING:
+    from ..mission.mission import Section
     from .feasibility_checker import FeasibilityCheck
-    from .mission import Section
     from .state_machine import MissionRunner
 
-__all__ = ["Field", "SectionType", "REGISTRY", "register", "CONFORMANCE", "TARGETS", "APPROACH"]
-
-#: A field of a section type: (kind, required, default, (min, max) or choices, unit and help).
-Field = tuple[str, bool, Any, Any, str]
-
-#: :attr:`SectionType.conformance` of a section flown to an altitude (and a speed): the report compares them with
-#: the flown altitude and speed (``openemss.report.conformance.section_conformance``).
-TARGETS = "targets"
-#: :attr:`SectionType.conformance` of an ILS approach to a runway: its phases are the approach's
-#: (:data:`.approach.APPROACH_PHASES`, the FCS's ``ils_phase``) and the report measures the localizer and glide
-#: slope captures (``openemss.report.conformance.ils_conformance``).
-APPROACH = "approach"
-#: Each conformance kind and the fields a section type of that kind must have.
-CONFORMANCE: dict[str, tuple[str, ...]] = {TARGETS: ("altitude_m",), APPROACH: ("runway", "approach_altitude_m")}
+__all__ = ["SectionType", "LAWS", "register", "unregister"]
 
 
-class SectionType:
-    """A mission section type: its fields (:attr:`fields`), its completion (:attr:`completion`) and,
-    as an instance, the executor of one section of that type.
+class SectionType(SectionSpec):
+    """A mission section type the FCS flies: its declaration (:class:`~openemss.models.mission.sections.SectionSpec`:
+    fields, completion, conformance) and, as an instance, the executor of one section of that type.
 
     An executor is made when its section starts (so it can use the state at entry); every step it
     turns the aircraft state into :class:`~.state.Targets` and sets :attr:`done` when complete.
 
     Class attributes
     ----------------
-    type_name : str
-        The ``type`` of the mission file.
-    fields : dict
-        Field name -> (kind, required, default, (min, max) or choices, unit and help), read by
-        :func:`.mission.parse_mission`.
-    completion : str
-        When a section of this type is complete (the documentation and ``emss`` read it).
-    speed_field : str or None
-        The field holding the speed the section leaves the aircraft at (the next section's
-        descent holds it until its deceleration).
     outer_rate : bool
         The section is navigation at the outer loops' rate: its step may be run every
         ``guidance.outer_period_s`` only, its targets held in between (its step must not integrate
         ``dt_s``). False (the default) for the sections that fly the aircraft near the ground
         (take-off, landing) or by the clock (custom commands): they run every step.
-    departs_from_runway : bool
-        A ground run on the section's ``runway``: a mission that begins with it starts there, on the ground
-        (:func:`.runway_checks.check_departure`), and the aircraft must not leave the runway on the ground
-        (:func:`.runway_checks.check_on_runway`); the mission check starts there too.
     feasibility : FeasibilityCheck or None
         The section's check before the flight (:mod:`.feasibility`): a function ``(checker, section, state,
         figures) -> end altitude [m]`` (:mod:`.feasibility_checker`); None (the default): not checked, the
         section's verdict is ``n/a`` and a note says ``<type> sections <not_checked>: not checked``.
     not_checked : str
         Why a type without a feasibility check has none (in that note).
-    conformance : str or None
-        What the report compares after the flight: :data:`TARGETS` (altitude and speed targets),
-        :data:`APPROACH` (the ILS captures), or None (nothing); :data:`CONFORMANCE` lists the fields each needs.
     """
 
-    type_name: ClassVar[str] = ""
-    fields: ClassVar[dict[str, Field]] = {}
-    completion: ClassVar[str] = ""
-    speed_field: ClassVar[str | None] = "speed"
     outer_rate: ClassVar[bool] = False
-    departs_from_runway: ClassVar[bool] = False
     feasibility: ClassVar[FeasibilityCheck | None] = None
     not_checked: ClassVar[str] = "have no feasibility check"
-    conformance: ClassVar[str | None] = None
 
     def __init__(self, sec: Section, x: AircraftState, t_s: float, ctx: MissionRunner) -> None:
         self.sec, self.t0, self.ctx = sec, t_s, ctx
         self.done = False
-
-    @classmethod
-    def check(cls, values: dict[str, Any], raw: dict[str, Any]) -> tuple[str | None, str] | None:
-        """A problem among the validated field ``values`` that no single field shows, as (field or
-        None, what is wrong), or None; ``raw`` is the section as the file gives it."""
-        return None
-
-    @classmethod
-    def entry_fix(cls, sec: Section) -> LatLon | None:
-        """Where a section of this type begins, for the turn anticipation of the fly-by waypoint before it."""
-        return None
 
     def flown_by(self) -> LatLon | None:
         """The last waypoint of the completed section when it was flown by (the next leg starts there)."""
@@ -133,7 +76,7 @@ class SectionType:
 
     @property
     def label(self) -> str:
-        """The section as messages name it (:func:`section_label`)."""
+        """The section as messages name it (:func:`~openemss.models.mission.sections.section_label`)."""
         return section_label(self.sec)
 
     def targets(self, **kw: Any) -> Targets:
@@ -143,53 +86,43 @@ class SectionType:
         raise NotImplementedError
 
 
-def section_label(sec: Section) -> str:
-    """A section as messages name it: ``section 0 (Rolling 'take-off roll')``."""
-    return f"section {sec.index} ({sec.type} '{sec.name}')"
-
-
-#: The section types by their ``type`` name, in the order of the documentation: the one registry
-#: that the mission reader, the state machine and the documentation read.
-REGISTRY: dict[str, type[SectionType]] = {}
+#: The flight law of each section type the FCS flies, by its ``type`` name (the state machine and the mission
+#: check read it); the declarations are the mission's registry.
+LAWS: dict[str, type[SectionType]] = {}
 
 
 def register(cls: type[SectionType]) -> type[SectionType]:
-    """Class decorator: register a section type under its :attr:`~SectionType.type_name` (once).
+    """Class decorator: register a section type's flight law under its ``type_name`` (once), and its declaration
+    in the mission's registry unless the class derives from the declaration registered there under that name.
 
     Raises
     ------
     ValueError
-        When the name is empty or taken, or the type's :attr:`~SectionType.conformance` is not a kind of
-        :data:`CONFORMANCE` or its fields lack those the kind needs.
+        When the name is empty or taken (a flight law registered, or another declaration of that name), or the
+        declaration's conformance kind is not one the report judges or its fields lack those the kind needs.
     """
-    if not cls.type_name or cls.type_name in REGISTRY:
+    declared = REGISTRY.get(cls.type_name)
+    if cls.type_name in LAWS or (declared is not None and not issubclass(cls, declared)):
         raise ValueError(f"section type {cls.__name__}: type_name {cls.type_name!r} is empty or taken")
-    if cls.conformance is not None:
-        needs = CONFORMANCE.get(cls.conformance)
-        if needs is None:
-            raise ValueError(f"section type {cls.__name__}: conformance {cls.conformance!r} is not one of "
-                             f"{', '.join(CONFORMANCE)} (or None)")
-        if missing := [f for f in needs if f not in cls.fields]:
-            raise ValueError(f"section type {cls.__name__}: conformance {cls.conformance!r} needs the field(s) "
-                             f"{', '.join(missing)}")
-    REGISTRY[cls.type_name] = cls
+    if declared is None:
+        decl.register(cls)
+    LAWS[cls.type_name] = cls
     return cls
 
 
-@register
-class Rolling(SectionType):
-    """Rolling section; completes when calibrated airspeed >= ``rotate_cas_m_s``."""
+def unregister(type_name: str) -> None:
+    """Remove a section type registered by :func:`register`: its flight law, and its declaration when the law was
+    registered as it (a type declared by the mission keeps its declaration)."""
+    law = LAWS.pop(type_name, None)
+    if law is not None and REGISTRY.get(type_name) is law:
+        del REGISTRY[type_name]
 
-    type_name = "Rolling"
+
+@register
+class Rolling(decl.Rolling, SectionType):
+    """The flight law of a Rolling section (:class:`openemss.models.mission.sections.Rolling`)."""
+
     feasibility = staticmethod(checks.rolling)
-    speed_field = None
-    departs_from_runway = True
-    completion = "calibrated airspeed >= ``rotate_cas_m_s``"
-    fields: ClassVar[dict[str, Field]] = {
-        "runway": ("runway", True, None, None, "runway of the take-off roll"),
-        "lever": ("number", False, 1.0, (0.0, 1.0), "thrust lever [-]"),
-        "rotate_cas_m_s": ("number", True, None, (20.0, 150.0), "ends at this calibrated airspeed [m/s]"),
-    }
 
     def step(self, t_s: float, dt_s: float, x: AircraftState) -> Targets:
         s, rwy = self.sec, self.sec["runway"]
@@ -203,22 +136,10 @@ class Rolling(SectionType):
 
 
 @register
-class TakeOff(SectionType):
-    """TakeOff section; completes when height above the runway >= ``until_height_agl_m`` (after lift-off)."""
+class TakeOff(decl.TakeOff, SectionType):
+    """The flight law of a TakeOff section (:class:`openemss.models.mission.sections.TakeOff`)."""
 
-    type_name = "TakeOff"
     feasibility = staticmethod(checks.takeoff)
-    speed_field = "climb_speed"
-    departs_from_runway = True
-    completion = "height above the runway >= ``until_height_agl_m`` (after lift-off)"
-    fields: ClassVar[dict[str, Field]] = {
-        "runway": ("runway", True, None, None, "runway (centre line and elevation)"),
-        "lever": ("number", False, 1.0, (0.0, 1.0), "thrust lever [-]"),
-        "pitch_deg": ("number", False, 10.0, (2.0, 20.0), "rotation pitch attitude [deg]"),
-        "rotation_rate_deg_s": ("number", False, 3.0, (0.5, 10.0), "rotation rate [deg/s]"),
-        "climb_speed": ("speed", True, None, None, "initial climb speed"),
-        "until_height_agl_m": ("number", False, 300.0, (20.0, 3000.0), "ends at this height above the runway [m]"),
-    }
 
     def __init__(self, sec: Section, x: AircraftState, t_s: float, ctx: MissionRunner) -> None:
         super().__init__(sec, x, t_s, ctx)
@@ -252,34 +173,11 @@ class TakeOff(SectionType):
 
 
 @register
-class WaypointFollowing(SectionType):
-    """WaypointFollowing section; completes when every waypoint passed (fly-over within ``wp_accept_m`` or abeam; fly-by at the turn anticipation distance), and a planned hold at the constraint's waypoint flown."""
+class WaypointFollowing(decl.WaypointFollowing, SectionType):
+    """The flight law of a WaypointFollowing section (:class:`openemss.models.mission.sections.WaypointFollowing`)."""
 
-    type_name = "WaypointFollowing"
     feasibility = staticmethod(checks.waypoint_following)
-    conformance = TARGETS
     outer_rate = True
-    completion = "every waypoint passed (fly-over within ``wp_accept_m`` or abeam; fly-by at the turn anticipation distance), and a planned hold at the constraint's waypoint flown"
-    fields: ClassVar[dict[str, Field]] = {
-        "waypoints": ("waypoints", True, None, None, "names of waypoints, in order"),
-        "altitude_m": ("number", True, None, (-400.0, 15000.0), "altitude [m]"),
-        "speed": ("speed", True, None, None, "speed"),
-        "fly_by": ("bool", False, False, None, "fly-by (true) or fly-over (false) waypoints"),
-        "altitude_at": ("waypoint", False, None, None, "the waypoint of the section the altitude is due at "
-                        "(default: the last); descents are planned to it, the altitude held after it"),
-    }
-
-    @classmethod
-    def check(cls, values: dict[str, Any], raw: dict[str, Any]) -> tuple[str | None, str] | None:
-        at = values["altitude_at"]
-        if "altitude_at" in raw and at not in values["waypoints"]:
-            return "altitude_at", (f"{raw['altitude_at']!r} is not one of the section's waypoints "
-                                   f"({', '.join(map(str, raw['waypoints']))})")
-        return None
-
-    @classmethod
-    def entry_fix(cls, sec: Section) -> LatLon | None:
-        return sec["waypoints"][0]
 
     def flown_by(self) -> LatLon | None:
         return self.seq.leg[1] if self.sec["fly_by"] else None
@@ -333,22 +231,11 @@ def _mode(alt_cmd_m: float, x: AircraftState, band_m: float) -> str:
 
 
 @register
-class Orbiting(SectionType):
-    """Orbiting section; completes when ``turns`` full turns swept around the centre after capture."""
+class Orbiting(decl.Orbiting, SectionType):
+    """The flight law of a Orbiting section (:class:`openemss.models.mission.sections.Orbiting`)."""
 
-    type_name = "Orbiting"
     feasibility = staticmethod(checks.orbiting)
-    conformance = TARGETS
     outer_rate = True
-    completion = "``turns`` full turns swept around the centre after capture"
-    fields: ClassVar[dict[str, Field]] = {
-        "center": ("waypoint", True, None, None, "waypoint at the centre"),
-        "radius_m": ("number", True, None, (200.0, 100000.0), "radius [m]"),
-        "direction": ("choice", False, "clockwise", ("clockwise", "counterclockwise"), "direction"),
-        "turns": ("number", True, None, (0.1, 100.0), "turns after capture [-]"),
-        "altitude_m": ("number", True, None, (-400.0, 15000.0), "altitude [m]"),
-        "speed": ("speed", True, None, None, "speed"),
-    }
 
     def __init__(self, sec: Section, x: AircraftState, t_s: float, ctx: MissionRunner) -> None:
         super().__init__(sec, x, t_s, ctx)
@@ -366,28 +253,11 @@ class Orbiting(SectionType):
 
 
 @register
-class GTurns(SectionType):
-    """GTurns section; completes when ``|heading change|`` >= ``heading_change_deg``, or ``duration_s`` elapsed."""
+class GTurns(decl.GTurns, SectionType):
+    """The flight law of a GTurns section (:class:`openemss.models.mission.sections.GTurns`)."""
 
-    type_name = "GTurns"
     feasibility = staticmethod(checks.gturns)
-    conformance = TARGETS
     outer_rate = True
-    completion = "``|heading change|`` >= ``heading_change_deg``, or ``duration_s`` elapsed"
-    fields: ClassVar[dict[str, Field]] = {
-        "load_factor": ("number", True, None, (1.02, 6.0), "load factor of the level turn [g]"),
-        "direction": ("choice", False, "right", ("right", "left"), "turn direction"),
-        "heading_change_deg": ("number", False, None, (1.0, 3600.0), "ends after this heading change [deg]"),
-        "duration_s": ("number", False, None, (1.0, 36000.0), "or after this time [s]"),
-        "altitude_m": ("number", False, None, (-400.0, 15000.0), "altitude [m] (default: at entry)"),
-        "speed": ("speed", False, None, None, "speed (default: at entry)"),
-    }
-
-    @classmethod
-    def check(cls, values: dict[str, Any], raw: dict[str, Any]) -> tuple[str | None, str] | None:
-        if ("heading_change_deg" in raw) == ("duration_s" in raw):
-            return None, "give exactly one of 'heading_change_deg' or 'duration_s'"
-        return None
 
     def __init__(self, sec: Section, x: AircraftState, t_s: float, ctx: MissionRunner) -> None:
         super().__init__(sec, x, t_s, ctx)
@@ -411,21 +281,11 @@ class GTurns(SectionType):
 
 
 @register
-class Levelling(SectionType):
-    """Levelling section; completes when ``|h - altitude_m|`` < ``tolerance_m`` continuously for ``hold_s``."""
+class Levelling(decl.Levelling, SectionType):
+    """The flight law of a Levelling section (:class:`openemss.models.mission.sections.Levelling`)."""
 
-    type_name = "Levelling"
     feasibility = staticmethod(checks.levelling)
-    conformance = TARGETS
     outer_rate = True
-    completion = "``|h - altitude_m|`` < ``tolerance_m`` continuously for ``hold_s``"
-    fields: ClassVar[dict[str, Field]] = {
-        "altitude_m": ("number", True, None, (-400.0, 15000.0), "altitude to capture [m]"),
-        "speed": ("speed", True, None, None, "speed"),
-        "heading_deg": ("number", False, None, (0.0, 360.0), "true heading to hold [deg] (default: at entry)"),
-        "tolerance_m": ("number", False, 10.0, (0.1, 500.0), "altitude band counted as captured [m]"),
-        "hold_s": ("number", False, 20.0, (0.0, 3600.0), "time to stay in the band [s]"),
-    }
 
     def __init__(self, sec: Section, x: AircraftState, t_s: float, ctx: MissionRunner) -> None:
         super().__init__(sec, x, t_s, ctx)
@@ -446,23 +306,10 @@ class Levelling(SectionType):
 
 
 @register
-class Landing(SectionType):
-    """Landing section; completes when stopped on the runway (ground speed < ``v_stop_m_s``)."""
+class Landing(decl.Landing, SectionType):
+    """The flight law of a Landing section (:class:`openemss.models.mission.sections.Landing`)."""
 
-    type_name = "Landing"
     feasibility = staticmethod(checks.landing)
-    conformance = APPROACH
-    speed_field = None
-    completion = "stopped on the runway (ground speed < ``v_stop_m_s``)"
-    fields: ClassVar[dict[str, Field]] = {
-        "runway": ("runway", True, None, None, "landing runway"),
-        "approach_altitude_m": ("number", True, None, (0.0, 6000.0), "altitude held until glide slope capture [m]"),
-        "approach_speed": ("speed", True, None, None, "final approach speed"),
-    }
-
-    @classmethod
-    def entry_fix(cls, sec: Section) -> LatLon | None:
-        return sec["runway"].threshold  # the turn onto the localizer: towards the threshold along the centre line
 
     def __init__(self, sec: Section, x: AircraftState, t_s: float, ctx: MissionRunner) -> None:
         super().__init__(sec, x, t_s, ctx)
@@ -484,23 +331,10 @@ class Landing(SectionType):
 
 
 @register
-class Custom(SectionType):
-    """Custom section; completes when ``duration_s`` elapsed."""
+class Custom(decl.Custom, SectionType):
+    """The flight law of a Custom section (:class:`openemss.models.mission.sections.Custom`)."""
 
-    type_name = "Custom"
     not_checked = "fly open-loop commands"
-    speed_field = None
-    completion = "``duration_s`` elapsed"
-    fields: ClassVar[dict[str, Field]] = {
-        "duration_s": ("number", True, None, (0.1, 36000.0), "duration [s]"),
-        "commands": ("commands", True, None, None, "time points {t_s, lever, pitch_deg, bank_deg}, held between"),
-    }
-
-    @classmethod
-    def check(cls, values: dict[str, Any], raw: dict[str, Any]) -> tuple[str | None, str] | None:
-        if values["commands"][0][0] != 0.0:
-            return "commands", "the first command must be at t_s = 0"
-        return None
 
     def step(self, t_s: float, dt_s: float, x: AircraftState) -> Targets:
         tau = t_s - self.t0

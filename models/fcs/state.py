@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 from ..infra.records import fast_init
 from ..mission.geo import LatLon
-from .tecs import SpeedCommand
+from ..mission.speed import SpeedCommand
 
 __all__ = ["AircraftState", "EngineState", "Targets"]
 

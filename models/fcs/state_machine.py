@@ -1,4 +1,4 @@
-"""The mission state machine: runs the sections of a :class:`~.mission.Mission` in order.
+"""The mission state machine: runs the sections of a :class:`~openemss.models.mission.mission.Mission` in order.
 
 Each section becomes an executor of its type's class (:mod:`.sections`, one class per type,
 registered once) when it starts, so it can use the state at entry; the executor turns the
@@ -18,14 +18,17 @@ the constraint cannot be met (:attr:`MissionRunner.holds`).
 from __future__ import annotations
 
 from ..mission.geo import LatLon
+from ..mission.mission import Mission
+from ..mission.sections import REGISTRY, section_label
+from ..mission.speed import SpeedCommand
 from .approach import ApproachParams
+from .errors import FcsError
 from .guidance import L1Guidance
-from .mission import Mission
 from .performance import Performance
 from .runway_checks import check_departure
-from .sections import REGISTRY, SectionType, section_label
+from .sections import LAWS, SectionType
 from .state import AircraftState, Targets
-from .tecs import SpeedCommand, TecsParams
+from .tecs import TecsParams
 from .vertical import HoldRecord
 from .vnav import Vnav
 
@@ -49,6 +52,10 @@ class MissionRunner:
     def __init__(self, mission: Mission, guidance: L1Guidance | None = None,
                  approach_params: ApproachParams | None = None, vnav: Vnav | None = None,
                  tecs_params: TecsParams | None = None) -> None:
+        if unflown := [s for s in mission.sections if s.type not in LAWS]:
+            raise FcsError(f"{mission.source}: {section_label(unflown[0])}: the flight control has no flight law for "
+                           f"section type {unflown[0].type!r} (declared, not registered in models/fcs/sections.py); "
+                           f"it flies {', '.join(LAWS)}")
         self.mission = mission
         self.guidance = guidance if guidance is not None else L1Guidance()
         #: the vertical planner (its parameters and the performance model are tunable through the FCS)
@@ -115,7 +122,7 @@ class MissionRunner:
             if self._exec is None:
                 if not self.history and REGISTRY[sec.type].departs_from_runway:  # the mission's start
                     check_departure(sec["runway"], x, section_label(sec), self.mission.source)
-                self._exec = REGISTRY[sec.type](sec, x, t_s, self)
+                self._exec = LAWS[sec.type](sec, x, t_s, self)
                 self.history.append((t_s, sec.index, sec.name))
             tg = self._exec.step(t_s, dt_s, x)
             if not self._exec.done:

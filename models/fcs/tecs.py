@@ -77,27 +77,19 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from enum import StrEnum
 
 import numpy as np
 
+from ..common.airspeed import cas_from_tas_values, tas_from_cas_values
 from ..infra.jit import jitable
 from ..infra.records import fast_init
-from .atmosphere import (
-    G0_M_S2,
-    Atmosphere,
-    cas_from_tas_values,
-    isa,
-    isa_values,
-    tas_from_cas,
-    tas_from_cas_values,
-    tas_from_mach,
-)
+from ..mission.speed import SpeedCommand, SpeedKind
+from .atmosphere import G0_M_S2, isa, isa_values
 from .clip import clip
 from .errors import FcsError
 from .tunable import Tunable, field_index, load_params
 
-__all__ = ["TecsParams", "SpeedKind", "SpeedCommand", "TecsInput", "TecsOutput", "Tecs", "tecs_law",
+__all__ = ["TecsParams", "TecsInput", "TecsOutput", "Tecs", "tecs_law",
            "specific_energy_rate_m_s", "RHO0_KG_M3", "PRIORITIES", "SPEED_KINDS"]
 
 #: Reference density of the available-thrust fit (thrust_sls_N (rho/rho0)^thrust_lapse_exp), the fit's own rounded
@@ -105,34 +97,7 @@ __all__ = ["TecsParams", "SpeedKind", "SpeedCommand", "TecsInput", "TecsOutput",
 RHO0_KG_M3 = 1.225
 
 
-class SpeedKind(StrEnum):
-    """How a speed command is expressed."""
-
-    MACH = "mach"
-    CAS = "cas"
-    TAS = "tas"
-
-
 _MACH, _CAS = SpeedKind.MACH, SpeedKind.CAS
-
-
-@dataclass(frozen=True, slots=True)
-class SpeedCommand:
-    """A speed target: ``value`` is a Mach number [-] or an airspeed [m/s] per ``kind``."""
-
-    value: float
-    kind: SpeedKind = SpeedKind.TAS
-
-    def tas_m_s(self, alt_m: float, dT_isa_K: float = 0.0, atm: Atmosphere | None = None) -> float:
-        """The target as true airspeed at altitude ``alt_m`` [m/s] (``atm``: that altitude's atmosphere, when the
-        caller has it)."""
-        atm = atm if atm is not None else isa(alt_m, dT_isa_K)
-        kind = self.kind
-        if kind is _MACH:  # (a module constant: SpeedKind.MACH, an enum class's attribute, costs ~0.2 us a look-up)
-            return tas_from_mach(self.value, atm)
-        if kind is _CAS:
-            return tas_from_cas(self.value, atm)
-        return self.value
 
 
 @dataclass(frozen=True, slots=True)

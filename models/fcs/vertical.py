@@ -33,10 +33,10 @@ from dataclasses import dataclass
 
 from ..infra.records import fast_init
 from ..mission.geo import LatLon, distance_m, final_bearing_rad, initial_bearing_rad, wrap_pi
+from ..mission.speed import SpeedCommand, SpeedKind
 from .atmosphere import G0_M_S2
 from .guidance import FLY_BY_MAX_TURN_RAD, GuidanceParams
 from .state import AircraftState
-from .tecs import SpeedCommand, SpeedKind
 from .vnav import ClimbPlan, DescentPlan, Vnav
 
 __all__ = ["VNAV_MODES", "RouteDistance", "SectionVnav", "VerticalTargets", "HoldRecord"]

@@ -44,10 +44,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .atmosphere import G0_M_S2, cas_from_tas, isa
+from ..common.airspeed import cas_from_tas
+from ..mission.speed import SpeedCommand, SpeedKind
+from .atmosphere import G0_M_S2, isa
 from .performance import Performance
 from .profile import VerticalProfile
-from .tecs import SpeedCommand, SpeedKind
 from .tunable import Tunable, load_params
 
 __all__ = ["VnavParams", "Vnav", "DescentPlan", "ClimbPlan", "descent_speed"]

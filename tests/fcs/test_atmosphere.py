@@ -10,7 +10,8 @@ import math
 
 import pytest
 
-from openemss.models.fcs.atmosphere import cas_from_tas, isa, mach_from_tas, tas_from_cas, tas_from_mach
+from openemss.models.common.airspeed import cas_from_tas, mach_from_tas, tas_from_cas, tas_from_mach
+from openemss.models.fcs.atmosphere import isa
 from openemss.models.fcs.errors import FcsError
 
 

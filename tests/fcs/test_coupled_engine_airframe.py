@@ -23,9 +23,9 @@ from openemss.models.engine.cycle_design import design  # noqa: E402
 from openemss.models.engine.design_params import load_params, preset_path  # noqa: E402
 from openemss.models.engine.offdesign import TurbofanOffDesign, scaled_maps  # noqa: E402
 from openemss.models.fcs.fcs import FlightControlSystem  # noqa: E402
-from openemss.models.fcs.mission import parse_mission  # noqa: E402
 from openemss.models.fcs.state import AircraftState, EngineState  # noqa: E402
 from openemss.models.mission.geo import LatLon, local_ne_m  # noqa: E402
+from openemss.models.mission.mission import parse_mission  # noqa: E402
 
 MISSION = """
 mission: {name: coupled steps}

@@ -27,9 +27,9 @@ import pytest
 from fmpy import read_model_description
 
 from openemss.models.fcs.fcs import FlightControlSystem
-from openemss.models.fcs.mission import load_mission
 from openemss.models.fcs.state import AircraftState, EngineState
 from openemss.models.mission.geo import LatLon, from_local_ne, local_ne_m
+from openemss.models.mission.mission import load_mission
 from openemss.orchestrator.fmu.build import build_fmu, ensure_built
 from openemss.orchestrator.master.execution import Execution
 from openemss.orchestrator.recording.observers import MemoryRecorder

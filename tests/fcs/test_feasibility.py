@@ -17,8 +17,8 @@ import pytest
 from openemss.models.fcs.atmosphere import G0_M_S2, isa
 from openemss.models.fcs.feasibility import check_mission
 from openemss.models.fcs.feasibility_perf import Limits, PerfPoint
-from openemss.models.fcs.mission import parse_mission
 from openemss.models.mission.geo import R_EARTH_M, LatLon
+from openemss.models.mission.mission import parse_mission
 from openemss.models.mission.weather import WindLayer, WindProfile
 
 LAT0, LON0 = 48.0, 11.0

@@ -10,10 +10,10 @@ from pathlib import Path
 
 import pytest
 
-from openemss.models.fcs.mission import SECTION_TYPES, load_mission, parse_mission
-from openemss.models.fcs.tecs import SpeedKind
 from openemss.models.mission.errors import MissionError
 from openemss.models.mission.geo import LatLon
+from openemss.models.mission.mission import SECTION_TYPES, load_mission, parse_mission
+from openemss.models.mission.speed import SpeedKind
 
 ROOT = Path(__file__).resolve().parents[2]
 BAD = Path(__file__).parent / "data" / "bad_missions"
@@ -158,7 +158,7 @@ def test_qgc_unsupported_item_is_named(tmp_path: Path) -> None:
 
 
 def test_readme_documents_every_section_and_field() -> None:
-    from openemss.models.fcs.mission import SECTION_FIELDS
+    from openemss.models.mission.mission import SECTION_FIELDS
 
     text = (ROOT / "missions" / "README.md").read_text()
     for typ, fields in SECTION_FIELDS.items():
@@ -168,17 +168,20 @@ def test_readme_documents_every_section_and_field() -> None:
 
 
 def test_a_section_type_is_one_registered_class() -> None:
-    """Fields, step and completion of a type live in its class (models/fcs/sections.py), registered once:
-    a type added by subclassing is read from a mission file and flown, with no other change."""
+    """Fields, step and completion of a type live in its class (models/fcs/sections.py, deriving from the
+    mission's declaration), registered once: a type added by subclassing is read from a mission file and flown,
+    with no other change; its declaration is in the mission's registry, its flight law in the FCS's."""
     import math
 
-    from openemss.models.fcs.sections import REGISTRY, SectionType, register
+    from openemss.models.fcs.sections import LAWS, SectionType, register, unregister
     from openemss.models.fcs.state import AircraftState
     from openemss.models.fcs.state_machine import MissionRunner
     from openemss.models.mission.geo import LatLon
+    from openemss.models.mission.sections import REGISTRY
 
     for name, cls in REGISTRY.items():
         assert cls.type_name == name and cls.fields and cls.completion, name
+        assert issubclass(LAWS[name], cls), name  # every shipped type is flown
     with pytest.raises(ValueError, match="taken"):
         register(type("Again", (SectionType,), {"type_name": "Rolling"}))
 
@@ -193,6 +196,7 @@ def test_a_section_type_is_one_registered_class() -> None:
             return self.targets(phase="GLIDE", theta_cmd_rad=0.0, lever=0.0, phi_cmd_rad=0.0, gear_down=False)
 
     register(Glide)
+    assert REGISTRY["Glide"] is Glide and LAWS["Glide"] is Glide
     try:
         m = parse_mission("mission: {name: g}\nsections:\n  - {type: Glide, duration_s: 1.0}\n", "g.yaml")
         with pytest.raises(MissionError, match=r"g.yaml:3: section 0 \(Glide\): unknown field 'x'"):
@@ -204,4 +208,5 @@ def test_a_section_type_is_one_registered_class() -> None:
         phases = [run.step(0.1 * k, 0.1, x).phase for k in range(12)]
         assert phases[0] == "GLIDE" and run.finished and math.isclose(run.history[-1][0], 1.0)
     finally:
-        del REGISTRY["Glide"]
+        unregister("Glide")
+    assert "Glide" not in REGISTRY and "Glide" not in LAWS

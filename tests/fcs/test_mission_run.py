@@ -26,10 +26,10 @@ from perf_models import pointmass as pointmass_perf
 
 from openemss.models.fcs.atmosphere import isa
 from openemss.models.fcs.fcs import FlightControlSystem
-from openemss.models.fcs.mission import Mission, load_mission, parse_mission
 from openemss.models.fcs.performance import Performance
-from openemss.models.fcs.tecs import SpeedKind
 from openemss.models.fcs.vertical import VNAV_MODES
+from openemss.models.mission.mission import Mission, load_mission, parse_mission
+from openemss.models.mission.speed import SpeedKind
 
 ROOT = Path(__file__).resolve().parents[2]
 DT, N_SUB = 0.05, 2

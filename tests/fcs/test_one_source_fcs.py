@@ -30,7 +30,7 @@ from openemss.models.fcs import inner_loops
 from openemss.models.fcs.atmosphere import isa
 from openemss.models.fcs.fcs import FlightControlSystem
 from openemss.models.mission.geo import LatLon
-from openemss.models.fcs.mission import load_mission, parse_mission
+from openemss.models.mission.mission import load_mission, parse_mission
 
 def fly(m, ac, t_end):
     fcs = FlightControlSystem(m, Wf0_kg_s=0.012, performance=performance())

@@ -20,11 +20,11 @@ from kinematic import Kinematic
 
 from openemss.models.fcs.fcs import FlightControlSystem
 from openemss.models.fcs.guidance import L1Guidance
-from openemss.models.fcs.mission import parse_mission
-from openemss.models.fcs.sections import REGISTRY, SectionType, register
+from openemss.models.fcs.sections import LAWS, SectionType, register, unregister
 from openemss.models.fcs.state import AircraftState, EngineState
 from openemss.models.fcs.state_machine import MissionRunner
 from openemss.models.mission.geo import LatLon, destination
+from openemss.models.mission.mission import parse_mission
 
 DT = 0.05
 
@@ -75,14 +75,14 @@ def test_a_section_is_stepped_at_its_rate_and_its_targets_held(outer: bool, peri
             assert (out[k] is out[k - 1]) == ((k - k_done) % every != 0), k
         assert run.targets_time_s == pytest.approx((59 - (59 - k_done) % every) * DT)
     finally:
-        del REGISTRY["Counted"]
+        unregister("Counted")
 
 
 def test_landing_and_take_off_sections_run_every_step() -> None:
     for name in ("Rolling", "TakeOff", "Landing", "Custom"):
-        assert REGISTRY[name].outer_rate is False, name
+        assert LAWS[name].outer_rate is False, name
     for name in ("WaypointFollowing", "Orbiting", "GTurns", "Levelling"):
-        assert REGISTRY[name].outer_rate is True, name
+        assert LAWS[name].outer_rate is True, name
 
 
 def test_a_managed_path_altitude_moves_on_between_outer_steps(monkeypatch: pytest.MonkeyPatch) -> None:

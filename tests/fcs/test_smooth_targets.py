@@ -28,8 +28,8 @@ import pytest
 from openemss.models.fcs.guidance import L1Guidance
 from openemss.models.fcs.smoothing import TargetRamp
 from openemss.models.fcs.state import Targets
-from openemss.models.fcs.tecs import SpeedCommand, SpeedKind
 from openemss.models.fcs.vertical import VNAV_MODES
+from openemss.models.mission.speed import SpeedCommand, SpeedKind
 
 DT = 0.05
 PERIOD = 0.5

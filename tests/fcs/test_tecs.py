@@ -23,7 +23,8 @@ from scipy.integrate import quad
 from openemss.models.fcs.atmosphere import isa
 from openemss.models.fcs.performance import Performance
 from openemss.models.fcs.pitch import PitchController
-from openemss.models.fcs.tecs import SpeedCommand, SpeedKind, Tecs, TecsInput, TecsParams, specific_energy_rate_m_s
+from openemss.models.fcs.tecs import Tecs, TecsInput, TecsParams, specific_energy_rate_m_s
+from openemss.models.mission.speed import SpeedCommand, SpeedKind
 
 DT_CTRL = 0.05
 N_SUB = 5

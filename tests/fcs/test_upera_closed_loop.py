@@ -31,8 +31,8 @@ from perf_models import upera_standin  # noqa: E402
 from upera_loop import Run, fly_upera  # noqa: E402
 
 from openemss.models.fcs.fcs import FlightControlSystem  # noqa: E402
-from openemss.models.fcs.mission import load_mission, parse_mission  # noqa: E402
 from openemss.models.fcs.performance import Performance  # noqa: E402
+from openemss.models.mission.mission import load_mission, parse_mission  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 KT = 1852.0 / 3600.0

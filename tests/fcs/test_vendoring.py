@@ -31,7 +31,7 @@ def test_vendored_copy_flies_a_step(tmp_path: Path) -> None:
     sys.path.insert(0, str(tmp_path))
     try:
         fcs_mod = importlib.import_module("vendored_fcs_pkg.fcs.fcs")
-        mission_mod = importlib.import_module("vendored_fcs_pkg.fcs.mission")
+        mission_mod = importlib.import_module("vendored_fcs_pkg.mission.mission")
         state_mod = importlib.import_module("vendored_fcs_pkg.fcs.state")
         geo = importlib.import_module("vendored_fcs_pkg.mission.geo")
         m = mission_mod.load_mission(ROOT / "missions" / "munich.yaml")

@@ -27,10 +27,10 @@ from openemss.models.fcs.atmosphere import G0_M_S2
 from openemss.models.fcs.guidance import GuidanceParams
 from openemss.models.fcs.performance import Performance
 from openemss.models.fcs.profile import VerticalProfile
-from openemss.models.fcs.tecs import SpeedCommand, SpeedKind
 from openemss.models.fcs.vertical import RouteDistance, SectionVnav
 from openemss.models.fcs.vnav import Vnav, VnavParams
 from openemss.models.mission.geo import LatLon, destination, distance_m, final_bearing_rad, initial_bearing_rad, wrap_pi
+from openemss.models.mission.speed import SpeedCommand, SpeedKind
 
 MASS = 2000.0
 W = MASS * G0_M_S2

@@ -8,8 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from openemss.models.fcs.mission import load_mission, parse_mission
 from openemss.models.mission.errors import MissionError
+from openemss.models.mission.mission import load_mission, parse_mission
 from openemss.models.mission.weather import KT_M_S, load_weather
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -40,8 +40,8 @@ class Run:
 
 def fly_upera(af, s, fcs: FlightControlSystem, t_end: float, N1c0: float, dt: float = 0.05) -> Run:
     """Fly ``fcs`` on airframe ``af`` (started, state ``s``) until the mission ends or ``t_end`` [s]."""
-    from openemss.models.fcs.tecs import SpeedKind
     from openemss.models.fcs.vertical import VNAV_MODES
+    from openemss.models.mission.speed import SpeedKind
 
     N1c = N1c0
     th_engine = s.T_amb_K / 288.15  # the temperature the engine last stepped in: its N1 output's correction

@@ -168,12 +168,12 @@ def test_png_figures_colour_each_signal_as_the_html_report(tmp_path: Path, monke
     colour in both (the PNGs drew each panel's lines from matplotlib's C0, C1, ..., so Tt4 was the fuel flow's
     blue, and a fourth line the limits' red)."""
     from matplotlib.colors import to_hex
+    from synthetic_runs import N, Runs
 
     from openemss.report import plots
     from openemss.report.html import LIMIT_COLOR, _signal_colors
     from openemss.report.panels import TIME_PANELS
     from openemss.report.rundata import load_mission, load_run
-    from synthetic_runs import N, Runs
 
     cols = {"engine.Tt41_K": np.full(N, 1100.0), "engine.Fn_N": np.full(N, 5e3), "engine.Fg_N": np.full(N, 6e3),
             "engine.SM_fan": np.full(N, 0.2), "engine.SM_hpc": np.full(N, 0.3), "engine.SFC_kg_N_s": np.full(N, 2e-5),

@@ -1,4 +1,5 @@
-"""A mission section type registered from outside the package (models/fcs/sections.py: ``register``) is read,
+"""A mission section type registered from outside the package (models/fcs/sections.py: ``register``, its
+declaration going to models/mission/sections.py's registry) is read,
 checked before the flight and judged after it like a shipped one, with nothing else naming it (issue 37.3).
 
 * ``emss mission check`` runs the type's own feasibility check: a type that carries the shipped Levelling check
@@ -24,7 +25,8 @@ from synthetic_runs import H_S, MISSION, N, Runs
 from test_mission_check import system  # noqa: F401  (the project's system with this session's FMUs)
 
 from openemss.models.fcs import feasibility_sections as checks
-from openemss.models.fcs.sections import APPROACH, REGISTRY, TARGETS, Landing, Levelling, SectionType, register
+from openemss.models.fcs.sections import Landing, Levelling, SectionType, register, unregister
+from openemss.models.mission.sections import APPROACH, REGISTRY, TARGETS
 from openemss.orchestrator.cli.main import main
 from openemss.report.rundata import load_mission, load_run
 from openemss.report.summary import summarize
@@ -70,7 +72,7 @@ def registered() -> Iterator[None]:
         yield
     finally:
         for cls in (Cruise, Drift, Glidepath):
-            del REGISTRY[cls.type_name]
+            unregister(cls.type_name)
 
 
 CHECKED = """mission: {{name: registered types}}

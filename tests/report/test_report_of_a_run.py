@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 import yaml
 
-from openemss.models.fcs.mission import load_mission
+from openemss.models.mission.mission import load_mission
 from openemss.orchestrator.cli.main import main
 from openemss.orchestrator.recording.timeseries import read_timeseries
 

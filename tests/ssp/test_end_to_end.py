@@ -17,7 +17,7 @@ import pytest
 import yaml
 
 from conftest import table
-from openemss.models.fcs.mission import load_mission
+from openemss.models.mission.mission import load_mission
 from openemss.models.mission.geo import LatLon
 from openemss.orchestrator.cli.main import main
 

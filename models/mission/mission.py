@@ -56,14 +56,16 @@ from pathlib import Path
 from typing import Any
 
 from ..infra import safe_yaml, values
-from ..mission.errors import MissionError
-from ..mission.geo import LatLon, leg_problem
-from ..mission.marks import Context as _Ctx
-from ..mission.marks import Lines as _Lines
-from ..mission.marks import check_notes
-from ..mission.weather import WEATHER_KEYS, Weather, parse_weather
+from .errors import MissionError
+from .geo import LatLon, leg_problem
+from .marks import Context as _Ctx
+from .marks import Lines as _Lines
+from .marks import check_notes
+from .qgc import convert_plan
+from .runway import Runway
 from .sections import REGISTRY, Field
-from .tecs import SpeedCommand, SpeedKind
+from .speed import SpeedCommand, SpeedKind
+from .weather import WEATHER_KEYS, Weather, parse_weather
 
 __all__ = ["SECTION_TYPES", "SECTION_FIELDS", "Section", "Mission", "load_mission", "parse_mission",
            "parse_mission_file", "speed_from_mapping", "departure_runway"]
@@ -83,8 +85,8 @@ _WP_KEYS = {"lat_deg": (-90.0, 90.0), "lon_deg": (-180.0, 180.0)}
 class Section:
     """One mission section: its type, name, index and validated fields.
 
-    Fields are SI as in the file, with runways as :class:`~.approach.Runway`,
-    waypoints as :class:`~.geo.LatLon`, speeds as :class:`~.tecs.SpeedCommand`.
+    Fields are SI as in the file, with runways as :class:`~.runway.Runway`,
+    waypoints as :class:`~.geo.LatLon`, speeds as :class:`~.speed.SpeedCommand`.
     """
 
     index: int
@@ -157,8 +159,6 @@ def _place_name(ctx: _Ctx, path: tuple, key: Any, what: str) -> str:
 
 
 def _places(doc: dict, ctx: _Ctx) -> tuple[dict, dict]:
-    from ..mission.runway import Runway
-
     places = doc.get("places", {}) or {}
     if not isinstance(places, dict):
         raise ctx.fail(("places",), "places: expected a mapping with 'runways' and 'waypoints'")
@@ -372,8 +372,6 @@ def parse_mission_file(text: str, source: str) -> Mission:
     ``.plan`` (converted, errors naming the plan's lines), else a mission YAML file."""
     if not source.endswith(".plan"):
         return parse_mission(text, source)
-    from ..mission.qgc import convert_plan
-
     converted, locate = convert_plan(text, source)
     try:
         return dataclasses.replace(parse_mission(converted, f"{source} (converted)"), source=source)

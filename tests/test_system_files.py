@@ -134,7 +134,7 @@ def test_the_shipped_system_at_100_hz_in_libcosim(shipped: Path) -> None:
     frames of 0.005 s at its first step) libcosim runs the shipped system, and our master at libcosim's times
     (see above) gives the same trajectory bit for bit over the first 20 s (the take-off roll and lift-off)."""
     pytest.importorskip("libcosimpy.CosimExecution", reason="libcosimpy is a test dependency")
-    from openemss.orchestrator.scenarios.observers import MemoryRecorder
+    from openemss.orchestrator.recording.observers import MemoryRecorder
     from thirdparty import run_isolated
 
     steps = 2000  # 20 s at 100 Hz

@@ -1,4 +1,6 @@
-"""Airframe FMU: UPERA in JSBSim, flying on an engine computed outside (thrust and fuel flow in).
+"""Airframe FMU: a JSBSim aircraft (parameter ``aircraft``, default UPERA), flying on engines computed outside
+(each engine's thrust and fuel flow in: ``Fn_N``, ``Fn_N_2``... and ``Wf_kg_s``, ``Wf_kg_s_2``..., in the
+order of the aircraft file's engines; :mod:`openemss.models.airframe.aircraft` says the convention).
 
 A thin pythonfmu slave over :class:`openemss.models.airframe.adapter.Airframe`. Each
 ``doStep`` applies the inputs, advances JSBSim by the step (a whole number of internal
@@ -33,7 +35,10 @@ from openemss.fmus.initial_outputs import InitialOutputs
 from openemss.fmus.signal_io import SignalIO
 from openemss.models.airframe.adapter import Airframe as AirframeModel
 from openemss.models.airframe.adapter import whole_frames
-from openemss.models.airframe.airframe_signals import SIGNALS, STATE_FIELDS
+from openemss.models.airframe.aircraft import load_aircraft
+from openemss.models.airframe.airframe_signals import (DEPARTURE_START, FUEL_FLOW_INPUTS, SIGNALS, STATE_FIELDS,
+                                                      THRUST_INPUTS)
+from openemss.models.airframe.errors import AirframeError
 from openemss.models.airframe.loading import check_air_start, check_loading
 from openemss.models.airframe.settings import PARAMETER_SETS, airframe_set
 from openemss.models.airframe.trim import trim_level
@@ -49,7 +54,7 @@ _TRIM = ("trim_elevator_norm", "trim_Fn_N")
 
 
 class Airframe(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
-    """UPERA six-degree-of-freedom airframe (JSBSim) with external thrust and fuel burn.
+    """A JSBSim aircraft's six-degree-of-freedom airframe with external thrust and fuel burn.
 
     State (``fmi2GetFMUstate``, ``fmus/fmu_state.py``): JSBSim 1.3's Python API can neither copy an
     ``FGFDMExec`` nor set the history of its integrators, actuators and turbulence filters, so the airframe's
@@ -61,18 +66,21 @@ class Airframe(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
     """
 
     author = "openEMSS"
-    description = "UPERA airframe in JSBSim: controls, thrust [N] and fuel flow [kg/s] in; SI state out"
-    STATE_SKIP = frozenset({"_model", "_log", "_start"})
+    description = "JSBSim airframe (default UPERA): controls, each engine's thrust [N] and fuel flow [kg/s] in; SI state out"
+    STATE_SKIP = frozenset({"_model", "_log", "_start", "_runway_defaults"})  # the last: constant, from __init__
 
     def __init__(self, **kwargs) -> None:  # type: ignore[no-untyped-def]
         super().__init__(**kwargs)
         rwy = departure_runway(load_mission(data_file(DEFAULT_MISSION, self.resources)))
         self._trim = [0.0, 0.0]
         self._model: AirframeModel | None = None
+        self._engines = 1
+        #: the runway start's parameters at their defaults (the default mission's departure runway)
+        self._runway_defaults = {"lat0_deg": rwy.threshold.lat_deg, "lon0_deg": rwy.threshold.lon_deg,
+                                 "heading0_deg": math.degrees(rwy.heading_rad), "alt0_m": rwy.elevation_m}
+        departure = {d: self._runway_defaults[p] for d, p in DEPARTURE_START.items()}
         self.register_signals(SIGNALS, {"Real": (*STATE_FIELDS, *_TRIM), "Boolean": ("on_ground",)},
-                              starts={"lat0_deg": rwy.threshold.lat_deg, "lon0_deg": rwy.threshold.lon_deg,
-                                      "heading0_deg": math.degrees(rwy.heading_rad), "alt0_m": rwy.elevation_m,
-                                      "ground_elevation_m": rwy.elevation_m})
+                              starts={**self._runway_defaults, **departure, "ground_elevation_m": rwy.elevation_m})
         self._y = [0.0] * (len(STATE_FIELDS) + len(_TRIM))
         self._yb = [True]
         #: the start (every parameter and input, by name) and (step, Real inputs, gear_down) of every step since
@@ -107,10 +115,12 @@ class Airframe(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
         # the parameter sets of data/airframe.yaml, from the parameters of their names, checked against its ranges
         sets = {section: airframe_set(cls, section).collect(lambda name: getattr(self, name), "", "airframe")
                 for section, cls in PARAMETER_SETS.items()}
-        st, env = sets["start"], sets["environment"]
-        check_loading(st.fuel0_kg, self.added_mass_kg, ("fuel0_kg", "added_mass_kg"), engine_fed=True)
+        st, env, ac_set = sets["start"], sets["environment"], sets["aircraft"]
+        ac = load_aircraft(ac_set.aircraft, Path(self.resources) if self.resources else None)
+        check_loading(st.fuel0_kg, self.added_mass_kg, ("fuel0_kg", "added_mass_kg"), engine_fed=True, aircraft=ac)
         if not st.start_on_runway:
-            check_air_start(st.alt0_m, st.ground_elevation_m, ("alt0_m", "ground_elevation_m"))
+            check_air_start(st.alt0_m, st.ground_elevation_m, ("alt0_m", "ground_elevation_m"), aircraft=ac)
+        self._engines = len(ac.thrusters)
         w = self._weather(env.weather_file)
         turb = w.turbulence if w is not None else None
         sev, w20, seed = (env.turbulence_severity, env.turbulence_wind_20ft_m_s, env.turbulence_seed)
@@ -120,19 +130,22 @@ class Airframe(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
                           wind_ned_m_s=(env.wind_north_m_s, env.wind_east_m_s, env.wind_down_m_s),
                           turbulence_severity=sev, turbulence_wind_20ft_m_s=w20, seed=seed,
                           wind_profile=w.wind.ned_m_s if w is not None and w.wind is not None else None,
-                          fit_step_s=self._fit_step_s)
+                          fit_step_s=self._fit_step_s, aircraft=ac)
         m.set_added_mass(self.added_mass_kg)
+        m.set_payload(ac_set.payload_kg)
         self._trim = [0.0, 0.0]
         if st.start_on_runway:
-            m.start_runway(st.lat0_deg, st.lon0_deg, st.heading0_deg, st.alt0_m, fuel_kg=st.fuel0_kg,
-                           flaps=st.flaps0_norm)
+            m.start_runway(*self._runway_start(st), fuel_kg=st.fuel0_kg, flaps=st.flaps0_norm)
         else:
             alpha, elevator, thrust = st.alpha0_rad, self.elevator_norm, self.Fn_N
+            for name in THRUST_INPUTS[1:self._engines]:  # the engines' total
+                thrust += getattr(self, name)
             if st.trim_at_start:
                 m.start_air(st.alt0_m, 100.0, st.heading0_deg, fuel_kg=st.fuel0_kg,
                             ground_elevation_m=st.ground_elevation_m)
                 mach = st.tas0_m_s / m.speed_of_sound_m_s()
-                r = trim_level(st.alt0_m, mach, m.geometry.oem_kg + self.added_mass_kg + st.fuel0_kg, airframe=m,
+                r = trim_level(st.alt0_m, mach, ac.empty_mass_kg + self.added_mass_kg + ac_set.payload_kg + st.fuel0_kg,
+                               airframe=m,
                                flaps=st.flaps0_norm, gear_down=self.gear_down, heading_deg=st.heading0_deg,
                                lat_deg=st.lat0_deg, lon_deg=st.lon0_deg)
                 alpha, elevator, thrust = r.alpha_rad, r.elevator, r.Fn_N
@@ -142,6 +155,16 @@ class Airframe(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
                         gear_down=self.gear_down, fuel_kg=st.fuel0_kg, ground_elevation_m=st.ground_elevation_m)
         self._model = m
         self._publish()
+
+    def _runway_start(self, st: Any) -> tuple[float, float, float, float]:
+        """Latitude, longitude, heading [deg] and elevation [m] of a runway start: where the flight control's
+        mission departs (the inputs ``departure_*``), unless the start's parameters were set away from their defaults
+        (then theirs: a start that disagrees with the mission is the flight control's error, naming both)."""
+        out = []
+        for d, p in DEPARTURE_START.items():
+            given, mission = getattr(st, p), getattr(self, d)
+            out.append(mission if given == self._runway_defaults[p] and math.isfinite(mission) else given)
+        return out[0], out[1], out[2], out[3]
 
     def do_step(self, current_time: float, step_size: float) -> bool:
         if not self._log and whole_frames(step_size, self._model.rate_hz) is None:  # type: ignore[union-attr]
@@ -169,8 +192,17 @@ class Airframe(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
         m.set_gear(self.gear_down)
         m.set_brakes(self.brakes_norm, self.brakes_norm)
         m.set_steering(self.steering_norm)
-        m.set_thrust(self.Fn_N)
-        m.set_fuel_flow(self.Wf_kg_s)
+        n = self._engines
+        for k in range(n):
+            m.set_thrust(getattr(self, THRUST_INPUTS[k]), k)
+        wf = self.Wf_kg_s
+        for name in FUEL_FLOW_INPUTS[1:n]:
+            wf += getattr(self, name)
+        for name in (*THRUST_INPUTS[n:], *FUEL_FLOW_INPUTS[n:]):
+            if getattr(self, name) != 0.0:
+                raise AirframeError(f"airframe: {name} = {getattr(self, name)}: the aircraft "
+                                    f"{m.aircraft.name} has {n} engine(s) (inputs {', '.join(THRUST_INPUTS[:n])})")
+        m.set_fuel_flow(wf)
         m.set_added_mass(self.added_mass_kg)
         m.step(step_size)
 

@@ -101,6 +101,24 @@ class Commands:
         self.completed = False
 
 
+class Departure:
+    """The mission's departure runway as outputs (NaN without one): the airframe starts on it."""
+
+    __slots__ = ("lat_deg", "lon_deg", "heading_deg", "elevation_m")
+
+    def __init__(self, mission: Mission) -> None:
+        rwy = departure_runway(mission)
+        nan = math.nan
+        self.lat_deg = rwy.threshold.lat_deg if rwy is not None else nan
+        self.lon_deg = rwy.threshold.lon_deg if rwy is not None else nan
+        self.heading_deg = math.degrees(rwy.heading_rad) if rwy is not None else nan
+        self.elevation_m = rwy.elevation_m if rwy is not None else nan
+
+    def named(self) -> dict[str, float]:
+        """The outputs by name."""
+        return {f"departure_{q}": getattr(self, q) for q in self.__slots__}
+
+
 def _defaults() -> FlightControlSystem:
     """An FCS without sections: the controllers with their parameter files' values."""
     return FlightControlSystem(Mission("defaults", "", (), (), (), "<defaults>"))
@@ -117,7 +135,9 @@ class Fcs(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
 
     def __init__(self, **kwargs) -> None:  # type: ignore[no-untyped-def]
         super().__init__(**kwargs)
-        rwy = departure_runway(load_mission(data_file(DEFAULT_MISSION, self.resources)))  # the inputs start on it
+        default = load_mission(data_file(DEFAULT_MISSION, self.resources))
+        rwy = departure_runway(default)  # the inputs start on it
+        self.departure = Departure(default)
         self.out: FcsOutput | None = None
         self.cmd = Commands()
         self.register_signals(SIGNALS, starts={"lat_deg": rwy.threshold.lat_deg, "lon_deg": rwy.threshold.lon_deg,
@@ -142,7 +162,7 @@ class Fcs(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
 
     def _start_outputs(self, **named: float | bool | int | str) -> None:
         """The outputs before the first step: ``named`` values, else 0 (gear down)."""
-        named = {"gear_down": True, **named}
+        named = {"gear_down": True, **self.departure.named(), **named}
         self._y = [float(named.get(r.name, 0.0)) for r in _OUTPUTS["Real"]]  # type: ignore[arg-type]
         self._yb = [bool(named.get(r.name, False)) for r in _OUTPUTS["Boolean"]]
         self._yi = [int(named.get(r.name, 0)) for r in _OUTPUTS["Integer"]]  # type: ignore[arg-type]
@@ -173,6 +193,7 @@ class Fcs(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
 
     def compute_start(self) -> None:
         mission = load_mission(self._mission_path())
+        self.departure = Departure(mission)
         fcs = FlightControlSystem(mission, Wf0_kg_s=self.Wf0_kg_s if self.Wf0_kg_s >= 0.0 else None,
                                   elevator0=self.elevator0_norm)
         for name, value in self._pending.items():

@@ -24,7 +24,7 @@ from openemss.models.mission.mission import Mission
 from .conformance import holds, ils_conformance, section_conformance
 from .electric import electric_summary
 from .life import life_summary
-from .rundata import RunData, parameter_float
+from .rundata import RunData, parameter, parameter_float
 from .series import flag_stats, held_increments
 
 #: Ground speed below which the aircraft counts as stopped [m/s] (the FCS's ``lateral.v_stop_m_s`` default).
@@ -183,15 +183,23 @@ def flameout(run: RunData) -> dict[str, Any] | None:
 
 def takeoff_mass(run: RunData) -> dict[str, Any] | None:
     """The aircraft's mass at the start against its maximum take-off mass (``above_mtow``: the line saying by how
-    much, else None); None when the airframe's ``mass_kg`` is not recorded."""
-    from openemss.models.airframe.geometry import load_geometry
+    much, else None; ``mtow_kg`` None for an aircraft without one, or one that cannot be read again here); None
+    when the airframe's ``mass_kg`` is not recorded."""
+    from openemss.models.airframe.aircraft import DEFAULT_AIRCRAFT, load_aircraft
+    from openemss.models.airframe.errors import AirframeError
     from openemss.models.airframe.loading import above_mtow
 
     mass = run.get("airframe", "mass_kg")
     if mass is None or not len(mass):
         return None
     m0 = float(mass[0])
-    return {"takeoff_kg": m0, "mtow_kg": load_geometry().mtom_kg, "above_mtow": above_mtow(m0) or None,
+    name = parameter(run, run.roles.airframe, "aircraft") if run.roles.airframe else None
+    try:
+        ac = load_aircraft(name or DEFAULT_AIRCRAFT)
+    except AirframeError:  # a folder given relative to the FMU's resources: not found from here
+        ac = None
+    return {"takeoff_kg": m0, "mtow_kg": ac.mtom_kg if ac is not None else None,
+            "above_mtow": (above_mtow(m0, ac) or None) if ac is not None else None,
             "source": f"{run.roles.airframe}.mass_kg"}
 
 

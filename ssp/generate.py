@@ -21,6 +21,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from openemss.models.infra.signals import DEPARTURE
 from openemss.models.engine.health import MID_LIFE, health_parameters
 from openemss.models.fcs.fcs_signals import GAIN_DEFAULTS
 from openemss.orchestrator.ssp.write import ParameterSet, SystemBuilder, connectors_from_fmu
@@ -29,6 +30,7 @@ HERE = Path(__file__).resolve().parent
 RESOURCES = HERE / "resources"
 STEP_S = 0.05  # 20 Hz, the reference system's rate
 
+DEPARTURE_NAMES = tuple(f"departure_{q}" for q, _, _ in DEPARTURE)
 # What each component's inputs are connected to: every input takes the output of the same name (one
 # name per quantity, from the models' signal tables), from the component named here.
 SOURCES = {
@@ -36,8 +38,9 @@ SOURCES = {
                          "psi_rad", "p_rad_s", "q_rad_s", "r_rad_s", "beta_rad", "rho_amb_kg_m3", "dT_isa_K",
                          "mass_kg", "on_ground"),
             "engine": ("N1_pct", "N1c_pct", "Tt41_K")},
+    # the departure runway: the airframe starts where the flight control's mission departs (one source)
     "airframe": {"fcs": ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "airbrake_norm",
-                         "brakes_norm", "steering_norm", "gear_down"),
+                         "brakes_norm", "steering_norm", "gear_down", *DEPARTURE_NAMES),
                  "engine": ("Fn_N", "Wf_kg_s")},
     "engine": {"fcs": ("Wf_cmd_kg_s",), "airframe": ("fuel_kg", "alt_m", "dT_isa_K", "mach")},
 }
@@ -54,7 +57,8 @@ AIRFRAME_OUT = ("lat_deg", "lon_deg", "alt_m", "alt_agl_m", "tas_m_s", "cas_m_s"
                 "mass_kg", "fuel_kg", "dT_isa_K")
 FCS_OUT = ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "airbrake_norm", "brakes_norm",
            "steering_norm", "gear_down", "lever_norm", "Wf_cmd_kg_s", "alt_cmd_m", "tas_cmd_m_s", "mach_cmd",
-           "track_cmd_rad", "section_index", "mission_completed", "fuel_limiter", "vnav_mode", "ils_phase")
+           "track_cmd_rad", "section_index", "mission_completed", "fuel_limiter", "vnav_mode", "ils_phase",
+           *DEPARTURE_NAMES)
 # The electrical power system of ssp/hybrid/ (fmus/electric.py): spool speeds, lever, vertical speed and
 # on-ground in; the signed shaft powers to the engine's port inputs (> 0 taken from the spool, < 0
 # delivered: boost) and its mass to the airframe. pulse_load_W is not connected: a scenario sets it.

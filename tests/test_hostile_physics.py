@@ -10,8 +10,8 @@ small system of one or two of them) and asserts the behaviour:
   hold refuses;
 * mass: fuel beyond the tank, a negative fuel or added mass refused at the airframe's start naming the
   parameter; a take-off mass above the maximum warned before flying and flagged in summary.json;
-* start: an aircraft away from the mission's departure runway (another runway, another airport, the
-  wrong direction, in the air) is refused naming both positions; an air start below the ground is
+* start: the aircraft starts on the mission's departure runway (another runway, another airport); one set
+  away from it (another airport, the wrong direction, in the air) is refused naming both positions; an air start below the ground is
   refused by the airframe; a ground run off the runway's end fails with the distance and speeds.
 """
 from __future__ import annotations
@@ -25,6 +25,7 @@ import numpy as np
 import pytest
 
 from conftest import ROOT, table
+from openemss.models.fcs.geo import LatLon
 from openemss.orchestrator.cli.main import main
 from systems import Comp, write_system
 from test_hostile_runs import assert_one_line
@@ -184,22 +185,44 @@ def test_air_start_below_the_ground_is_refused_by_the_airframe(munich: Path, tmp
     assert "engine" not in line.partition(":")[2]
 
 
-@pytest.mark.parametrize(("old", "new", "fragments"), [
-    # the other runway of EDDM: the aircraft stays on the airframe's default, 26R, 2.3 km away
-    ("runway: EDDM_26R, lever: 1.0, rotate_cas_m_s", "runway: EDDM_26L, lever: 1.0, rotate_cas_m_s",
-     ("EDDM_26L", "m right of")),
-    # another airport: EDDM_26R moved to Frankfurt's 25C threshold (the airframe starts at Munich's)
-    ("threshold_lat_deg: 48.366887, threshold_lon_deg: 11.821173", "threshold_lat_deg: 50.0451, "
-     "threshold_lon_deg: 8.5869", ("50.04510 N 8.58690 E", "48.36")),
+@pytest.mark.parametrize(("old", "new", "runway"), [
+    # the other runway of EDDM: 26L, 2.3 km south of 26R
+    ("runway: EDDM_26R, lever: 1.0, rotate_cas_m_s", "runway: EDDM_26L, lever: 1.0, rotate_cas_m_s", "EDDM_26L"),
+    # another airport: the departure runway moved to Frankfurt's 25C threshold
+    ("threshold_lat_deg: 48.366887, threshold_lon_deg: 11.821173, heading_deg: 263.42,\n               elevation_m: 441.7",
+     "threshold_lat_deg: 50.0451, threshold_lon_deg: 8.5869, heading_deg: 249.0,\n               elevation_m: 100.0",
+     "EDDM_26R"),
 ])
-def test_start_away_from_the_missions_departure_is_an_error(munich: Path, tmp_path: Path, old: str, new: str,
-                                                            fragments: tuple[str, ...],
-                                                            capsys: pytest.CaptureFixture[str]) -> None:
+def test_the_aircraft_starts_where_the_mission_departs(munich: Path, tmp_path: Path, old: str, new: str, runway: str,
+                                                      capsys: pytest.CaptureFixture[str]) -> None:
+    """Issue 32 point 5: the mission is the one source of the start; the airframe starts on its departure runway
+    (the flight control's outputs departure_*), at rest on its threshold, and rolls along it."""
+    from openemss.models.fcs.mission import load_mission
+
     mission = _mission(tmp_path, old, new)
-    rc, err = _run(capsys, "run", str(munich), "--set", f"fcs.mission_file={mission}", "--out",
-                   str(tmp_path / "out"), "--no-pre-run", "--stop-time", "5")
-    assert_one_line(rc, err, "component 'fcs'", str(mission), "the mission starts with section 0 (Rolling",
-              "but the aircraft starts at", *fragments)
+    rwy = load_mission(mission).runway(runway)
+    out = tmp_path / "out"
+    rc, err = _run(capsys, "run", str(munich), "--set", f"fcs.mission_file={mission}", "--out", str(out),
+                   "--no-pre-run", "--stop-time", "15", "--format", "csv")
+    assert rc == 0, err
+    data = table(out)
+    lat, lon = data["airframe.lat_deg"], data["airframe.lon_deg"]
+    assert lat[0] == pytest.approx(rwy.threshold.lat_deg, abs=1e-6) and lon[0] == pytest.approx(
+        rwy.threshold.lon_deg, abs=1e-6)
+    assert data["airframe.alt_m"][0] == pytest.approx(rwy.elevation_m + 0.93, abs=0.1)  # the CG on its wheels
+    assert np.all(data["airframe.on_ground"] > 0.5) and data["airframe.gs_m_s"][-1] > 10.0
+    along, cross = rwy.local(LatLon.from_deg(lat[-1], lon[-1]))
+    assert along > 50.0 and abs(cross) < 2.0  # rolled along its centre line
+
+
+def test_start_set_away_from_the_missions_departure_is_an_error(munich: Path, tmp_path: Path,
+                                                               capsys: pytest.CaptureFixture[str]) -> None:
+    """Start parameters given away from the mission's departure runway (Frankfurt's 25C for a Munich mission) win
+    over the mission's, and the flight control refuses the start naming both positions."""
+    rc, err = _run(capsys, "run", str(munich), "--set", "airframe.lat0_deg=50.0451", "airframe.lon0_deg=8.5869",
+                   "--out", str(tmp_path / "out"), "--no-pre-run", "--stop-time", "5")
+    assert_one_line(rc, err, "component 'fcs'", "the mission starts with section 0 (Rolling",
+                    "but the aircraft starts at", "50.04510 N 8.58690 E", "48.36")
 
 
 def test_start_facing_the_wrong_way_is_an_error(munich: Path, tmp_path: Path,

@@ -1,9 +1,9 @@
-"""SI adapter over ``jsbsim.FGFDMExec`` flying UPERA on an engine computed outside JSBSim.
+"""SI adapter over ``jsbsim.FGFDMExec`` flying a JSBSim aircraft (default UPERA) on engines computed outside JSBSim.
 
 The only place where the airframe converts between JSBSim's English units and SI.
-Thrust enters as the external force ``external_reactions/thrust`` (along the engine
-axis, at the nozzle); fuel flow is integrated here and written to the tank each
-JSBSim step, so the mass falls exactly as the integral of the fuel flow.
+Each engine's thrust enters as an external force (``external_reactions/thrust``, ``thrust_2``...: along
+its thruster's axis, at the thruster, :mod:`.aircraft`'s convention); the fuel flow is integrated here and
+written to the tanks each JSBSim step, so the mass falls exactly as the integral of the fuel flow.
 
 Controls (normalised): elevator, aileron, rudder in [-1, 1] (elevator > 0 trailing
 edge down, nose down; aileron > 0 rolls right; rudder > 0 yaws the nose right),
@@ -24,6 +24,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
+from .aircraft import COMMAND_PROPERTIES, DEFAULT_AIRCRAFT, Aircraft, load_aircraft
 from .errors import AirframeError, FuelExhaustedError, LossOfAircraftError, OutOfEnvelopeError
 from .geometry import load_geometry
 from .loading import check_air_start, check_loading
@@ -189,10 +190,13 @@ def frame_for_step(rate_hz: float, step_s: float) -> float:
 
 
 class Airframe:
-    """UPERA in JSBSim with SI inputs and outputs.
+    """A JSBSim aircraft (default UPERA) with SI inputs and outputs, its engines replaced by thrust forces.
 
     Parameters
     ----------
+    aircraft : str or Aircraft
+        The aircraft (:func:`.aircraft.load_aircraft`: a name of this package's or the jsbsim package's
+        aircraft, or a folder); default UPERA.
     rate_hz : float
         Internal JSBSim rate [Hz] (default 120).
     dT_isa_K : float
@@ -221,49 +225,54 @@ class Airframe:
     def __init__(self, rate_hz: float = DEFAULT_RATE_HZ, dT_isa_K: float = 0.0,
                  wind_ned_m_s: tuple[float, float, float] = (0.0, 0.0, 0.0), turbulence_severity: int = 0,
                  turbulence_wind_20ft_m_s: float = 0.0, seed: int = 0,
-                 wind_profile: WindProfile | None = None, fit_step_s: float | None = None) -> None:
+                 wind_profile: WindProfile | None = None, fit_step_s: float | None = None,
+                 aircraft: str | Aircraft = DEFAULT_AIRCRAFT) -> None:
         rate_hz = _check("rate_hz", rate_hz, *_bounds(AirframeSimulation, "simulation", "rate_hz"), " Hz")
         self.dt_s = frame_for_step(rate_hz, fit_step_s) if fit_step_s is not None else 1.0 / rate_hz
         self.rate_hz = rate_hz if self.dt_s == 1.0 / rate_hz else 1.0 / self.dt_s
         os.environ.setdefault("JSBSIM_DEBUG", "0")
         import jsbsim  # imported here so the model package loads without JSBSim for table work
 
-        fdm = jsbsim.FGFDMExec(str(JSBSIM_ROOT), None)
+        ac = aircraft if isinstance(aircraft, Aircraft) else load_aircraft(aircraft)
+        self.aircraft = ac
+        fdm = jsbsim.FGFDMExec(str(ac.root), None)
         fdm.set_debug_level(0)
-        fdm.set_aircraft_path("aircraft")
         fdm["simulation/randomseed"] = int(seed)
         # the frame length before loading: JSBSim's flight-control components (actuators' rate limits, kinematics,
         # filters) take it once, when the aircraft is built (set after, they moved at 120 Hz's rate per frame)
         fdm.set_dt(self.dt_s)
-        if not fdm.load_model("UPERA"):
-            raise AirframeError(f"JSBSim could not load the UPERA aircraft from {JSBSIM_ROOT}")
+        if not fdm.load_model_with_paths(ac.name, str(ac.root / "aircraft"), str(ac.engine_path), str(ac.systems_path)):
+            raise AirframeError(f"JSBSim could not load the aircraft {ac.source}")
         self._fdm = fdm
-        self.geometry = load_geometry()
-        self._fuel_kg = self.geometry.fuel_capacity_kg
+        #: UPERA's design data (its aerodynamic model: the trim's), None for another aircraft
+        self.geometry = load_geometry() if ac.source == (JSBSIM_ROOT / "aircraft" / DEFAULT_AIRCRAFT /
+                                                         f"{DEFAULT_AIRCRAFT}.xml").resolve() else None
+        self._fuel_kg = ac.fuel_capacity_kg
         self._wf_kg_s = 0.0
         self._steps = 0  # JSBSim steps of dt_s since time zero
         self._short_s = 0.0  # the shorter last frames of steps that were not whole multiples of dt_s, summed
         self._t0_s = 0.0
         pm = fdm.get_property_manager()
-        self._nodes = tuple((pm.get_node(p), k) for p, k in _STATE_PROPS)
+        self._nodes = tuple((pm.get_node(p, True), k) for p, k in _STATE_PROPS)  # made (0) where missing: airbrake
         self._wow = pm.get_node("gear/wow")
         self._hdot = pm.get_node("velocities/h-dot-fps")
         self._agl = pm.get_node("position/h-agl-ft")
         self._phi = pm.get_node("attitude/phi-rad")
         self._gear_cmd = pm.get_node("gear/gear-cmd-norm")
         self._mass = pm.get_node("inertia/mass-slugs")
-        self._added = pm.get_node("inertia/pointmass-weight-lbs[0]")  # the ADDED point mass of UPERA.xml
+        self._added = pm.get_node(f"inertia/pointmass-weight-lbs[{ac.payload_index}]")  # the payload point mass
         self._added_kg = 0.0
-        self._tank = pm.get_node("propulsion/tank[0]/contents-lbs")
-        self._thrust = pm.get_node("external_reactions/thrust/magnitude")
+        self._payload_kg = 0.0
+        self._tanks = tuple((pm.get_node(f"propulsion/tank[{i}]/contents-lbs"), share)
+                            for i, share in zip(ac.fuel_tank_indices, ac.fuel_shares, strict=True))
+        self._thrusts = tuple(pm.get_node(f"external_reactions/{t.force}/magnitude") for t in ac.thrusters)
         self._time = pm.get_node("simulation/sim-time-sec")
         self._h_sl = pm.get_node("position/h-sl-ft")
         self._wind_nodes = tuple(pm.get_node(f"atmosphere/wind-{c}-fps") for c in ("north", "east", "down"))
         # the commands set every step, as nodes: a string key costs a look-up in the property tree per call (made
         # where the aircraft has none, as a string key's assignment makes it)
         (self._ail, self._ele, self._rud, self._flap, self._abrk, self._brk_l, self._brk_r, self._steer) = (
-            pm.get_node(f"fcs/{p}-cmd-norm", True) for p in ("aileron", "elevator", "rudder", "flap", "airbrake",
-                                                        "left-brake", "right-brake", "steer"))
+            pm.get_node(p, True) for p in COMMAND_PROPERTIES)
         self._wind_profile: WindProfile | None = None
         self._started = False
         self.set_atmosphere(dT_isa_K, wind_ned_m_s, turbulence_severity, turbulence_wind_20ft_m_s)
@@ -303,13 +312,19 @@ class Airframe:
 
     # -- initial conditions -------------------------------------------------
     def _begin(self, fuel_kg: float | None) -> None:
-        cap = self.geometry.fuel_capacity_kg
+        cap = self.aircraft.fuel_capacity_kg
         if fuel_kg is not None:
-            check_loading(fuel_kg, 0.0)
+            check_loading(fuel_kg, 0.0, aircraft=self.aircraft)
         self._fuel_kg = cap if fuel_kg is None else float(fuel_kg)
-        self._tank.set_double_value(self._fuel_kg / LBM)
+        self._fill_tanks(self._fuel_kg)
         self._wf_kg_s = 0.0
-        self._thrust.set_double_value(0.0)
+        for node in self._thrusts:
+            node.set_double_value(0.0)
+
+    def _fill_tanks(self, fuel_kg: float) -> None:
+        """Spread ``fuel_kg`` over the fuel tanks in proportion to their capacities (:mod:`.aircraft`)."""
+        for node, share in self._tanks:
+            node.set_double_value(fuel_kg * share / LBM)
 
     def _run_ic(self) -> None:
         # Trim status on: actuators and kinematic components start at their commands.
@@ -345,8 +360,7 @@ class Airframe:
         f["ic/terrain-elevation-ft"] = elev / FT
         if self._wind_profile is not None:
             self._apply_wind(float(elevation_m))
-        gear = self.geometry.section("gear")
-        f["ic/h-agl-ft"] = (-gear["contact_z_m"] + self.geometry.z_cg_m - 0.5 * gear["main_static_deflection_m"]) / FT
+        f["ic/h-agl-ft"] = self.aircraft.rest_cg_height_m / FT
         f["ic/psi-true-deg"] = float(heading_deg) % 360.0
         f["ic/vw-mag-fps"] = 0.0
         for p in ("ic/phi-deg", "ic/theta-deg", "ic/u-fps", "ic/v-fps", "ic/w-fps", "ic/p-rad_sec",
@@ -367,9 +381,10 @@ class Airframe:
                   ground_elevation_m: float = 0.0, flight_path_rad: float = 0.0,
                   airbrake: float = 0.0) -> AirframeState:
         """Start in wings-level flight at altitude ``alt_m`` [m] MSL and true airspeed ``tas_m_s`` [m/s]
-        (no sideslip, the given angle of attack [rad] and flight-path angle [rad], airbrake [0, 1])."""
+        (no sideslip, the given angle of attack [rad] and flight-path angle [rad], airbrake [0, 1]), the total
+        thrust ``Fn_N`` [N] shared equally by the engines."""
         f = self._fdm
-        check_air_start(alt_m, ground_elevation_m)
+        check_air_start(alt_m, ground_elevation_m, aircraft=self.aircraft)
         self._begin(fuel_kg)
         f["ic/lat-geod-deg"] = _check("lat_deg", lat_deg, *_bounds(AirframeStart, "start", "lat0_deg"), " deg")
         f["ic/long-gc-deg"] = _check("lon_deg", lon_deg, *_bounds(AirframeStart, "start", "lon0_deg"), " deg")
@@ -402,7 +417,8 @@ class Airframe:
         self.set_surfaces(elevator=elevator)
         self.set_flaps(flaps)
         self.set_airbrake(airbrake)
-        self.set_thrust(Fn_N)
+        for k in range(self.engines):  # the total thrust, shared equally by the engines
+            self.set_thrust(Fn_N / self.engines, k)
         self._run_ic()
         return self._zero_time()
 
@@ -454,12 +470,17 @@ class Airframe:
         """Nose-wheel steering [-1, 1] (1 = full right)."""
         self._steer.set_double_value(min(max(float(steering), -1.0), 1.0))
 
-    def set_thrust(self, Fn_N: float) -> None:
-        """Net thrust [N] along the engine axis (negative for reverse)."""
-        self._thrust.set_double_value(float(Fn_N) / LBF)
+    def set_thrust(self, Fn_N: float, engine: int = 0) -> None:
+        """Net thrust [N] of engine ``engine`` (0-based, the file's order) along its axis (negative for reverse)."""
+        self._thrusts[engine].set_double_value(float(Fn_N) / LBF)
+
+    @property
+    def engines(self) -> int:
+        """The aircraft's number of engines (thrust forces)."""
+        return len(self._thrusts)
 
     def set_fuel_flow(self, wf_kg_s: float) -> None:
-        """Fuel flow [kg/s] (>= 0), burnt from the tank during the following steps."""
+        """Fuel flow of all engines [kg/s] (>= 0), burnt from the tanks during the following steps."""
         wf = float(wf_kg_s)
         if not wf >= 0.0:
             raise OutOfEnvelopeError(f"fuel flow = {wf_kg_s} kg/s is outside the valid range [0, inf) kg/s")
@@ -467,12 +488,26 @@ class Airframe:
 
     def set_added_mass(self, mass_kg: float) -> None:
         """Mass [kg] (>= 0) added at the CG to the operating empty mass (e.g. an electrical system), from
-        the next step on; JSBSim's total mass and inertia take it as its point mass ADDED."""
+        the next step on; JSBSim's total mass and inertia take it, with the payload, as the payload point mass."""
         m = float(mass_kg)
         if m != self._added_kg:
-            check_loading(0.0, m)
-            self._added.set_double_value(m / LBM)
+            check_loading(0.0, m, aircraft=self.aircraft)
             self._added_kg = m
+            self._added.set_double_value((self._payload_kg + m) / LBM)
+
+    def set_payload(self, mass_kg: float) -> None:
+        """Payload [kg] (>= 0) at the empty aircraft's CG, from the next step on (with the added mass, the payload
+        point mass of :mod:`.aircraft`)."""
+        m = float(mass_kg)
+        if m != self._payload_kg:
+            check_loading(0.0, m, ("fuel_kg", "payload_kg"), aircraft=self.aircraft)
+            self._payload_kg = m
+            self._added.set_double_value((m + self._added_kg) / LBM)
+
+    @property
+    def payload_kg(self) -> float:
+        """Payload [kg]."""
+        return self._payload_kg
 
     @property
     def added_mass_kg(self) -> float:
@@ -501,7 +536,7 @@ class Airframe:
         if self._wind_profile is not None:
             self._apply_wind(self._h_sl.get_double_value() * FT)
         run = self._fdm.run
-        tank = self._tank.set_double_value
+        fill = self._fill_tanks
         burn = self._wf_kg_s * self.dt_s
         fuel = self._fuel_kg
         if burn * n + self._wf_kg_s * short_s > fuel + FUEL_ROUNDOFF_KG:
@@ -515,13 +550,13 @@ class Airframe:
         for _ in range(n):
             if burn > 0.0:
                 fuel = fuel - burn if fuel > burn else 0.0
-                tank(fuel / LBM)
+                fill(fuel)
             run()
         if short_s > 0.0:
             short_burn = self._wf_kg_s * short_s
             if short_burn > 0.0:
                 fuel = fuel - short_burn if fuel > short_burn else 0.0
-                tank(fuel / LBM)
+                fill(fuel)
             self._fdm.set_dt(short_s)
             try:
                 run()
@@ -539,7 +574,7 @@ class Airframe:
         sinking faster than CRASH_SINK_M_S, the fuselage on the ground (gear up or collapsed), or a
         wingtip below it."""
         phi = self._phi.get_double_value()
-        tip_m = agl_m - self.geometry.wing.span_m / 2.0 * abs(math.sin(phi))
+        tip_m = agl_m - self.aircraft.wingspan_m / 2.0 * abs(math.sin(phi))
         what = ""
         if touchdown_sink_m_s > CRASH_SINK_M_S:
             what = f"touchdown sinking at {touchdown_sink_m_s:.1f} m/s (the gear holds {CRASH_SINK_M_S:g} m/s)"

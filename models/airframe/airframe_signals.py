@@ -10,11 +10,20 @@ from __future__ import annotations
 
 from dataclasses import fields
 
-from ..infra.signals import Signal, check_table
+from ..infra.signals import DEPARTURE, Signal, check_table
 from .adapter import AirframeState
+from .aircraft import MAX_ENGINES
 from .settings import PARAMETER_SETS, airframe_set
 
-__all__ = ["SIGNALS", "STATE_FIELDS"]
+__all__ = ["SIGNALS", "STATE_FIELDS", "THRUST_INPUTS", "FUEL_FLOW_INPUTS", "DEPARTURE_START"]
+
+#: The start parameter each departure input stands for on a runway start.
+DEPARTURE_START: dict[str, str] = {"departure_lat_deg": "lat0_deg", "departure_lon_deg": "lon0_deg",
+                                   "departure_heading_deg": "heading0_deg", "departure_elevation_m": "alt0_m"}
+
+#: The thrust and fuel-flow input of each engine, in the aircraft file's order (:mod:`.aircraft`).
+THRUST_INPUTS: tuple[str, ...] = ("Fn_N", *(f"Fn_N_{k}" for k in range(2, MAX_ENGINES + 1)))
+FUEL_FLOW_INPUTS: tuple[str, ...] = ("Wf_kg_s", *(f"Wf_kg_s_{k}" for k in range(2, MAX_ENGINES + 1)))
 
 #: The slots of :meth:`.adapter.Airframe.values` (the fields of AirframeState, in order).
 STATE_FIELDS: tuple[str, ...] = tuple(f.name for f in fields(AirframeState))
@@ -39,11 +48,15 @@ SIGNALS: tuple[Signal, ...] = check_table((
                               "limiting dynamic pressure)"),
     _in("brakes_norm", "1", "Wheel brakes, 0 to 1"),
     _in("steering_norm", "1", "Nose-wheel steering, -1 to 1, > 0 right"),
-    _in("Fn_N", "N", "Net thrust along the engine axis"),
-    _in("Wf_kg_s", "kg/s", "Fuel flow burnt from the tank"),
+    *(_in(n, "N", f"Net thrust of engine {k + 1} along its axis") for k, n in enumerate(THRUST_INPUTS)),
+    *(_in(n, "kg/s", f"Fuel flow of engine {k + 1}, burnt from the tanks") for k, n in enumerate(FUEL_FLOW_INPUTS)),
     _in("added_mass_kg", "kg", "Mass added at the CG to the operating empty mass (e.g. the electrical system's "
                                "mass_kg), 0 to 10000"),
     _in("gear_down", "1", "Landing gear command, true = down", True, "Boolean"),
+    # the flight control's mission's departure runway (its outputs of the same names): a runway start whose
+    # lat0_deg, lon0_deg, heading0_deg, alt0_m are left at their defaults starts there (start: the default mission's)
+    *(_in(f"departure_{q}", u, f"{what} of the mission's departure runway, where a runway start is (NaN: none)")
+      for q, u, what in DEPARTURE),
     _out("lat_deg", "deg", "Geodetic latitude"), _out("lon_deg", "deg", "Longitude"),
     _out("alt_m", "m", "Altitude above mean sea level"), _out("alt_agl_m", "m", "Altitude above ground"),
     _out("tas_m_s", "m/s", "True airspeed"), _out("cas_m_s", "m/s", "Calibrated airspeed"),
@@ -63,5 +76,5 @@ SIGNALS: tuple[Signal, ...] = check_table((
     _out("dT_isa_K", "K", "ISA temperature deviation of the atmosphere flown (the parameter weather_dT_isa_K)"),
     # after the state: the trimmed air start (values() + these two)
     _out("trim_elevator_norm", "1", "Elevator of the trimmed air start"),
-    _out("trim_Fn_N", "N", "Thrust of the trimmed air start"),
+    _out("trim_Fn_N", "N", "Thrust of the trimmed air start, all engines together"),
 ), "models/airframe/airframe_signals.py")

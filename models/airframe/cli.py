@@ -26,6 +26,7 @@ import numpy as np
 from ..infra.files import atomic_write, csv_text, figure_bytes
 from . import calibrate_cli
 from .aero import aero_model
+from .aircraft import DEFAULT_AIRCRAFT
 from .errors import AirframeError, TrimError
 from .trim import ALT_RANGE_M, MACH_RANGE, TrimResult, trim_level
 
@@ -51,6 +52,10 @@ def register(subparsers: argparse._SubParsersAction) -> tuple[type[Exception], .
     t.add_argument("--mass-kg", type=float, metavar="W", help="aircraft mass [kg] (default 2100, MTOM)")
     t.add_argument("--flight-path-deg", type=float, default=0.0, metavar="G",
                    help="flight-path angle of a steady climb (> 0) or descent [deg] (default 0: level)")
+    t.add_argument("--aircraft", default=DEFAULT_AIRCRAFT, metavar="NAME_OR_DIR",
+                   help="the JSBSim aircraft (models/airframe/README.md, Any JSBSim aircraft): a name of the jsbsim "
+                        "package's (737, T38...) or a folder; default UPERA, whose envelope and mass range are "
+                        "above (another aircraft: -400 to 20000 m, Mach 0.05 to 0.95, empty to full)")
     t.add_argument("--json", action="store_true", help="print JSON (keys carry SI units)")
     t.set_defaults(handler=cmd_trim)
     p = sub.add_parser("polar", help="drag polar and thrust required over the envelope (PNG + CSV)",
@@ -86,14 +91,17 @@ def register(subparsers: argparse._SubParsersAction) -> tuple[type[Exception], .
 
 def cmd_trim(args: argparse.Namespace) -> int:
     """Handler of ``emss airframe trim``; returns the exit code."""
-    r = trim_level(args.alt_m, args.mach, args.mass_kg, flight_path_rad=math.radians(args.flight_path_deg))
+    from .adapter import Airframe
+
+    af = Airframe(aircraft=args.aircraft)
+    r = trim_level(args.alt_m, args.mach, args.mass_kg, airframe=af, flight_path_rad=math.radians(args.flight_path_deg))
     d = r.as_dict()
     if args.json:
         json.dump(d, sys.stdout, indent=2)
         sys.stdout.write("\n")
         return 0
     kind = "level flight" if args.flight_path_deg == 0 else f"flight path {args.flight_path_deg:g} deg"
-    print(f"UPERA {kind} at {r.alt_m:g} m, Mach {r.mach:g}, {r.mass_kg:.1f} kg "
+    print(f"{af.aircraft.name} {kind} at {r.alt_m:g} m, Mach {r.mach:g}, {r.mass_kg:.1f} kg "
           f"(TAS {r.tas_m_s:.2f} m/s, q {r.qbar_Pa:.0f} Pa)")
     for k in _TRIM_KEYS:
         print(f"  {k:10s} {d[k]:12.5g}")

@@ -1,4 +1,4 @@
-"""The airframe's parameters, from ``data/airframe.yaml``: its start, its environment and JSBSim's rate.
+"""The airframe's parameters, from ``data/airframe.yaml``: its aircraft and payload, its start, its environment and JSBSim's rate.
 
 Each section of the file fills one frozen dataclass through the models' one parameter mechanism
 (:mod:`openemss.models.infra.params`: value, unit, range, note and source of every field, errors naming
@@ -14,7 +14,7 @@ from typing import TypeVar
 from ..infra.params import ParamSet, parameter_set
 from .errors import OutOfEnvelopeError
 
-__all__ = ["AirframeStart", "AirframeEnvironment", "AirframeSimulation", "PARAMETER_SETS", "airframe_set"]
+__all__ = ["AirframeAircraft", "AirframeStart", "AirframeEnvironment", "AirframeSimulation", "PARAMETER_SETS", "airframe_set"]
 
 P = TypeVar("P")
 
@@ -24,6 +24,14 @@ def airframe_set(cls: type[P], section: str) -> ParamSet[P]:
     value is an :class:`.errors.OutOfEnvelopeError` naming the parameter, its range and the file's line."""
     return parameter_set(cls, __package__ or __name__.rpartition(".")[0], "airframe.yaml", section,
                          OutOfEnvelopeError)
+
+
+@dataclass(frozen=True)
+class AirframeAircraft:
+    """Which JSBSim aircraft flies (:func:`.aircraft.load_aircraft`) and its payload [kg]."""
+
+    aircraft: str
+    payload_kg: float
 
 
 @dataclass(frozen=True)
@@ -70,5 +78,5 @@ class AirframeSimulation:
 
 
 #: The airframe FMU's parameter sets: section of ``data/airframe.yaml`` -> its dataclass (FMU names: the fields).
-PARAMETER_SETS: dict[str, type] = {"start": AirframeStart, "environment": AirframeEnvironment,
+PARAMETER_SETS: dict[str, type] = {"aircraft": AirframeAircraft, "start": AirframeStart, "environment": AirframeEnvironment,
                                    "simulation": AirframeSimulation}

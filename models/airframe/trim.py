@@ -31,6 +31,12 @@ __all__ = ["TrimResult", "trim_level", "ALT_RANGE_M", "MACH_RANGE"]
 
 ALT_RANGE_M = (0.0, 8000.0)
 MACH_RANGE = (0.1, 0.85)
+#: Another aircraft than UPERA (its envelope is its file's, unknown here): the range JSBSim's standard atmosphere
+#: and a subsonic trim take.
+ANY_ALT_RANGE_M = (-400.0, 20000.0)
+ANY_MACH_RANGE = (0.05, 0.95)
+#: First guess of the lift slope of another aircraft [1/rad] (a swept wing of aspect ratio 6 to 10)
+GUESS_CL_ALPHA = 4.5
 TOL_ACC = 1e-7  # [m/s^2] and [rad/s^2] residual accepted as converged
 
 
@@ -88,17 +94,21 @@ def _check_range(name: str, value: float, rng: tuple[float, float], unit: str) -
 def trim_level(alt_m: float, mach: float, mass_kg: float | None = None, airframe: Airframe | None = None,
                flaps: float = 0.0, gear_down: bool = False, heading_deg: float = 0.0, lat_deg: float = 48.3539,
                lon_deg: float = 11.7860, flight_path_rad: float = 0.0, airbrake: float = 0.0) -> TrimResult:
-    """Trim UPERA in steady level flight.
+    """Trim the aircraft (default UPERA) in steady level flight, the thrust shared equally by its engines.
+
+    UPERA is trimmed in its envelope (:data:`ALT_RANGE_M`, :data:`MACH_RANGE`) with its aerodynamic model's stall
+    checks; another aircraft from a first guess, over :data:`ANY_ALT_RANGE_M` and :data:`ANY_MACH_RANGE`, its
+    mass from empty to its maximum take-off mass (else full tanks; beyond full tanks the rest is payload).
 
     Parameters
     ----------
     alt_m : float
-        Altitude above mean sea level [m], 0 to 8000.
+        Altitude above mean sea level [m], 0 to 8000 (UPERA).
     mach : float
-        Mach number [-], 0.1 to 0.85.
+        Mach number [-], 0.1 to 0.85 (UPERA).
     mass_kg : float, optional
         Aircraft mass [kg] between the operating empty mass and MTOM (the
-        difference is fuel); default MTOM.
+        difference, less the payload and added mass the airframe holds, is fuel); default MTOM.
     airframe : Airframe, optional
         The adapter to trim (its atmosphere settings apply); a new one by default.
         On return it is initialised at the trimmed state.
@@ -122,26 +132,36 @@ def trim_level(alt_m: float, mach: float, mass_kg: float | None = None, airframe
     """
     af = airframe or Airframe()
     g = af.geometry
-    alt = _check_range("altitude", alt_m, ALT_RANGE_M, " m")
-    m = _check_range("Mach", mach, MACH_RANGE, "")
-    mass = g.mtom_kg if mass_kg is None else _check_range("mass", mass_kg, (g.oem_kg, g.mtom_kg), " kg")
-    fuel = mass - g.oem_kg
+    ac = af.aircraft
+    a = aero_model() if g is not None else None  # UPERA's: its envelope, stall and first guess
+    alt = _check_range("altitude", alt_m, ALT_RANGE_M if a is not None else ANY_ALT_RANGE_M, " m")
+    m = _check_range("Mach", mach, MACH_RANGE if a is not None else ANY_MACH_RANGE, "")
+    top = ac.mtom_kg or ac.empty_mass_kg + ac.fuel_capacity_kg  # the maximum take-off mass, else full tanks
+    mass = top if mass_kg is None else _check_range("mass", mass_kg, (ac.empty_mass_kg, top), " kg")
+    fuel = mass - ac.empty_mass_kg - (af.payload_kg + af.added_mass_kg)  # the masses the airframe holds stay
+    if fuel < 0.0:
+        raise OutOfEnvelopeError(f"mass = {mass:g} kg is below the empty aircraft's {ac.empty_mass_kg:g} kg with the "
+                                 f"payload and added mass it holds, {af.payload_kg + af.added_mass_kg:g} kg")
+    if fuel > ac.fuel_capacity_kg:  # above full tanks (UPERA's MTOM is its full tank): the rest is payload
+        af.set_payload(af.payload_kg + fuel - ac.fuel_capacity_kg)
+        fuel = ac.fuel_capacity_kg
     weight = mass * G0
     gamma = _check_range("flight-path angle", flight_path_rad, (-0.2, 0.3), " rad")
-    a = aero_model()
     # Speed of sound from JSBSim's own atmosphere at this altitude.
     af.start_air(alt, 100.0, heading_deg, lat_deg, lon_deg, fuel_kg=fuel, ground_elevation_m=min(0.0, alt - 1000.0))
     tas = m * af.speed_of_sound_m_s()
     q = 0.5 * af.state().rho_amb_kg_m3 * tas ** 2
-    s = g.wing.area_m2
+    s = g.wing.area_m2 if g is not None else af.aero_forces().wing_area_m2
     cl_req = weight * math.cos(gamma) / (q * s)
     where = f"at {alt:g} m, Mach {m:g}, {mass:g} kg"
-    cl_max = a.clmax(flaps)
-    if cl_req > 0.95 * cl_max:
-        raise TrimError(f"level flight {where} needs CL = {cl_req:.2f}, beyond 95 % of CL_max = {cl_max:.2f} "
-                        "(stall); fly faster or lower")
-    cla = float(a.cl_alpha(m))
-    alpha0 = (cl_req - float(a.cl_linear(0.0, m))) / cla
+    if a is not None:
+        cl_max = a.clmax(flaps)
+        if cl_req > 0.95 * cl_max:
+            raise TrimError(f"level flight {where} needs CL = {cl_req:.2f}, beyond 95 % of CL_max = {cl_max:.2f} "
+                            "(stall); fly faster or lower")
+        alpha0 = (cl_req - float(a.cl_linear(0.0, m))) / float(a.cl_alpha(m))
+    else:  # another aircraft: thin-airfoil-like first guess; JSBSim's own tables decide
+        alpha0 = cl_req / GUESS_CL_ALPHA
     x0 = np.array([alpha0, 0.0, 0.05 + math.sin(gamma)])
 
     ground = min(0.0, alt - 1000.0)  # terrain well below, so no contact point touches it
@@ -166,7 +186,7 @@ def trim_level(alt_m: float, mach: float, mass_kg: float | None = None, airframe
     alpha, elev, thrust = float(sol.x[0]), float(sol.x[1]), float(sol.x[2]) * weight
     if abs(elev) > 1.0:
         raise TrimError(f"trim {where} needs elevator {elev:+.2f}, beyond full deflection [-1, 1]")
-    if alpha > a.alpha_stall(m):
+    if a is not None and alpha > a.alpha_stall(m):
         raise TrimError(f"trim {where} needs angle of attack {math.degrees(alpha):.1f} deg, past the stall "
                         f"({math.degrees(a.alpha_stall(m)):.1f} deg); fly faster or lower")
     forces = af.aero_forces()

@@ -7,6 +7,7 @@ differs from what this module writes. Values are written in SI with JSBSim's
 """
 from __future__ import annotations
 
+import json
 import math
 import sys
 import textwrap
@@ -16,9 +17,10 @@ import numpy as np
 
 from .aero import MAX_MACH, AeroModel, aero_model
 from .aero_lateral import Lateral, lateral
+from .aircraft import SIDECAR
 from .geometry import G0
 
-__all__ = ["aircraft_xml", "write", "AIRCRAFT_DIR", "AIRCRAFT_FILE", "MACH_AXIS", "ALPHA_AXIS", "RE_AXIS"]
+__all__ = ["aircraft_xml", "sidecar_json", "write", "AIRCRAFT_DIR", "AIRCRAFT_FILE", "MACH_AXIS", "ALPHA_AXIS", "RE_AXIS"]
 
 JSBSIM_ROOT = Path(__file__).resolve().parent / "jsbsim"
 AIRCRAFT_DIR = JSBSIM_ROOT / "aircraft" / "UPERA"
@@ -379,22 +381,21 @@ def aircraft_xml(a: AeroModel | None = None) -> str:
     <izz unit="KG*M2">{_n(izz)}</izz>
     <emptywt unit="KG">{_n(g.oem_kg)}</emptywt>
 {_loc(*cg, '    ').replace('<location', '<location name="CG"')}
-    <!-- Mass added to the operating empty mass at the CG, set at run time (the airframe FMU's
-         added_mass_kg input, e.g. an electrical system): inertia/pointmass-weight-lbs[0] -->
-    <pointmass name="ADDED">
-      <weight unit="KG">0</weight>
-{_loc(*cg, '      ')}
-    </pointmass>
+    <!-- The payload and the mass added at run time: the point mass the adapter puts at this CG -->
   </mass_balance>
 {_gear_section(a)}
-  <external_reactions>
-    <!-- Net thrust of the engine model, along the engine axis, at the nozzle -->
-    <force name="thrust" frame="BODY" unit="LBS">
-{_loc(eng['thrust_x_m'], 0.0, eng['thrust_z_m'], '      ')}
-      <direction><x>1</x><y>0</y><z>0</z></direction>
-    </force>
-  </external_reactions>
   <propulsion>
+    <!-- The engine in the rear fuselage, its nozzle at the tail, along the body x axis. Its thrust is the engine
+         model's, outside JSBSim: the airframe adapter replaces the engine by the external force
+         external_reactions/thrust at the thruster (models/airframe/aircraft.py). Loaded alone, the engine file
+         openemss_external gives no thrust. -->
+    <engine file="openemss_external">
+      <feed>0</feed>
+      <thruster file="direct">
+{_loc(eng['thrust_x_m'], 0.0, eng['thrust_z_m'], '        ')}
+        <orient unit="DEG"><roll>0</roll><pitch>0</pitch><yaw>0</yaw></orient>
+      </thruster>
+    </engine>
     <tank type="FUEL">
 {_loc(*cg, '      ')}
       <capacity unit="KG">{_n(g.fuel_capacity_kg)}</capacity>
@@ -413,7 +414,19 @@ def write(path: Path = AIRCRAFT_FILE, a: AeroModel | None = None) -> Path:
     shipped geometry and calibration)."""
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(aircraft_xml(a), encoding="utf-8")
+    (path.parent / SIDECAR).write_text(sidecar_json(a), encoding="utf-8")
     return path
+
+
+def sidecar_json(a: AeroModel | None = None) -> str:
+    """The aircraft's ``openemss.json`` (:mod:`.aircraft`): the maximum take-off mass [kg] and the CG's height
+    above the runway at rest [m] (the wheels' contact below the CG, less half the main gear's static
+    deflection), which JSBSim's file has no place for."""
+    g = (a or aero_model()).geom
+    gear = g.section("gear")
+    return json.dumps({"source": "models/airframe/xmlgen.py from data/upera_geometry.json", "mtom_kg": g.mtom_kg,
+                       "rest_cg_height_m": -gear["contact_z_m"] + g.z_cg_m - 0.5 * gear["main_static_deflection_m"]},
+                      indent=2) + "\n"
 
 
 if __name__ == "__main__":

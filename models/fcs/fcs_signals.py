@@ -12,7 +12,7 @@ so that the runway's data are written once, in ``missions/munich.yaml``.
 """
 from __future__ import annotations
 
-from ..infra.signals import Signal, check_table
+from ..infra.signals import DEPARTURE, Signal, check_table
 
 __all__ = ["SIGNALS", "GAIN_DEFAULTS"]
 
@@ -81,6 +81,10 @@ SIGNALS: tuple[Signal, ...] = check_table((
     _out("track_cmd_rad", "rad", f"Commanded true track{_NONE} (the ground track)", "cmd.track_rad"),
     _out("xtk_m", "m", "Cross-track error of the active path, right positive; 0 when there is none", "cmd.xtk_m"),
     _out("airbrake_norm", "1", "Airbrake command, 0 retracted to 1 fully out", "out.airbrake_norm"),
+    # the mission's departure runway (its first section that names one), where the airframe starts: one source
+    *(_out(f"departure_{q}", u, f"{what} of the mission's departure runway, where the airframe starts (NaN: the "
+                                "mission names none)", f"departure.{q}")
+      for q, u, what in DEPARTURE),
     _out("gear_down", "1", "Landing gear command, true = down", "out.gear_down", "Boolean"),
     _out("mission_completed", "1", "Every mission section is completed", "cmd.completed", "Boolean"),
     _out("section_index", "1", "Active mission section, 0-based (number of sections when the mission is "

@@ -26,7 +26,14 @@ import math
 import re
 from dataclasses import dataclass
 
-__all__ = ["Signal", "BASE_UNITS", "si_unit", "check_table", "UnitError"]
+__all__ = ["Signal", "BASE_UNITS", "si_unit", "check_table", "UnitError", "DEPARTURE"]
+
+#: The departure runway of the mission, which the flight control publishes (its outputs ``departure_<q>``) and the
+#: airframe starts on (its inputs of the same names): quantity, unit, what. Here, because both model packages
+#: name them and neither may import the other.
+DEPARTURE: tuple[tuple[str, str, str], ...] = (
+    ("lat_deg", "deg", "Threshold latitude"), ("lon_deg", "deg", "Threshold longitude"),
+    ("heading_deg", "deg", "True heading"), ("elevation_m", "m", "Threshold elevation"))
 
 #: The FMI 2.0 base units, in the order of the BaseUnit exponents.
 BASE_UNITS = ("kg", "m", "s", "A", "K", "mol", "cd", "rad")

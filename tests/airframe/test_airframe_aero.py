@@ -27,7 +27,7 @@ from openemss.models.airframe.aero import (
 )
 from openemss.models.airframe.aero_lateral import lateral
 from openemss.models.airframe.geometry import load_geometry
-from openemss.models.airframe.xmlgen import AIRCRAFT_FILE, aircraft_xml
+from openemss.models.airframe.xmlgen import AIRCRAFT_FILE, aircraft_xml, sidecar_json
 
 G = load_geometry()
 A = aero_model()
@@ -182,9 +182,10 @@ def test_lateral_directional_signs() -> None:
 
 # ---------------------------------------------------------------- the JSBSim file
 def test_committed_xml_is_generated() -> None:
-    """The committed UPERA.xml is exactly what xmlgen writes from aero.py (regenerate with
-    ``python -m openemss.models.airframe.xmlgen``)."""
+    """The committed UPERA.xml and its openemss.json are exactly what xmlgen writes from aero.py and the geometry
+    (regenerate with ``python -m openemss.models.airframe.xmlgen``)."""
     assert AIRCRAFT_FILE.read_text(encoding="utf-8") == aircraft_xml()
+    assert (AIRCRAFT_FILE.parent / "openemss.json").read_text(encoding="utf-8") == sidecar_json()
 
 
 def test_jsbsim_reads_mass_and_metrics() -> None:

@@ -23,12 +23,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from test_hostile_runs import assert_one_line
 
 from conftest import ROOT, table
-from openemss.models.fcs.geo import LatLon
+from openemss.models.mission.geo import LatLon
 from openemss.orchestrator.cli.main import main
 from systems import Comp, write_system
-from test_hostile_runs import assert_one_line
 
 FMU_NAMES = {"engine": "Engine.fmu", "airframe": "Airframe.fmu", "fcs": "Fcs.fmu"}
 MUNICH = ROOT / "missions" / "munich.yaml"
@@ -197,7 +197,7 @@ def test_the_aircraft_starts_where_the_mission_departs(munich: Path, tmp_path: P
                                                       capsys: pytest.CaptureFixture[str]) -> None:
     """Issue 32 point 5: the mission is the one source of the start; the airframe starts on its departure runway
     (the flight control's outputs departure_*), at rest on its threshold, and rolls along it."""
-    from openemss.models.fcs.mission import load_mission
+    from openemss.models.mission.mission import load_mission
 
     mission = _mission(tmp_path, old, new)
     rwy = load_mission(mission).runway(runway)

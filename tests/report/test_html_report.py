@@ -37,6 +37,9 @@ def runs(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
     return a, b
 
 
+BROWSER_BOUND_MS = 300_000
+
+
 def _load_in_browser(page_path: Path, screenshot: Path) -> dict[str, object]:
     sync_api = pytest.importorskip("playwright.sync_api")
     if not CHROMIUM.is_file():
@@ -48,6 +51,10 @@ def _load_in_browser(page_path: Path, screenshot: Path) -> dict[str, object]:
                                                    args=CHROMIUM_ARGS, viewport={"width": 1400, "height": 2400})
         try:
             page = ctx.new_page()
+            # bounds, never measurements: a 4 MB page with a dozen plots takes minutes to load on a 2-core machine
+            # at load 20 (Playwright's 30 s default failed a clean-clone CI run there)
+            page.set_default_timeout(BROWSER_BOUND_MS)
+            page.set_default_navigation_timeout(BROWSER_BOUND_MS)
             page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
             page.on("pageerror", lambda e: errors.append(str(e)))
 
@@ -61,7 +68,7 @@ def _load_in_browser(page_path: Path, screenshot: Path) -> dict[str, object]:
 
             page.route("**/*", route)
             page.goto(page_path.resolve().as_uri())
-            page.wait_for_selector(".js-plotly-plot .main-svg", timeout=60_000)
+            page.wait_for_selector(".js-plotly-plot .main-svg")
             page.wait_for_timeout(1000)
             plots = page.locator(".js-plotly-plot").count()
             traces = page.evaluate("Array.from(document.querySelectorAll('.js-plotly-plot')).map(d => d.data.length)")

@@ -39,7 +39,6 @@ from openemss.models.airframe.aircraft import load_aircraft
 from openemss.models.airframe.airframe_signals import (DEPARTURE_START, FUEL_FLOW_INPUTS, SIGNALS, STATE_FIELDS,
                                                       THRUST_INPUTS)
 from openemss.models.airframe.errors import AirframeError
-from openemss.models.airframe.identity import airframe_config_id
 from openemss.models.airframe.loading import check_air_start, check_loading
 from openemss.models.airframe.settings import PARAMETER_SETS, airframe_set
 from openemss.models.airframe.trim import trim_level
@@ -84,7 +83,6 @@ class Airframe(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
                               starts={**self._runway_defaults, **departure, "ground_elevation_m": rwy.elevation_m})
         self._y = [0.0] * (len(STATE_FIELDS) + len(_TRIM))
         self._yb = [True]
-        self._yi = [0]  # airframe_config_id, set at the start
         #: the start (every parameter and input, by name) and (step, Real inputs, gear_down) of every step since
         self._start: dict[str, Any] = {}
         self._log: list[tuple[float, tuple[float, ...], bool]] = []
@@ -156,7 +154,6 @@ class Airframe(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
                         alpha_rad=alpha, elevator=elevator, Fn_N=thrust, flaps=st.flaps0_norm,
                         gear_down=self.gear_down, fuel_kg=st.fuel0_kg, ground_elevation_m=st.ground_elevation_m)
         self._model = m
-        self._yi = [airframe_config_id(m)]
         self._publish()
 
     def _runway_start(self, st: Any) -> tuple[float, float, float, float]:

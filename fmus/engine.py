@@ -52,7 +52,6 @@ from openemss.models.engine.errors import OutOfRangeError
 from openemss.models.engine.fuel_supply import FuelSupply
 from openemss.models.engine.graph_engine import GraphEngineModel
 from openemss.models.engine.health import HealthDeltas, health_parameter_names
-from openemss.models.engine.identity import engine_config_id, engine_file_config_id
 from openemss.models.engine.settings import engine_set
 
 REQUIREMENTS = ["numpy>=1.24", "scipy>=1.10", "numba>=0.59"]
@@ -100,7 +99,7 @@ class Engine(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
         self._take = itemgetter(*(j if j is not None else 0 for j in _SLOTS))
         self._y = [0.0] * len(OUTPUTS)
         self._yb = [False] * len(FLAGS)
-        self._yi = [0, 0, 0]  # events, flameout_cause, engine_config_id
+        self._yi = [0, 0]
         self._supply = FuelSupply()
 
     def _set_health(self, i: int, value: float) -> None:
@@ -127,13 +126,6 @@ class Engine(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
         carry their names (``engine_signals.PARAMETER_SETS``), each checked against its range."""
         return {section: engine_set(cls, section).collect(lambda name: getattr(self, name), prefix, "engine")
                 for section, (cls, prefix) in PARAMETER_SETS.items()}
-
-    def _config_id(self) -> int:
-        """The identity of the engine flown (:mod:`openemss.models.engine.identity`): its file and scale, or the
-        preset's parameters as overridden."""
-        if self.engine_file:
-            return engine_file_config_id(self.engine_file, self.thrust_scale)
-        return engine_config_id(self._params())
 
     def compute_start(self) -> None:
         sets = self._sets()
@@ -169,8 +161,7 @@ class Engine(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
                 f"file_out_{k + 1} = {n}" for k, n in enumerate(m.extra_names)), Fmi2Status.ok, "logAll")
         self._model = m
         self._supply = FuelSupply()
-        self._y, self._yb = m.values, m.flags
-        self._yi = [m.events, int(m.flags[FLAMEOUT]), self._config_id()]
+        self._y, self._yb, self._yi = m.values, m.flags, [m.events, int(m.flags[FLAMEOUT])]
 
     def model_inputs(self) -> np.ndarray:
         """The model's input array (:attr:`.EngineModel.input_array`) filled from the FMU's inputs."""

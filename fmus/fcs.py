@@ -20,13 +20,6 @@ constant of :meth:`FlightControlSystem.parameter_names`, under the same dotted n
 (``tecs.k_TP``, ``fuel_control.stp_max_kg_s``, ...), tunable during the run. Their start
 values, ranges and units come from the parameter files of ``openemss.models.fcs`` (data/).
 
-Performance data: the FCS plans with the performance database of the airframe and the engine it is wired to
-(Integer inputs ``airframe_config_id``, ``engine_config_id`` from their outputs of those names; not connected,
-they start at the shipped system's, as every input does), found at its start by their identities and its fuel
-controller's limits (the shipped one, or the one ``emss run`` generated into the cache; String parameter
-``performance_file`` names one, checked the same way); without one it does not start
-(:func:`openemss.models.fcs.performance.performance_for`).
-
 Each ``doStep(t, h)`` samples the inputs at ``t``, runs one FCS step of length ``h`` and
 holds the commands as outputs over the next step (a sampled-data controller: under
 Gauss-Seidel with the FCS before the airframe the airframe flies them at once, under
@@ -37,7 +30,6 @@ which a master's initial fixed-point iteration could not see settle).
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 from pythonfmu import Fmi2Slave
 
@@ -50,10 +42,7 @@ from openemss.models.fcs.atmosphere import isa
 from openemss.models.fcs.errors import FcsError
 from openemss.models.fcs.fcs import FcsOutput, FlightControlSystem
 from openemss.models.fcs.fcs_signals import GAIN_DEFAULTS, SIGNALS
-from openemss.models.fcs.fuel_control import FuelControlParams
-from openemss.models.fcs.performance import PerformanceData, load_performance_data, performance_for
 from openemss.models.fcs.state import AircraftState, EngineState
-from openemss.models.infra.config_id import LIMIT_NAMES
 from openemss.models.mission.geo import LatLon, local_ne_m
 from openemss.models.mission.mission import Mission, departure_runway, load_mission
 
@@ -142,9 +131,7 @@ class Fcs(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
     description = ("Flight control system: airframe state and engine N1/N1c/Tt41 in; surface, gear, brake, "
                    "steering, thrust lever and fuel-flow commands and guidance targets out")
 
-    # the start (mission, gains, initial commands) reads parameters and the identities of the airframe and the
-    # engine, whose performance data it flies
-    START_INPUTS = ("airframe_config_id", "engine_config_id")
+    START_INPUTS = ()  # the start (mission, gains, initial commands) reads parameters only
 
     def __init__(self, **kwargs) -> None:  # type: ignore[no-untyped-def]
         super().__init__(**kwargs)
@@ -153,11 +140,8 @@ class Fcs(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
         self.departure = Departure(default)
         self.out: FcsOutput | None = None
         self.cmd = Commands()
-        shipped = load_performance_data()  # an FCS not wired to an airframe and engine flies the shipped system's
         self.register_signals(SIGNALS, starts={"lat_deg": rwy.threshold.lat_deg, "lon_deg": rwy.threshold.lon_deg,
-                                               "alt_m": rwy.elevation_m, "psi_rad": rwy.heading_rad,
-                                               "airframe_config_id": shipped.airframe_config_id,
-                                               "engine_config_id": shipped.engine_config_id})
+                                               "alt_m": rwy.elevation_m, "psi_rad": rwy.heading_rad})
         # -- gains: every tunable parameter of the FCS under its dotted name of the Python API (valid FMI
         #    names in pythonfmu's structured naming convention; nested=False: no attribute lookup by parts),
         #    generated from the parameter files (value, unit, range, note) with the shipped system's defaults
@@ -196,7 +180,9 @@ class Fcs(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
         self._pending[name] = value  # a start computed again (in Initialization Mode) keeps it
 
     # -- life cycle -------------------------------------------------------------------------
-    def _mission_path(self) -> Path:
+    def _mission_path(self):  # type: ignore[no-untyped-def]
+        from pathlib import Path
+
         p = Path(self.mission_file)
         if not p.is_absolute():
             p = Path(self.resources or ".") / p
@@ -205,22 +191,11 @@ class Fcs(FmuState, InitialOutputs, SignalIO, Fmi2Slave):
                            f"absolute or relative to the FMU's resources folder (shipped: {DEFAULT_MISSION})")
         return p
 
-    def _performance(self) -> PerformanceData:
-        """The performance data of the airframe and engine flown (their identities; the fuel controller's limits
-        as set), refused with one line when there are none or ``performance_file`` is of another system."""
-        base = FuelControlParams.from_file()
-        limits = {n: float(self._pending.get(f"fuel_control.{n}", getattr(base, n))) for n in LIMIT_NAMES}
-        file = None
-        if self.performance_file:
-            file = Path(self.performance_file)
-            file = file if file.is_absolute() else Path(self.resources or ".") / file
-        return performance_for(self.airframe_config_id, self.engine_config_id, limits, file)
-
     def compute_start(self) -> None:
         mission = load_mission(self._mission_path())
         self.departure = Departure(mission)
         fcs = FlightControlSystem(mission, Wf0_kg_s=self.Wf0_kg_s if self.Wf0_kg_s >= 0.0 else None,
-                                  elevator0=self.elevator0_norm, performance_data=self._performance())
+                                  elevator0=self.elevator0_norm)
         for name, value in self._pending.items():
             fcs.set_parameter(name, value)
         self._fcs = fcs

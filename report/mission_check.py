@@ -70,9 +70,6 @@ class CheckSetup:
     weather_origin: str
     mission_file: tuple[str, str] | None
     start: tuple[LatLon, float, float] | None
-    engine_file: str = ""                #: the engine's ``engine_file`` (empty: the preset ``engine``)
-    thrust_scale: float = 1.0            #: the engine's ``thrust_scale`` (of an engine file)
-    aircraft: str = ""                   #: the airframe's ``aircraft`` (empty: the airframe model's default)
 
     @property
     def limits(self) -> Limits:
@@ -205,9 +202,7 @@ def setup_from_system(components: Mapping[str, Path], parameters: Mapping[str, A
                  af_v.number("alt0_m", 0.0), af_v.number("tas0_m_s", 0.0))
     return CheckSetup(system, gains, engine, label, engine_limits, g.oem_kg + fuel0 + added, fuel0,
                       af_v.number("weather_dT_isa_K", 0.0), fcs_v.number("flaps_cmd_norm", 0.0),
-                      weather, origin, read_fmu_file(str(fcs_v.get("mission_file", "")), fcs_v.fmu), start,
-                      str(eng_v.get("engine_file", "") or ""), eng_v.number("thrust_scale", 1.0),
-                      str(af_v.get("aircraft", "") or ""))
+                      weather, origin, read_fmu_file(str(fcs_v.get("mission_file", "")), fcs_v.fmu), start)
 
 
 def weather_warnings(mission: Mission, setup: CheckSetup) -> list[str]:

@@ -6,8 +6,6 @@
   results folder (also after a failed run, from what was recorded); nothing otherwise.
 * ``status_variable``: the progress bar shows the FCS's ``section_name``.
 * ``stop_condition``: the run ends when the FCS reports the mission completed.
-* ``prepare``: before every ``emss run`` of a system with a flight control, the performance data of its
-  airframe and engine (:mod:`.performance_data`), generated once into the cache.
 * ``pre_run``: before every ``emss run`` of a system that flies a mission, its feasibility check
   (:mod:`.mission_check`): the marginal and infeasible sections, as warnings.
 * ``run_summary``: ``summary.json`` read back for the Python API (``RunResult.summary``).
@@ -30,13 +28,12 @@ from .errors import ReportError
 from .files import PLOTS_RECORD, SUMMARY
 from .html import REPORT, write_html_report, write_variables_html
 from .mission_check import pre_run
-from .performance_data import prepare
 from .plots import FigureFile, PlotRun, plot_runs, plot_variables
 from .rundata import MISSION_COPY, find_roles, load_mission, load_run, read_header
 from .summary import summarize
 
-__all__ = ["prepare", "pre_run", "post_run", "output_files", "run_summary", "status_variable", "stop_condition",
-           "register", "write_report", "SUMMARY"]
+__all__ = ["pre_run", "post_run", "output_files", "run_summary", "status_variable", "stop_condition", "register",
+           "write_report", "SUMMARY"]
 
 MAX_RUNS = len(("-", "--", ":", "-."))
 

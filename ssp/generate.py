@@ -36,8 +36,8 @@ DEPARTURE_NAMES = tuple(f"departure_{q}" for q, _, _ in DEPARTURE)
 SOURCES = {
     "fcs": {"airframe": ("lat_deg", "lon_deg", "alt_m", "tas_m_s", "gs_m_s", "vs_m_s", "phi_rad", "theta_rad",
                          "psi_rad", "p_rad_s", "q_rad_s", "r_rad_s", "beta_rad", "rho_amb_kg_m3", "dT_isa_K",
-                         "mass_kg", "on_ground", "airframe_config_id"),
-            "engine": ("N1_pct", "N1c_pct", "Tt41_K", "engine_config_id")},
+                         "mass_kg", "on_ground"),
+            "engine": ("N1_pct", "N1c_pct", "Tt41_K")},
     # the departure runway: the airframe starts where the flight control's mission departs (one source)
     "airframe": {"fcs": ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "airbrake_norm",
                          "brakes_norm", "steering_norm", "gear_down", *DEPARTURE_NAMES),
@@ -50,12 +50,11 @@ SOURCES = {
 # recorded all the same: emss run records every input its scenario names.
 ENGINE_OUT = ("Fn_N", "Fg_N", "Wf_kg_s", "N1_rpm", "N2_rpm", "N1_pct", "N2_pct", "N1c_pct",
               "Tt4_K", "Tt41_K", "Tt21_K", "Tt17_K", "Tt7_K", "Tt3_K", "Pt3_Pa", "OPR", "BPR", "SM_fan", "SM_hpc",
-              "SFC_kg_N_s", "fuel_burned_kg", "surge", "flameout", "overspeed", "solver_failed", "flameout_cause",
-              "engine_config_id")
+              "SFC_kg_N_s", "fuel_burned_kg", "surge", "flameout", "overspeed", "solver_failed", "flameout_cause")
 AIRFRAME_OUT = ("lat_deg", "lon_deg", "alt_m", "alt_agl_m", "tas_m_s", "cas_m_s", "gs_m_s", "mach",
                 "alpha_rad", "beta_rad", "phi_rad", "theta_rad", "psi_rad", "p_rad_s", "q_rad_s", "r_rad_s",
                 "load_factor", "vs_m_s", "p_amb_Pa", "T_amb_K", "rho_amb_kg_m3", "airbrake_pos_norm", "on_ground",
-                "mass_kg", "fuel_kg", "dT_isa_K", "airframe_config_id")
+                "mass_kg", "fuel_kg", "dT_isa_K")
 FCS_OUT = ("aileron_norm", "elevator_norm", "rudder_norm", "flaps_norm", "airbrake_norm", "brakes_norm",
            "steering_norm", "gear_down", "lever_norm", "Wf_cmd_kg_s", "alt_cmd_m", "tas_cmd_m_s", "mach_cmd",
            "track_cmd_rad", "section_index", "mission_completed", "fuel_limiter", "vnav_mode", "ils_phase",

@@ -39,29 +39,3 @@ def test_pre_run_lines_and_failures(oscillator: Path, tmp_path: Path, monkeypatc
     assert seen["parameters"]["mass2.kc_N_m"] == 40.0  # type: ignore[index]
     assert cli.main(["run", str(oscillator), "--stop-time", "0.5", "--out", str(tmp_path / "p"), "--no-pre-run"]) == 0
     assert "looks heavy" not in capsys.readouterr().err
-
-
-def test_prepare_runs_also_without_the_pre_run_checks(oscillator: Path, tmp_path: Path,
-                                                      monkeypatch: pytest.MonkeyPatch,
-                                                      capsys: pytest.CaptureFixture[str]) -> None:
-    """The prepare hook (what the FMUs need made, e.g. the FCS's performance data) runs before every run, also with
-    --no-pre-run; its lines are news, not warnings; a failure is one warning line and the run goes ahead."""
-    calls: list[dict[str, object]] = []
-
-    def made(components: dict, parameters: dict) -> list[str]:
-        calls.append(dict(parameters))
-        return ["made the tables"]
-
-    def broken(components: dict, parameters: dict) -> list[str]:
-        raise RuntimeError("no room")
-
-    good, bad = types.ModuleType("fake_c.plugin"), types.ModuleType("fake_d.plugin")
-    good.prepare, bad.prepare = made, broken  # type: ignore[attr-defined]
-    monkeypatch.setattr(hooks, "plugins", lambda: [good, bad])
-    for i, extra in enumerate(([], ["--no-pre-run"])):
-        assert cli.main(["run", str(oscillator), "--stop-time", "0.5", "--out", str(tmp_path / f"o{i}"),
-                         "--set", "mass2.kc_N_m=40", *extra]) == 0
-        err = capsys.readouterr().err
-        assert "emss run: made the tables" in err and "warning: made the tables" not in err
-        assert "emss run: warning: prepare hook 'fake_d' failed: internal error: RuntimeError: no room" in err
-    assert len(calls) == 2 and all(c["mass2.kc_N_m"] == 40.0 for c in calls)

@@ -625,20 +625,6 @@ class Airframe:
         vals.append(self._dT_isa_K)
         return vals
 
-    @property
-    def definition_files(self) -> tuple[Path, ...]:
-        """The files that define the aircraft flown: every file of its JSBSim folder, then the geometry data file
-        (masses, wing, airbrake, gear). Its configuration's identity (:mod:`.identity`) is their content."""
-        folder = self.aircraft.source.parent
-        files = sorted(p for p in folder.rglob("*") if p.is_file() and "__pycache__" not in p.parts)
-        return (*files, *((self.geometry.path,) if self.geometry is not None else ()))
-
-    @property
-    def mass_range_kg(self) -> tuple[float, float]:
-        """(operating empty, maximum take-off) mass of the aircraft [kg]."""
-        ac = self.aircraft
-        return ac.empty_mass_kg, ac.mtom_kg if ac.mtom_kg is not None else ac.empty_mass_kg + ac.fuel_capacity_kg
-
     def speed_of_sound_m_s(self) -> float:
         """Speed of sound of JSBSim's atmosphere at the aircraft [m/s]."""
         return self._fdm["atmosphere/a-fps"] * FT

@@ -77,7 +77,4 @@ SIGNALS: tuple[Signal, ...] = check_table((
     # after the state: the trimmed air start (values() + these two)
     _out("trim_elevator_norm", "1", "Elevator of the trimmed air start"),
     _out("trim_Fn_N", "N", "Thrust of the trimmed air start, all engines together"),
-    _out("airframe_config_id", "1", "Identity of the airframe's configuration as flown (models/airframe/identity.py: "
-                                    "aircraft files and mass range): the flight control flies the performance data "
-                                    "of it", type_="Integer"),
 ), "models/airframe/airframe_signals.py")

@@ -140,7 +140,6 @@ class Geometry:
     htail: Planform
     vtail: Planform
     raw: dict[str, Any]
-    path: Path = DATA_FILE  #: the data file read
 
     # -- sections ---------------------------------------------------------
     def section(self, name: str) -> dict[str, float]:
@@ -252,4 +251,4 @@ def load_geometry(path: str | None = None) -> Geometry:
         vtail = _planform(v, math.sqrt(v["aspect_ratio"] * v["area_m2"]), 1)
     except (OSError, ValueError, KeyError) as exc:
         raise AirframeError(f"{p}: cannot read the UPERA geometry ({exc.__class__.__name__}: {exc})") from None
-    return Geometry(wing=wing, htail=htail, vtail=vtail, raw=raw, path=p)
+    return Geometry(wing=wing, htail=htail, vtail=vtail, raw=raw)

@@ -354,7 +354,4 @@ SIGNALS: tuple[Signal, ...] = check_table((
       for k in range(N_FILE_OUTPUTS)),
     Signal("flameout_cause", "output", "1", "Why the burner is out: "
            + "; ".join(f"{i} {c.partition(':')[0] or 'burning'}" for i, c in enumerate(FLAMEOUT_CAUSES)), "Integer"),
-    Signal("engine_config_id", "output", "1", "Identity of the engine's configuration as flown (models/engine/"
-           "identity.py: design parameters and maps): the flight control flies the performance data of it",
-           "Integer"),
 ), "models/engine/engine_signals.py")

@@ -32,7 +32,7 @@ from .fuel_control import FUEL_LIMITERS, FuelController
 from .guidance import L1Guidance
 from .inner_loops import PARAM_BLOCKS, STATE_BLOCKS, blocks, inner_step
 from .lateral import LateralController
-from .performance import Performance, PerformanceData
+from .performance import Performance
 from .pitch import PitchController
 from .smoothing import TargetRamp
 from .state import AircraftState, EngineState, Targets
@@ -170,19 +170,14 @@ class FlightControlSystem:
     elevator0 : float
         Elevator at the start [-] (e.g. the trim of an air start): the pitch loop's
         integral starts from it, so the engagement is bumpless.
-    performance : Performance, optional
-        The performance model of the vertical planner and TECS's limits (default: one on ``performance_data``).
-    performance_data : PerformanceData, optional
-        The aircraft's and engine's performance database (default: the shipped one, UPERA with the Larzac 04;
-        the FMU gives the system's own, :func:`.performance.performance_for`).
     """
 
     def __init__(self, mission: Mission, Wf0_kg_s: float | None = None, elevator0: float = 0.0,
-                 performance: Performance | None = None, performance_data: PerformanceData | None = None) -> None:
+                 performance: Performance | None = None) -> None:
         self.guidance = L1Guidance()
         self.tecs = Tecs()
         self.perf = performance if performance is not None else \
-            Performance(performance_data, n1c_idle=lambda: self.fuel.parameters.N1c_idle_pct)
+            Performance(n1c_idle=lambda: self.fuel.parameters.N1c_idle_pct)
         self.vnav = Vnav(self.perf)
         self.runner = MissionRunner(mission, self.guidance, vnav=self.vnav, tecs_params=self.tecs.parameters)
         self.pitch = PitchController()

@@ -8,8 +8,7 @@ other paths values the FMU derives from it. The gains and limits are parameters 
 table: the parameter files in ``data/`` (value, unit, range, note), read by :mod:`.tunable`.
 
 Inputs whose start is None start at the default mission's departure runway (the FMU reads it),
-so that the runway's data are written once, in ``missions/munich.yaml``, and the identities of the airframe's
-and the engine's configurations at the shipped system's (those its shipped performance data record).
+so that the runway's data are written once, in ``missions/munich.yaml``.
 """
 from __future__ import annotations
 
@@ -45,9 +44,6 @@ SIGNALS: tuple[Signal, ...] = check_table((
     _par("mission_file", "1", "Mission file (YAML or QGroundControl .plan), absolute or relative to the FMU's "
                               "resources folder", "missions/munich.yaml", "String"),
     # the shipped system's first fuel-flow command (the engine's steady start at 60 % N1 burns about it)
-    _par("performance_file", "1", "Performance database (JSON, models/performance/generate.py) of this system's "
-                                  "airframe and engine; empty: the shipped one or the one emss run generated, "
-                                  "found by the airframe's and engine's identities", "", "String"),
     _par("Wf0_kg_s", "kg/s", "Fuel-flow command at the start; < 0: the minimum fuel_control.Wf_min_kg_s", 0.07),
     _par("elevator0_norm", "1", "Elevator at the start (e.g. the airframe's trim_elevator_norm): the pitch "
                                 "integral starts from it", 0.0),
@@ -69,10 +65,6 @@ SIGNALS: tuple[Signal, ...] = check_table((
     _in("N1c_pct", "%", "Engine corrected fan speed N1c, percent of design"),
     _in("Tt41_K", "K", "HP turbine rotor inlet total temperature Tt41", 700.0),
     _in("on_ground", "1", "A wheel carries weight", True, "Boolean"),
-    _in("airframe_config_id", "1", "Identity of the airframe's configuration (its output of this name): the "
-                                   "performance data flown are its; starts at the shipped airframe's", None, "Integer"),
-    _in("engine_config_id", "1", "Identity of the engine's configuration (its output of this name): the "
-                                 "performance data flown are its; starts at the shipped engine's", None, "Integer"),
     _out("aileron_norm", "1", "Aileron command, -1 to 1, > 0 rolls right", "out.aileron_norm"),
     _out("elevator_norm", "1", "Elevator command, -1 to 1, > 0 trailing edge down (nose down)", "out.elevator_norm"),
     _out("rudder_norm", "1", "Rudder command, -1 to 1, > 0 yaws the nose right", "out.rudder_norm"),

@@ -1,22 +1,13 @@
 """The aircraft's performance as the flight management sees it: drag polar, airbrake, idle and
 maximum thrust, and from them the gradients the vertical planner (:mod:`.vnav`) flies.
 
-A database is *generated* from the models of the system flown, never typed in
-(:mod:`openemss.models.performance.generate`): it trims the airframe (JSBSim,
+The database ``data/performance.json`` is *generated* from the models, never typed in:
+``python -m openemss.models.performance.generate`` trims the UPERA airframe (JSBSim,
 :func:`openemss.models.airframe.trim.trim_level`) at two masses on a grid of altitude and Mach
 and fits the trimmed polar CD = CD0 + k CL^2 at each point, and runs the engine's steady states
 (:class:`openemss.models.engine.offdesign.TurbofanOffDesign`) at a set of corrected fan speeds.
 The FCS cannot import those packages (it is vendored into its own FMU), so it reads the tables.
-
-Which database: each records the identities of the airframe's and the engine's configurations it was
-generated from and the fuel controller's limits that set its maximum thrust. The airframe and engine FMUs
-publish their identities (Integer outputs ``airframe_config_id``, ``engine_config_id``); the FCS FMU flies
-the database of exactly those (:func:`performance_for`): the shipped ``data/performance.json`` (UPERA with
-the Larzac 04) when it is theirs, else the one ``emss run`` generated into the cache before the run
-(:func:`openemss.models.infra.config_id.cache_dir`), else it refuses to start with one line naming the
-system's identities. A database given by file (the FMU's ``performance_file``) that is not the system's
-is refused the same way: the flight control never plans with another aircraft's or engine's data.
-When the shipped aerodynamics or engine change, regenerate the shipped file
+When the aerodynamics or the engine change, regenerate the file
 (``tests/fcs/test_performance.py`` fails until then).
 
 Physics (flat Earth, point mass, steady, the thrust along the flight path):
@@ -43,23 +34,20 @@ from __future__ import annotations
 import bisect
 import json
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 from dataclasses import dataclass
 from importlib import resources
-from pathlib import Path
 
 import numpy as np
 
 from ..common.airspeed import mach_from_tas
-from ..infra.config_id import LIMIT_NAMES, UNKNOWN_ID, cache_dir, database_key
 from ..infra.jit import jitable
 from .atmosphere import G0_M_S2, isa
 from .clip import clip
 from .errors import FcsError
 from .tunable import Tunable, load_params
 
-__all__ = ["PerformanceData", "PerformanceParams", "Performance", "load_performance_data", "performance_for",
-           "DATA_FILE",
+__all__ = ["PerformanceData", "PerformanceParams", "Performance", "load_performance_data", "DATA_FILE",
            "airbrake_drag_law", "airbrake_position_law", "energy_rates_law"]
 
 #: The generated database, in the package's data folder.
@@ -111,13 +99,6 @@ class PerformanceData:
         Maximum net thrust (lever 1: N1c 100 %, within the N1 and Tt41 limits) at [altitude][Mach] [N].
     source : str
         What generated the tables.
-    key : str
-        The database's name: the identities of the airframe and the engine it is of and the fuel controller's
-        limits (:func:`openemss.models.infra.config_id.database_key`).
-    airframe_config_id, engine_config_id : int
-        Identities of the airframe's and the engine's configurations it was generated from.
-    label : str
-        The aircraft and the engine by name, for messages.
     """
 
     S_m2: float
@@ -134,10 +115,6 @@ class PerformanceData:
     Fn_N: tuple[tuple[tuple[float, ...], ...], ...]
     thrust_max_N: tuple[tuple[float, ...], ...]
     source: str
-    key: str = ""
-    airframe_config_id: int = UNKNOWN_ID
-    engine_config_id: int = UNKNOWN_ID
-    label: str = ""
 
 
 def _tuple2(x: list) -> tuple[tuple[float, ...], ...]:
@@ -155,17 +132,15 @@ def load_performance_data(text: str | None = None, where: str = DATA_FILE) -> Pe
     if text is None:
         pkg = __package__ or __name__.rpartition(".")[0]
         text = resources.files(pkg).joinpath("data", DATA_FILE).read_text(encoding="utf-8")
+    doc = json.loads(text)
     try:
-        doc = json.loads(text)
         alt, mach, n1c = (tuple(float(v) for v in doc[k]) for k in ("alt_m", "mach", "n1c_pct"))
         ab = doc["airbrake"]
         data = PerformanceData(
             float(doc["S_m2"]), alt, mach, _tuple2(doc["cd0"]), _tuple2(doc["k"]), float(doc["cd_gear"]),
             float(ab["cd_full"]), math.radians(float(ab["max_deg"])), float(ab["blowback_qbar_Pa"]),
             1.0 / float(ab["full_travel_s"]), n1c, tuple(_tuple2(t) for t in doc["Fn_N"]),
-            _tuple2(doc["thrust_max_N"]), str(doc.get("source", "")), str(doc["key"]),
-            int(doc["airframe_config_id"]), int(doc["engine_config_id"]),
-            f"{doc['airframe']['name']} with {doc['engine']['name']}")
+            _tuple2(doc["thrust_max_N"]), str(doc.get("source", "")))
     except (KeyError, TypeError, ValueError) as e:
         raise FcsError(f"{where}: not a performance database ({type(e).__name__}: {e}); regenerate it with "
                        "python -m openemss.models.performance.generate") from None
@@ -178,56 +153,6 @@ def load_performance_data(text: str | None = None, where: str = DATA_FILE) -> Pe
     if len(data.Fn_N) != len(n1c):
         raise FcsError(f"{where}: Fn_N has {len(data.Fn_N)} N1c levels for {len(n1c)} in n1c_pct")
     return data
-
-
-def _ids(airframe_id: int, engine_id: int) -> str:
-    return f"airframe_config_id {airframe_id}, engine_config_id {engine_id}"
-
-
-def performance_for(airframe_id: int, engine_id: int, limits: Mapping[str, float],
-                    file: str | Path | None = None) -> PerformanceData:
-    """The performance database of the system flown: of the airframe and the engine of these identities (their
-    FMUs' ``airframe_config_id``, ``engine_config_id``) with the fuel controller's ``limits`` (by the names of
-    :data:`openemss.models.infra.config_id.LIMIT_NAMES`).
-
-    ``file`` given: that database, which must be theirs. Else the shipped one when it is theirs, else the one
-    generated for them in the cache folder.
-
-    Raises
-    ------
-    FcsError
-        One line: an identity unknown (0: an input not connected), a ``file`` that is of another system
-        (naming both), no database for this system (naming its identities and how to make one).
-    """
-    if airframe_id == UNKNOWN_ID or engine_id == UNKNOWN_ID:
-        raise FcsError(f"fcs: the system's identities are not known ({_ids(airframe_id, engine_id)}; 0: unknown): "
-                       "connect the FCS inputs airframe_config_id and engine_config_id to the airframe's and the "
-                       "engine's outputs of those names, so that it flies their performance data")
-    key = database_key(airframe_id, engine_id, limits)
-    lim = ", ".join(f"{n} {float(limits[n]):g}" for n in LIMIT_NAMES)
-    if file is not None:
-        path = Path(file)
-        try:
-            data = load_performance_data(path.read_text(encoding="utf-8"), str(path))
-        except OSError as exc:
-            raise FcsError(f"fcs: performance_file {path}: cannot read it ({exc.strerror or exc})") from None
-        if data.key != key:
-            theirs = _ids(data.airframe_config_id, data.engine_config_id)
-            raise FcsError(f"fcs: performance_file {path} is of {data.label} ({theirs}, key {data.key}); the system "
-                           f"flies {_ids(airframe_id, engine_id)} with {lim} (key {key}): give the database of this "
-                           "system, or none (emss run generates it)")
-        return data
-    shipped = _shipped()
-    if shipped.key == key:
-        return shipped
-    path = cache_dir() / f"{key}.json"
-    if path.is_file():
-        data = load_performance_data(path.read_text(encoding="utf-8"), str(path))
-        if data.key == key:
-            return data
-    raise FcsError(f"fcs: no performance data for this system ({_ids(airframe_id, engine_id)}, {lim}; the shipped "
-                   f"data are of {shipped.label}, {_ids(shipped.airframe_config_id, shipped.engine_config_id)}): "
-                   f"emss run generates them before the run into {path.parent} (or give fcs.performance_file)")
 
 
 @dataclass(frozen=True, slots=True)

@@ -373,8 +373,7 @@ def run(system: Path | str | None = None, *, stop_time: float | None = None, par
         What to record (default: outputs, and inputs not merely copied from a connected output), every
         n-th step, in ``parquet`` (default), ``csv`` or ``mat``.
     pre_run, post_run : bool
-        Run the plugins' checks before and reports after (summary.json, plots, report.html). Their ``prepare``
-        hooks run either way (e.g. the flight control's performance data of the system, generated once).
+        Run the plugins' checks before and reports after (summary.json, plots, report.html).
     figures : bool
         Let the post-run reports draw their figures (plots, report.html); without, a report writes its
         tables only (summary.json), and ``emss plot RUN_DIR`` draws the figures later.
@@ -384,8 +383,7 @@ def run(system: Path | str | None = None, *, stop_time: float | None = None, par
     progress : bool
         Show the progress bar on stderr (when it is a terminal).
     warn : callable, optional
-        Receives each warning line, and each line of news (an FMU built, data generated) (default: printed to
-        stderr).
+        Receives each warning line (default: printed to stderr).
 
     Returns
     -------
@@ -413,9 +411,8 @@ def run(system: Path | str | None = None, *, stop_time: float | None = None, par
     started = time.perf_counter(), time.process_time()
     system = Path(system) if system is not None else default_system()
     interrupt.phase("start", "before the run", interrupt.NOTHING_RUN)
-    tell = warn or (lambda line: print(f"emss run: {line}", file=sys.stderr))  # news, no warning
     if build:
-        ensure_project_fmus(system, tell)
+        ensure_project_fmus(system, warn or (lambda line: print(f"emss run: {line}", file=sys.stderr)))  # news
     interrupt.phase("load", "while loading the system", interrupt.NOTHING_RUN)
     sysdef = load_system(system)  # the one reading of the SSD in this run
     if out is None:  # the default folder is named after the system: that name must be one path component
@@ -434,7 +431,7 @@ def run(system: Path | str | None = None, *, stop_time: float | None = None, par
             interrupt.phase("pre-run", "before the first step", f"nothing was run (run.json in {out} says so)")
             return _run(system, sysdef, out, stop_time, params, set, scenario, rate, algorithm, step_multiple,
                         record, record_inputs, record_every, format, until, realtime, status, pre_run, post_run,
-                        figures, progress, say, tell, started)
+                        figures, progress, say, started)
         except BaseException as exc:  # a signal, also one that surfaced as an FMU's error (its code cut)
             if isinstance(exc, KeyboardInterrupt) or interrupt.received():
                 _record_not_run(out, system, exc)
@@ -446,7 +443,7 @@ def _run(system: Path, sysdef: SystemDef, out: Path, stop_time: float | None, pa
          algorithm: str, step_multiple: Mapping[str, int] | Sequence[str], record: Sequence[str] | None,
          record_inputs: bool, record_every: int, fmt: str, until: str | None, realtime: float,
          status: str | None, pre_run: bool, post_run: bool, figures: bool, progress: bool,
-         say: Callable[[str], None], tell: Callable[[str], None], started: tuple[float, float]) -> RunResult:
+         say: Callable[[str], None], started: tuple[float, float]) -> RunResult:
     from . import hooks
 
     bound = load(sysdef, params, settings, out)
@@ -482,11 +479,6 @@ def _run(system: Path, sysdef: SystemDef, out: Path, stop_time: float | None, pa
     from .plugins import load_problems
 
     for line in load_problems:
-        say(line)
-    made, failed = hooks.prepare(bound)  # what the FMUs need made (also without the pre-run checks)
-    for line in made:
-        tell(line)
-    for line in failed:
         say(line)
     pre = hooks.pre_run(bound) if pre_run else []
     for line in pre:

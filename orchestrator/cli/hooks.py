@@ -1,5 +1,5 @@
-"""Calling the plugins' hooks for a run (:mod:`.plugins`): status variable, stop condition, prepare, pre- and
-post-run, the run's summary.
+"""Calling the plugins' hooks for a run (:mod:`.plugins`): status variable, stop condition, pre- and post-run,
+the run's summary.
 
 A failing hook never stops the run: it becomes one line saying how it failed.
 """
@@ -94,29 +94,16 @@ def each_hook(hook_name: str, *args: object, whole: bool = False, **options: obj
     return out
 
 
-def _on_system(hook_name: str, bound: BoundSystem) -> tuple[list[str], list[str]]:
-    """Every plugin's ``hook_name(components, parameters)`` on the bound system: (its lines, one line per failed
-    hook)."""
+def pre_run(bound: BoundSystem) -> list[str]:
+    """Every plugin's pre-run hook on the bound system: the warning lines, and one line per failed hook."""
     components = {c.name: c.fmu_path for c in bound.components}
     parameters = {f"{bound.components[p.component].name}.{p.variable.name}": p.value for p in bound.parameters}
     lines: list[str] = []
-    failures: list[str] = []
-    for result, failure in each_hook(hook_name, components, parameters):
+    for result, failure in each_hook("pre_run", components, parameters):
         lines.extend(str(line) for line in result)
         if failure is not None:
-            failures.append(failure)
-    return lines, failures
-
-
-def prepare(bound: BoundSystem) -> tuple[list[str], list[str]]:
-    """Every plugin's prepare hook on the bound system: (the lines of news, one line per failed hook)."""
-    return _on_system("prepare", bound)
-
-
-def pre_run(bound: BoundSystem) -> list[str]:
-    """Every plugin's pre-run hook on the bound system: the warning lines, and one line per failed hook."""
-    lines, failures = _on_system("pre_run", bound)
-    return lines + failures
+            lines.append(failure)
+    return lines
 
 
 def output_files() -> list[str]:

@@ -18,12 +18,6 @@ A plugin is a module named by an entry point of the group ``openemss.plugins`` (
     value (``component.variable``, after the SSD, the parameter sets and ``--set``); returns
     warning lines to print (e.g. the sections of a mission its aircraft cannot fly), nothing when
     the system is not its business; the run goes ahead whatever it says;
-``prepare(components: Mapping[str, Path], parameters: Mapping[str, bool | int | float | str]) -> Sequence[str]``
-    called before every ``emss run``, also with ``--no-pre-run`` (it checks nothing), with the same arguments as
-    ``pre_run``: makes what the system's FMUs need and cannot make themselves, outside the results folder (e.g.
-    the flight control's performance data of the system's own airframe and engine, generated into a cache);
-    returns lines of news to print (what it made, at what cost), nothing when the system is not its business;
-    a failure is one line and the run goes ahead (the FMU that misses what it needs then says so);
 ``output_files() -> Sequence[str]``
     the names of the files ``post_run`` may write into a results folder; a run refuses, before it
     starts, a folder where a file of these names stands that no run wrote;

@@ -161,7 +161,8 @@ def _stock_root() -> Path | None:
         import jsbsim  # the model package loads without JSBSim for table work
 
         return Path(jsbsim.get_default_root_dir())
-    except (ImportError, AttributeError):  # pragma: no cover - jsbsim missing
+    # jsbsim missing, or installed without its data (its get_default_root_dir raises OSError): no stock aircraft
+    except (ImportError, AttributeError, OSError):  # pragma: no cover
         return None
 
 
@@ -200,10 +201,11 @@ def resolve_aircraft(aircraft: str, base: Path | None = None) -> Path:
     if looks_like_path:
         raise AirframeError(f"aircraft: folder '{a}' not found (give an absolute path, or a name of JSBSim's "
                             "aircraft such as 737 or T38)")
+    if (OWN_ROOT / "aircraft" / a / f"{a}.xml").is_file():  # our own first: no need of the jsbsim package's data
+        return (OWN_ROOT / "aircraft" / a / f"{a}.xml").resolve()
     stock = _stock_root()
-    for root in (OWN_ROOT, stock):
-        if root is not None and (root / "aircraft" / a / f"{a}.xml").is_file():
-            return (root / "aircraft" / a / f"{a}.xml").resolve()
+    if stock is not None and (stock / "aircraft" / a / f"{a}.xml").is_file():
+        return (stock / "aircraft" / a / f"{a}.xml").resolve()
     names = sorted(p.name for p in (stock / "aircraft").iterdir() if p.is_dir()) if stock is not None else []
     raise AirframeError(f"aircraft: '{a}' is neither a folder nor a known aircraft (allowed: {DEFAULT_AIRCRAFT}, "
                         f"a folder, or one of the jsbsim package's: {', '.join(names[:12])}...)")
